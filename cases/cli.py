@@ -1,0 +1,245 @@
+"""The ``coinwall`` command line: parse, call the library, print or write.
+
+Bad input (any :class:`forward.CoinwallError`) becomes one line on stderr and
+exit status 2; outputs are written all-or-nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+__all__ = ["main"]
+
+
+def _wall_arguments(parser, optional=False):
+    parser.add_argument("wall", nargs="?" if optional else None,
+                        help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
+                             "or a file: .csv (theta,b samples) or .json (Fourier: {\"a0\", \"cos\", \"sin\"})")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="value of a parameter of the expression (repeatable)")
+
+
+def _load_wall(text, params):
+    from forward import Wall
+    from forward.errors import InvalidWall
+    from forward.expression import parse_param
+
+    values = dict(parse_param(p) for p in params)
+    lower = text.lower()
+    if lower.endswith(".csv") or lower.endswith(".json"):
+        if values:
+            raise InvalidWall(f"--param applies to expressions, not to the wall file {text!r}")
+        return _load_wall_file(text)
+    return Wall.from_expression(text, values)
+
+
+def _load_wall_file(path):
+    import numpy as np
+
+    from forward import Wall
+    from forward.errors import InvalidWall
+
+    try:
+        if path.lower().endswith(".csv"):
+            data = np.genfromtxt(path, delimiter=",", comments="#", names=None, invalid_raise=True)
+            if data.ndim != 2 or data.shape[1] < 2:
+                raise InvalidWall(f"wall file {path!r}: need two columns theta,b")
+            data = data[~np.all(np.isnan(data), axis=1)] if np.isnan(data[0]).all() else data
+            if np.isnan(data[0]).any():  # a header row
+                data = data[1:]
+            return Wall.from_samples(data[:, 0], data[:, 1])
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+        if not isinstance(doc, dict):
+            raise InvalidWall(f"wall file {path!r}: expected an object with a0, cos, sin")
+        unknown = set(doc) - {"a0", "cos", "sin"}
+        if unknown:
+            raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected a0, cos, sin")
+        return Wall.from_fourier(doc.get("a0", 0.0), doc.get("cos", []), doc.get("sin", []))
+    except OSError as exc:
+        raise InvalidWall(f"wall file {path!r} is not readable: {exc.strerror}") from None
+    except (ValueError, TypeError) as exc:
+        if isinstance(exc, InvalidWall):
+            raise
+        raise InvalidWall(f"wall file {path!r} is not readable: {exc}") from None
+
+
+def _fmt_angles(angles):
+    return ", ".join(f"{a:.6g}" for a in angles) or "—"
+
+
+def _cmd_solve(args):
+    from cases import EXAMPLE
+    from inverse import solve_body
+    from inverse.export import check_outputs, write_outputs
+
+    if args.wall is None:
+        wall_text, params = EXAMPLE["wall"], [f"{k}={v}" for k, v in EXAMPLE["params"].items()]
+        b0 = EXAMPLE["b0"] if args.b0 is None else args.b0
+        if not args.json:
+            print("No wall given: solving the built-in example, the paper's ellipse wall with eps = 1 at the "
+                  "critical offset b0 = -0.5 (paper Fig. 4).")
+    else:
+        wall_text, params, b0 = args.wall, args.param, (0.0 if args.b0 is None else args.b0)
+    check_outputs(args.output)  # fail on a bad output before any work
+    wall = _load_wall(wall_text, params)
+    body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)
+    written = write_outputs(body, args.output) if args.output else []
+    if args.json:
+        print(json.dumps(body.summary(), indent=1, allow_nan=False))
+        return 0
+    case = {"convex": "Case I: convex body", "critical": "Case II: critical, convex, infinite curvature at the "
+            "critical angles", "corner": "Case III: no body has this wall; the largest body under it has corners"}
+    print(f"wall       {body.wall!r}")
+    print(f"offset     b0 = {body.b0:g}")
+    bc = "inf (a concave kink: no offset gives a convex body)" if math.isinf(body.b_c) else f"{body.b_c:.12g}"
+    print(f"critical   b_c = {bc} at θ = {_fmt_angles(body.critical_angles)}")
+    print(f"regime     {body.regime} ({case[body.regime]})")
+    print(f"body       {body.x.size} nodes, area {body.area:.6g}, perimeter {body.perimeter:.6g}, "
+          f"R from {body.R.min():.6g} to {body.R.max():.6g} (units of κ)")
+    for c in body.corners:
+        print(f"corner     at direction {c.direction:.6g} rad, distance {c.distance:.6g}, window ±{c.half_width:.6g} "
+              f"rad, largest wall deficit {c.max_deficit:.3g}")
+    check = f"max |wall(body) − wall| = {body.max_wall_error:.2e} ({body.method})"
+    if body.cross_check is not None:
+        check += f"; {'polar' if body.method == 'envelope' else 'envelope'} solver agrees to {body.cross_check:.1e}"
+    print(f"check      {check}")
+    for note in body.notes:
+        print(f"note       {note}")
+    if written:
+        print(f"wrote      {', '.join(written)}")
+    return 0
+
+
+def _cmd_critical(args):
+    from inverse import critical_offset
+
+    wall = _load_wall(args.wall, args.param)
+    result = critical_offset(wall)
+    finite = math.isfinite(result.b_c)
+    if args.json:
+        print(json.dumps({"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
+                          "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]},
+                         indent=1, allow_nan=False))
+        return 0
+    print(f"wall       {wall!r}")
+    print(f"b_c        {result.b_c:.15g}" if finite else "b_c        inf (a concave kink: no convex body for any b0)")
+    print(f"angles     {_fmt_angles(result.angles)} (rad, where b + b'' is smallest)")
+    for lo, hi in result.intervals:
+        print(f"interval   b + b'' is minimal on [{lo:.6g}, {hi:.6g}]")
+    return 0
+
+
+def _cmd_wall(args):
+    import io
+    import os
+    import tempfile
+
+    import numpy as np
+
+    from forward import load_outline, wall_functions
+    from forward.errors import InvalidArgument, OutputError
+
+    if args.H is not None and not (math.isfinite(args.H) and args.H > 0):
+        raise InvalidArgument(f"--H must be a positive number, got {args.H}")
+    if args.samples < 8:
+        raise InvalidArgument(f"--samples must be at least 8, got {args.samples}")
+    outputs = args.output or []
+    for path in outputs:
+        ext = os.path.splitext(path)[1].lower()
+        if ext not in (".csv", ".json"):
+            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: .csv, .json")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
+            raise OutputError(f"output {path!r}: folder {folder!r} does not exist or is not writable")
+    outline, note = load_outline(args.body)
+    theta = np.linspace(0, 2 * math.pi, args.samples, endpoint=False)
+    lower, upper = wall_functions(outline, theta, args.H)
+    for path in outputs:
+        if path.lower().endswith(".csv"):
+            text = io.StringIO()
+            cols = [theta, lower] + ([upper] if upper is not None else [])
+            text.write("theta,b" + (",t" if upper is not None else "") + "\n")
+            np.savetxt(text, np.column_stack(cols), delimiter=",", fmt="%.17g")
+            data = text.getvalue()
+        else:
+            doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
+            if upper is not None:
+                doc.update(H=args.H, t=upper.tolist())
+            data = json.dumps(doc)
+        fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
+        try:
+            with os.fdopen(fd, "w") as fh:
+                fh.write(data)
+            os.replace(temp, path)
+        except OSError as exc:
+            os.unlink(temp)
+            raise OutputError(f"cannot write {path!r}: {exc.strerror}") from None
+    summary = {"body": args.body, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
+               "b_max": float(lower.max()), "outputs": outputs}
+    if args.json:
+        print(json.dumps(summary, indent=1))
+    else:
+        print(f"body       {args.body} ({note})")
+        print(f"wall       b(θ) from {lower.min():.6g} to {lower.max():.6g} on {theta.size} angles")
+        if outputs:
+            print(f"wrote      {', '.join(outputs)}")
+    return 0
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit status 2, as for every bad input
+        self.exit(2, f"coinwall: error: {message}\n")
+
+
+def _parser():
+    from inverse.solve import DEFAULT_POINTS
+
+    parser = _Parser(prog="coinwall", description="Rigid bodies between parallel walls as billiards "
+                     "(Balazs, Chatterjee, Jackson): wall function -> body outline, and back.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    solve = sub.add_parser("solve", help="wall function + offset b0 -> body outline (the inverse problem)")
+    _wall_arguments(solve, optional=True)
+    solve.add_argument("--b0", type=float, default=None, help="offset added to the wall (default 0)")
+    solve.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                       help="write the body; format by extension: .svg .json .csv .png (repeatable)")
+    solve.add_argument("--points", type=int, default=DEFAULT_POINTS, help=f"outline nodes (default {DEFAULT_POINTS})")
+    solve.add_argument("--method", choices=["envelope", "polar"], default="envelope",
+                       help="solver (default envelope; the other one is the cross-check)")
+    solve.add_argument("--no-cross-check", action="store_true", help="skip the cross-check with the other solver")
+    solve.add_argument("--json", action="store_true", help="print the summary as JSON")
+    solve.set_defaults(run=_cmd_solve)
+
+    critical = sub.add_parser("critical", help="exact critical offset b_c = -min(b + b'')")
+    _wall_arguments(critical)
+    critical.add_argument("--json", action="store_true", help="print JSON")
+    critical.set_defaults(run=_cmd_critical)
+
+    wall = sub.add_parser("wall", help="body outline (.json from solve, or .csv x,y) -> wall function b(θ)")
+    wall.add_argument("body", help="body file")
+    wall.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".csv or .json")
+    wall.add_argument("--H", type=float, default=None, help="wall distance: also write the upper wall t(θ)")
+    wall.add_argument("--samples", type=int, default=720, help="number of angles (default 720)")
+    wall.add_argument("--json", action="store_true", help="print JSON")
+    wall.set_defaults(run=_cmd_wall)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``coinwall`` command; returns the exit status."""
+    from forward.errors import CoinwallError
+
+    args = _parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except CoinwallError as exc:
+        print(f"coinwall: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,346 @@
+"""The wall function b(θ): the object the forward and the inverse side share.
+
+Convention (pinned by ``tests/test_conventions.py`` with an asymmetric body):
+``b0 + b(θ)`` is the support function ``h`` of the body evaluated at the
+body-frame polar angle ``θ``, measured counter-clockwise from the body axis.
+Physically, θ is the angle measured *clockwise* from the outward normal of the
+bottom wall (pointing down, away from the body) to the body axis, as in the
+paper's section II.  The upper wall of the billiard is ``H − b(θ + π)``.
+
+A wall is 2π-periodic and finite.  Where it has a corner (a *kink*: ``b'``
+jumps), ``b''`` is a measure with a point mass ``jump = b'(θ+) − b'(θ−)``;
+kinks are located exactly and reported in :attr:`Wall.kinks`, never smoothed.
+A positive jump is an edge of the body (a straight piece of length ``jump``);
+a negative jump cannot belong to any convex body.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .errors import InvalidParameter, InvalidWall
+
+__all__ = ["Wall", "Kink"]
+
+TWO_PI = 2.0 * math.pi
+_MIN_SAMPLES = 8
+_CHECK_POINTS = 4096
+_BLOCK = 2048  # casadi evaluates point by point; a mapped block amortises the call overhead
+
+
+@dataclass(frozen=True)
+class Kink:
+    """A corner of the wall at ``angle`` where ``b'`` jumps by ``jump``.
+
+    ``slope_left``/``slope_right`` are the one-sided first derivatives and
+    ``curvature_left``/``curvature_right`` the one-sided second derivatives.
+    """
+
+    angle: float
+    jump: float
+    slope_left: float
+    slope_right: float
+    curvature_left: float
+    curvature_right: float
+
+
+class _ExpressionBackend:
+    """Exact derivatives by casadi's symbolic differentiation of the parsed expression."""
+
+    def __init__(self, parsed):
+        import casadi as ca
+
+        t = parsed.symbol
+        b = parsed.expr
+        d1 = ca.jacobian(b, t)
+        d2 = ca.jacobian(d1, t)
+        self._f012 = ca.Function("wall", [t], [b, d1, d2]).map(_BLOCK)
+        self._f0 = ca.Function("wall0", [t], [b]).map(_BLOCK)
+        self._switching = [ca.Function(f"s{k}", [t], [s]).map(_BLOCK) for k, s in enumerate(parsed.switching)]
+        self.parsed = parsed
+
+    @staticmethod
+    def _blocks(func, theta, n_out):
+        theta = np.ascontiguousarray(theta, dtype=float).ravel()
+        n = theta.size
+        out = [np.empty(n) for _ in range(n_out)]
+        for start in range(0, n, _BLOCK):
+            chunk = theta[start:start + _BLOCK]
+            m = chunk.size
+            if m < _BLOCK:
+                chunk = np.concatenate([chunk, np.zeros(_BLOCK - m)])
+            res = func(chunk.reshape(1, -1))
+            if n_out == 1:
+                res = (res,)
+            for k in range(n_out):
+                out[k][start:start + m] = np.asarray(res[k]).ravel()[:m]
+        return out
+
+    def values(self, theta):
+        return self._blocks(self._f0, theta, 1)[0]
+
+    def derivatives(self, theta):
+        return tuple(self._blocks(self._f012, theta, 3))
+
+    def switching(self, theta):
+        return [self._blocks(s, theta, 1)[0] for s in self._switching]
+
+
+class _FourierBackend:
+    """b(θ) = a0 + Σ_k (a_k cos kθ + s_k sin kθ), derivatives term by term (exact)."""
+
+    def __init__(self, a0: float, cos: np.ndarray, sin: np.ndarray):
+        n = max(len(cos), len(sin))
+        self.a0 = float(a0)
+        self.cos = np.zeros(n)
+        self.sin = np.zeros(n)
+        self.cos[: len(cos)] = cos
+        self.sin[: len(sin)] = sin
+        self.k = np.arange(1, n + 1, dtype=float)
+
+    def _eval(self, theta, orders):
+        theta = np.asarray(theta, dtype=float).ravel()
+        out = {o: np.zeros(theta.size) for o in orders}
+        if 0 in out:
+            out[0] += self.a0
+        # chunk the outer product so memory stays bounded for long series
+        step = max(1, 2_000_000 // max(1, self.k.size))
+        for start in range(0, theta.size, step):
+            th = theta[start:start + step]
+            arg = np.outer(th, self.k)
+            c, s = np.cos(arg), np.sin(arg)
+            for o in orders:
+                kp = self.k**o
+                # d^o/dθ^o of cos kθ and sin kθ cycle with period 4 in o
+                cc = (c, -s, -c, s)[o % 4]
+                ss = (s, c, -s, -c)[o % 4]
+                out[o][start:start + step] += cc @ (self.cos * kp) + ss @ (self.sin * kp)
+        return [out[o] for o in orders]
+
+    def values(self, theta):
+        return self._eval(theta, (0,))[0]
+
+    def derivatives(self, theta):
+        return tuple(self._eval(theta, (0, 1, 2)))
+
+    def switching(self, theta):
+        return []
+
+
+class Wall:
+    """A 2π-periodic wall function b(θ) with exact first and second derivatives.
+
+    Build one with :meth:`from_expression`, :meth:`from_samples` or
+    :meth:`from_fourier`; do not call the constructor directly.
+
+    Attributes
+    ----------
+    description : str
+        What the wall was made from (the expression, "samples (n=…)", …).
+    kinks : tuple of Kink
+        Corners of the wall, sorted by angle in [0, 2π).
+    """
+
+    def __init__(self, backend, description: str, kind: str, params: Mapping[str, float] | None = None):
+        self._backend = backend
+        self.description = description
+        self.kind = kind
+        self.params = dict(params or {})
+        self.kinks: tuple[Kink, ...] = ()
+        self._validate()
+        self.kinks = self._find_kinks()
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_expression(cls, text: str, params: Mapping[str, float] | None = None) -> "Wall":
+        """Wall from an expression in ``t`` (alias ``theta``) with named parameters.
+
+        The expression is parsed with a whitelist (see
+        :func:`forward.expression.parse_expression`), never evaluated as Python.
+        """
+        from .expression import parse_expression
+
+        parsed = parse_expression(text, params)
+        return cls(_ExpressionBackend(parsed), text.strip(), "expression", dict(parsed.params))
+
+    @classmethod
+    def from_fourier(cls, a0: float = 0.0, cos: Sequence[float] = (), sin: Sequence[float] = ()) -> "Wall":
+        """Wall ``a0 + Σ_{k≥1} cos[k-1]·cos kθ + sin[k-1]·sin kθ``."""
+        coeffs = {"a0": np.atleast_1d(np.asarray(a0, dtype=float)),
+                  "cos": np.asarray(cos, dtype=float).ravel(),
+                  "sin": np.asarray(sin, dtype=float).ravel()}
+        for name, arr in coeffs.items():
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                raise InvalidWall(f"Fourier coefficient `{name}`[{bad[0]}] must be finite, got {arr[bad[0]]}")
+        if coeffs["a0"].size != 1:
+            raise InvalidWall(f"Fourier coefficient `a0` must be a single number, got {coeffs['a0'].size} values")
+        n = max(coeffs["cos"].size, coeffs["sin"].size)
+        return cls(_FourierBackend(float(coeffs["a0"][0]), coeffs["cos"], coeffs["sin"]),
+                   f"Fourier series ({n} harmonics)", "fourier")
+
+    @classmethod
+    def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None) -> "Wall":
+        """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
+
+        The samples are replaced by a trigonometric polynomial: the interpolant
+        (FFT) for uniform samples, a least-squares fit with at most a third as
+        many harmonics as samples for non-uniform ones.  Derivatives are those
+        of the trigonometric polynomial, hence spectrally accurate for smooth
+        walls.  Samples at θ and θ + 2π must agree; the samples must cover the
+        whole period.
+        """
+        theta = np.asarray(theta, dtype=float).ravel()
+        b = np.asarray(b, dtype=float).ravel()
+        if theta.size != b.size:
+            raise InvalidWall(f"samples: {theta.size} angles but {b.size} wall values")
+        for name, arr in (("θ", theta), ("b", b)):
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                raise InvalidWall(f"samples: {name} of sample {bad[0]} is {arr[bad[0]]}; every sample must be finite")
+        reduced = np.mod(theta, TWO_PI)
+        order = np.argsort(reduced, kind="stable")
+        reduced, values = reduced[order], b[order]
+        scale = max(1.0, float(np.max(np.abs(values)))) if values.size else 1.0
+        # samples that land on the same angle modulo 2π (θ and θ + 2π) must agree
+        close = np.diff(reduced) <= 1e-9
+        wrap = reduced.size > 1 and (reduced[0] + TWO_PI - reduced[-1]) <= 1e-9
+        pairs = [(i, i + 1) for i in np.flatnonzero(close)] + ([(reduced.size - 1, 0)] if wrap else [])
+        for i, j in pairs:
+            if abs(values[i] - values[j]) > 1e-9 * scale:
+                raise InvalidWall(
+                    f"samples: the wall is not 2π-periodic: b = {values[i]:.6g} and b = {values[j]:.6g} "
+                    f"at θ ≡ {reduced[i]:.6g} (mod 2π)")
+        keep = np.ones(reduced.size, bool)
+        keep[np.flatnonzero(close) + 1] = False
+        if wrap:
+            keep[-1] = False
+        reduced, values = reduced[keep], values[keep]
+        n = reduced.size
+        if n < _MIN_SAMPLES:
+            raise InvalidWall(f"samples: too short: {n} distinct angles, need at least {_MIN_SAMPLES}")
+        gaps = np.diff(np.concatenate([reduced, [reduced[0] + TWO_PI]]))
+        big = int(np.argmax(gaps))
+        if gaps[big] > 10.0 * np.median(gaps) and gaps[big] > 0.2:
+            raise InvalidWall(
+                f"samples: the wall does not cover a full period: no sample between θ = {reduced[big]:.4g} and "
+                f"θ = {(reduced[big] + gaps[big]):.4g}; give b(θ) over all of [0, 2π)")
+        uniform = np.allclose(gaps, TWO_PI / n, rtol=0, atol=1e-9)
+        if uniform:
+            # trigonometric interpolation; shift the phase so the grid may start anywhere
+            spectrum = np.fft.rfft(values) / n
+            k = np.arange(spectrum.size)
+            spectrum = spectrum * np.exp(-1j * k * reduced[0])
+            a0 = spectrum[0].real
+            cos = 2 * spectrum[1:].real
+            sin = -2 * spectrum[1:].imag
+            if n % 2 == 0:  # the Nyquist mode is shared by ±n/2: halve it, and drop its sine part
+                cos[-1] /= 2
+                sin[-1] = 0.0
+            desc = f"uniform samples (n={n})"
+        else:
+            harmonics = max_harmonics or max(1, n // 3)
+            kk = np.arange(1, harmonics + 1)
+            arg = np.outer(reduced, kk)
+            design = np.hstack([np.ones((n, 1)), np.cos(arg), np.sin(arg)])
+            coef, *_ = np.linalg.lstsq(design, values, rcond=None)
+            a0, cos, sin = coef[0], coef[1:harmonics + 1], coef[harmonics + 1:]
+            desc = f"non-uniform samples (n={n}, {harmonics} harmonics, least squares)"
+        wall = cls(_FourierBackend(a0, cos, sin), desc, "samples")
+        wall.samples = (reduced, values)
+        return wall
+
+    # ------------------------------------------------------------------ evaluation
+    def __call__(self, theta):
+        """b(θ) for an array (or scalar) of angles."""
+        scalar = np.ndim(theta) == 0
+        out = self._backend.values(np.atleast_1d(theta))
+        return float(out[0]) if scalar else out.reshape(np.shape(theta))
+
+    def derivatives(self, theta):
+        """``(b, b', b'')`` at ``theta`` (arrays).  At a kink the value of b' is not meaningful: use :meth:`one_sided`."""
+        shape = np.shape(theta)
+        return tuple(v.reshape(shape) for v in self._backend.derivatives(np.atleast_1d(theta)))
+
+    def one_sided(self, theta: float, side: int):
+        """One-sided limits ``(b, b', b'')`` at ``theta`` from the left (``side=-1``) or right (``+1``).
+
+        Evaluated a small step δ away and corrected to first order with the
+        exact b'' there; b'' is extrapolated from δ and 2δ; both errors are O(δ²) ≈ 1e-14.
+        """
+        delta = 1e-7
+        b, d1, d2 = self._backend.derivatives(np.array([theta, theta + side * delta, theta + 2 * side * delta]))
+        # b'' extrapolated linearly from δ and 2δ: error O(δ²)
+        return float(b[0]), float(d1[1] - side * delta * d2[1]), float(2 * d2[1] - d2[2])
+
+    @property
+    def scale(self) -> float:
+        """A typical magnitude of the wall (max |b|, at least 1), used for relative tolerances."""
+        return self._scale
+
+    def __repr__(self) -> str:
+        try:
+            params = ", ".join(f"{k}={v:g}" for k, v in sorted(self.params.items()))
+            extra = f" [{params}]" if params else ""
+            kinks = f", {len(self.kinks)} kinks" if self.kinks else ""
+            return f"Wall({self.description!r}{extra}{kinks})"
+        except Exception:  # a repr must never raise
+            return "Wall(<unprintable>)"
+
+    # ------------------------------------------------------------------ checks
+    def _validate(self):
+        theta = np.linspace(0.0, TWO_PI, _CHECK_POINTS, endpoint=False) + 0.5 * TWO_PI / _CHECK_POINTS / 3
+        b, d1, d2 = self._backend.derivatives(theta)
+        for name, arr in (("b", b), ("b'", d1), ("b''", d2)):
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                raise InvalidWall(
+                    f"wall {self.description!r}: {name}(θ) is not finite at θ = {theta[bad[0]]:.6g} "
+                    f"({name} = {arr[bad[0]]}); the wall must be finite with finite slopes everywhere")
+        self._scale = max(1.0, float(np.max(np.abs(b))))
+        shifted = self._backend.values(theta + TWO_PI)
+        diff = np.abs(shifted - b)
+        worst = int(np.argmax(diff))
+        if diff[worst] > 1e-9 * self._scale:
+            raise InvalidWall(
+                f"wall {self.description!r} is not 2π-periodic: b(θ + 2π) − b(θ) = {shifted[worst] - b[worst]:.3g} "
+                f"at θ = {theta[worst]:.6g}")
+        self._check = (theta, b, d1, d2)
+
+    def _find_kinks(self):
+        from scipy.optimize import brentq
+
+        theta = np.linspace(0.0, TWO_PI, _CHECK_POINTS + 1)
+        candidates = []
+        for k, s in enumerate(self._backend.switching(theta)):
+            sign = np.sign(s)
+            # an exact zero on the grid, or a sign change between neighbours
+            for i in np.flatnonzero(sign == 0):
+                candidates.append(theta[i])
+            for i in np.flatnonzero(sign[:-1] * sign[1:] < 0):
+                func = self._switching_scalar(k)
+                candidates.append(brentq(func, theta[i], theta[i + 1], xtol=1e-15, rtol=1e-15, maxiter=200))
+        kinks = []
+        for angle in sorted({round(float(np.mod(c, TWO_PI)), 13) for c in candidates}):
+            if kinks and abs(angle - kinks[-1].angle) < 1e-11:
+                continue
+            b, left, c_left = self.one_sided(angle, -1)
+            _, right, c_right = self.one_sided(angle, +1)
+            jump = right - left
+            if abs(jump) > 1e-8 * self._scale:
+                kinks.append(Kink(angle, jump, left, right, c_left, c_right))
+        if len(kinks) > 1 and abs(kinks[-1].angle - TWO_PI) < 1e-11:
+            kinks.pop()
+        return tuple(kinks)
+
+    def _switching_scalar(self, k):
+        backend = self._backend
+
+        def func(x):
+            return float(backend.switching(np.array([x]))[k][0])
+
+        return func

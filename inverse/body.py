@@ -1,0 +1,165 @@
+"""The solved body: outline, curvature, corners, regime and the closed loop back to the wall."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Body"]
+
+
+@dataclass(frozen=True, repr=False)
+class Body:
+    """A body outline solved from a wall function and an offset.
+
+    Coordinates are in units of the radius of gyration κ, with the centre of
+    mass at the origin and the body axis along +x (see :mod:`forward.wall`
+    for the angle convention).
+
+    Attributes
+    ----------
+    wall : forward.Wall
+        The prescribed wall b(θ).
+    b0 : float
+        The offset; the body's support function is ``b0 + b``.
+    b_c : float
+        Exact critical offset ``−min(b + b'')`` (``inf`` if no offset works).
+    critical_angles : tuple of float
+        Where the minimum of ``b + b''`` is attained.
+    regime : str
+        ``"convex"`` (Case I), ``"critical"`` (Case II) or ``"corner"`` (Case III).
+    method : str
+        The solver that produced the outline (``"envelope"`` or ``"polar"``).
+    outline : forward.Outline
+        Closed piecewise-cubic outline (exact support function, O(Δ⁴) shape).
+    x, y, alpha, R, K : ndarray
+        Outline nodes: Cartesian and polar coordinates and curvature
+        (``inf`` at a corner).
+    phi_in, phi_out : ndarray
+        Normal angles at every node (equal except at corners).
+    corners : tuple of inverse.corners.Corner
+        Corners of the body (Case III corners carry a wall deficit; corners
+        of the prescribed wall itself, like the stick's ends, have none).
+    folds : tuple of inverse.polar.Fold
+        Folds of the map φ → α (cusps of the envelope), located exactly.
+    max_wall_error : float
+        Largest ``|wall(body) − (b0 + b)|`` over θ outside the corner windows,
+        on a grid of angles different from the construction grid.
+    cross_check : float or None
+        Largest difference between the walls of the envelope and the polar
+        solution (None when not computed).
+    polar_residual : float or None
+        Largest residual of the paper's equation F(α, R, R') = 0 (polar method).
+    convex, valid : bool
+        Convexity and validity of the outline polygon, checked with shapely.
+    com_inside : bool
+        Whether ``b0 + b > 0`` everywhere (centre of mass strictly inside).
+    area, perimeter : float
+        Of the outline (exact for the Bézier curve).
+    seconds : float
+        Wall-clock time of the solve (including verification).
+    """
+
+    wall: object
+    b0: float
+    b_c: float
+    critical_angles: tuple
+    regime: str
+    method: str
+    outline: object
+    x: np.ndarray
+    y: np.ndarray
+    alpha: np.ndarray
+    R: np.ndarray
+    K: np.ndarray
+    phi_in: np.ndarray
+    phi_out: np.ndarray
+    corners: tuple
+    folds: tuple
+    max_wall_error: float
+    cross_check: float | None
+    polar_residual: float | None
+    convex: bool
+    valid: bool
+    com_inside: bool
+    area: float
+    perimeter: float
+    seconds: float = 0.0
+    notes: tuple = field(default=())
+
+    @property
+    def points(self) -> np.ndarray:
+        """Outline nodes as an (n, 2) array."""
+        return np.column_stack([self.x, self.y])
+
+    def wall_of_body(self, theta):
+        """The forward wall of this body, ``h(θ) − b0`` (support function minus the offset)."""
+        return self.outline.support(theta) - self.b0
+
+    def summary(self) -> dict:
+        """JSON-ready summary (without the outline)."""
+
+        def num(v):
+            if v is None:
+                return None
+            v = float(v)
+            return v if math.isfinite(v) else None
+
+        return {
+            "wall": self.wall.description,
+            "params": dict(self.wall.params),
+            "b0": self.b0,
+            "b_c": num(self.b_c),
+            "b_c_infinite": bool(math.isinf(self.b_c)),
+            "critical_angles": list(self.critical_angles),
+            "regime": self.regime,
+            "method": self.method,
+            "points": int(self.x.size),
+            "max_wall_error": num(self.max_wall_error),
+            "cross_check": num(self.cross_check),
+            "polar_residual": num(self.polar_residual),
+            "convex": self.convex,
+            "valid": self.valid,
+            "com_inside": self.com_inside,
+            "area": self.area,
+            "perimeter": self.perimeter,
+            "corners": [c.as_dict() for c in self.corners],
+            "folds": [f.as_dict() for f in self.folds],
+            "kinks": [{"angle": k.angle, "jump": k.jump} for k in self.wall.kinks],
+            "notes": list(self.notes),
+            "seconds": self.seconds,
+        }
+
+    def plot(self, ax=None):
+        """Draw the outline (matplotlib, imported here); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 5))
+        pts = self.outline.polygon(8)
+        pts = np.vstack([pts, pts[:1]])
+        ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1.5)
+        ax.plot([0], [0], "r+", ms=10, label="centre of mass")
+        for c in self.corners:
+            px, py = c.distance * math.cos(c.direction), c.distance * math.sin(c.direction)
+            ax.plot([px], [py], "o", color="tab:orange", ms=5)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x / κ")
+        ax.set_ylabel("y / κ")
+        ax.set_title(f"b0 = {self.b0:g}, {self.regime}")
+        return ax
+
+    def _repr_svg_(self) -> str:
+        from .export.svg import svg_text
+
+        return svg_text(self)
+
+    def __repr__(self) -> str:
+        try:
+            return (f"Body(regime={self.regime!r}, b0={self.b0:g}, b_c={self.b_c:.6g}, method={self.method!r}, "
+                    f"points={self.x.size}, corners={len(self.corners)}, area={self.area:.6g}, "
+                    f"max_wall_error={self.max_wall_error:.2e})")
+        except Exception:  # a repr must never raise
+            return "Body(<unprintable>)"

@@ -1,0 +1,95 @@
+"""Outline nodes labelled by their normal angles, and their conversion to a Bézier outline.
+
+Both solvers produce points of the body together with the normal angle(s) φ
+at which the body touches the wall there.  A smooth point has one φ; a corner
+of the body owns a whole window ``[phi_in, phi_out]`` of normal angles.  The
+outline between two nodes is the cubic Hermite interpolant in φ, using
+``dx/dφ = ρ(φ) n'(φ)`` (exact envelope derivative), which is O(Δφ⁴) accurate;
+two nodes on either side of a kink of the wall are joined by a straight edge.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from forward.outline import Outline
+
+__all__ = ["Nodes"]
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True, repr=False)
+class Nodes:
+    """Points of the outline with normal-angle windows, in increasing φ.
+
+    Attributes
+    ----------
+    x : ndarray (n, 2)
+    phi_in, phi_out : ndarray (n,)
+        Normal angle where the outline arrives at / leaves the node (equal at smooth points).
+    rho_in, rho_out : ndarray (n,)
+        Radius of curvature on either side (``dx/dφ = ρ n'``).
+    straight_after : ndarray (n,) of bool
+        Node i and i+1 are joined by a straight edge (a kink of the wall).
+    """
+
+    x: np.ndarray
+    phi_in: np.ndarray
+    phi_out: np.ndarray
+    rho_in: np.ndarray
+    rho_out: np.ndarray
+    straight_after: np.ndarray
+
+    def collapse(self, tol: float) -> "Nodes":
+        """Merge runs of consecutive nodes at the same point into one corner node.
+
+        Nodes merge when they are within ``tol`` of each other and the
+        envelope between them does not move (ρ ≤ tol on both sides): this is
+        a corner of the body whose support function is ``R cos(φ − φ_k)`` on
+        the merged window (the stick's ends, for example).
+        """
+        n = len(self.x)
+        nxt = np.roll(np.arange(n), -1)
+        same = (np.hypot(*(self.x[nxt] - self.x).T) <= tol) & (np.abs(self.rho_out) <= tol) \
+            & (np.abs(self.rho_in[nxt]) <= tol)
+        if not same.any():
+            return self
+        if same.all():  # a point body cannot be, but do not loop forever
+            return self
+        # walk the ring from a node that does not merge with its predecessor
+        start = int(np.flatnonzero(~np.roll(same, 1))[0])
+        order = (start + np.arange(n)) % n
+        new_group = ~same[(order - 1) % n]
+        heads = np.flatnonzero(new_group)
+        first = order[heads]
+        last = order[np.append(heads[1:] - 1, n - 1)]
+        phi_out = self.phi_out[last].copy()
+        # unwrap windows that cross 2π so that phi_out ≥ phi_in
+        phi_out = self.phi_in[first] + np.mod(phi_out - self.phi_in[first], TWO_PI)
+        return Nodes(self.x[first], self.phi_in[first], phi_out, self.rho_in[first],
+                     self.rho_out[last], self.straight_after[last])
+
+    def window_widths(self) -> np.ndarray:
+        return self.phi_out - self.phi_in
+
+    def outline(self) -> Outline:
+        """Cubic Hermite (in φ) Bézier outline through the nodes."""
+        tangent_out = np.stack([-np.sin(self.phi_out), np.cos(self.phi_out)], axis=1)
+        tangent_in = np.stack([-np.sin(self.phi_in), np.cos(self.phi_in)], axis=1)
+        steps = np.mod(np.roll(self.phi_in, -1) - self.phi_out, TWO_PI)
+        straight = self.straight_after | (steps <= 1e-15)
+        # a full turn between two nodes only happens for a single-node body: treat as zero
+        steps = np.where(straight, 0.0, steps)
+        outline = Outline.from_hermite(self.x, self.rho_out[:, None] * tangent_out,
+                                       self.rho_in[:, None] * tangent_in, steps)
+        if straight.any():
+            nxt = np.roll(self.x, -1, axis=0)
+            controls = outline.controls.copy()
+            controls[straight, 0] = self.x[straight] + (nxt[straight] - self.x[straight]) / 3
+            controls[straight, 1] = self.x[straight] + 2 * (nxt[straight] - self.x[straight]) / 3
+            outline = Outline(outline.nodes, controls)
+        return outline

@@ -1,0 +1,338 @@
+"""Polar solver: the paper's first-order equation for R(α), with branch tracking.
+
+The paper (section IV, eq. 23 with our sign convention θ = α − atan(R'/R)) asks for
+
+    F(α, R, R') = b0 + b(α − atan(R'/R)) − R²/sqrt(R² + R'²) = 0.
+
+This is a Clairaut-type equation: its general solutions are the support lines
+themselves and the body is its *singular* solution, on which the two roots for
+R' coincide (∂F/∂R' = 0) everywhere — which is why following one root of the
+quadratic for R' numerically drifts onto a tangent line or loses the real root.
+We solve the regular system ``F = 0, ∂F/∂R' = 0`` instead.  Writing
+``R' = R tan ψ``, it reads ``R cos ψ = h(α − ψ)``, ``R sin ψ = h'(α − ψ)``, i.e.
+with the contact angle φ = α − ψ the single scalar equation
+
+    g(φ) = φ + atan(h'(φ)/h(φ)) = α,     g'(φ) = h ρ / R²,   ρ = h + h''.
+
+*Branch tracking.*  g is monotone exactly where ρ keeps its sign; where ρ
+changes sign g has a fold (a cusp of the envelope).  Folds are located exactly
+(ρ = 0 by Brent's method) and split φ into monotone branches; a kink of the
+wall adds a straight-line branch ``R = h(φ_k)/cos(α − φ_k)``.  For a given α
+every branch covering it gives a candidate; the body takes the candidate with
+the smallest R, because the ray from the centre of mass leaves the half-plane
+intersection through the nearest support line — a deliberate choice, not a
+numerical accident.  Where the chosen branch jumps to a non-adjacent one the
+ray crosses a corner; the crossing ``R_A(α*) = R_B(α*)`` is located by Brent's
+method and reported.  Roots are found by a vectorised Newton iteration kept
+inside a bracket from the sampled branch (bisection when Newton leaves it),
+so convergence is guaranteed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .nodes import Nodes
+from .support import sample_support
+
+__all__ = ["Fold", "PolarSolution", "polar_nodes"]
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class Fold:
+    """A fold of α(φ) (a cusp of the envelope): ρ(φ) = 0 with a change of sign."""
+
+    phi: float
+    alpha: float
+    radius: float
+
+    def as_dict(self) -> dict:
+        return {"phi": self.phi, "alpha": self.alpha, "R": self.radius}
+
+
+@dataclass(frozen=True, repr=False)
+class PolarSolution:
+    """Per-α solution of the regular system, with diagnostics."""
+
+    alpha: np.ndarray
+    radius: np.ndarray
+    slope: np.ndarray          # R'(α)
+    phi: np.ndarray            # contact angle φ = α − atan(R'/R)
+    branch: np.ndarray         # index of the branch chosen for every α
+    folds: tuple
+    switches: tuple            # α* of corner crossings
+    residual: float            # max |F| of the paper's equation at the solution
+    residual_dF: float         # max |∂F/∂R'|·R
+
+
+@dataclass
+class _Branch:
+    kind: str                  # "arc", "line" or "point"
+    phi: np.ndarray            # sampled φ (increasing)
+    alpha: np.ndarray          # sampled α(φ) (monotone)
+    h_k: float = 0.0           # lines: h at the kink
+    start: int = 0             # index into the sample array
+
+
+def _g(wall, b0, phi):
+    b, d1, d2 = wall.derivatives(phi)
+    h = b0 + b
+    return phi + np.arctan2(d1, h), h, d1, d2
+
+
+def _locate_fold(wall, b0, a, b):
+    from scipy.optimize import brentq
+
+    def rho(x):
+        bb, _, dd = wall.derivatives(np.array([x]))
+        return float(b0 + bb[0] + dd[0])
+
+    return brentq(rho, a, b, xtol=1e-15, rtol=1e-15, maxiter=200)
+
+
+def _branches(wall, b0, samples):
+    """Split the sampled support function into monotone pieces of α(φ), locating folds."""
+    phi, h, h1, rho, edge_after = samples.phi, samples.h, samples.h1, samples.rho, samples.edge_after
+    if not edge_after.any():
+        # close the ring: the last piece runs up to φ0 + 2π, so no α between the last and first sample is lost
+        phi, h, h1, rho = (np.append(phi, phi[0] + TWO_PI), np.append(h, h[0]), np.append(h1, h1[0]),
+                           np.append(rho, rho[0]))
+        edge_after = np.append(edge_after, False)
+    alpha = phi + np.arctan2(h1, h)
+    n = phi.size
+    scale = max(1.0, float(np.max(np.abs(h))))
+    branches, folds = [], []
+    # pieces between kinks (edge_after marks the left side of a kink)
+    cuts = list(np.flatnonzero(edge_after))
+    starts = [0] + [c + 1 for c in cuts if c + 1 < n]
+    stops = [c + 1 for c in cuts] + ([n] if not cuts or cuts[-1] + 1 < n else [])
+    for lo, hi in zip(starts, stops):
+        seg_phi, seg_alpha, seg_rho = phi[lo:hi], alpha[lo:hi], rho[lo:hi]
+        sign = np.where(seg_rho > 1e-12 * scale, 1, np.where(seg_rho < -1e-12 * scale, -1, 0))
+        change = np.flatnonzero(sign[:-1] * sign[1:] < 0)
+        bounds = [0]
+        fold_phis = []
+        for c in change:
+            f = _locate_fold(wall, b0, seg_phi[c], seg_phi[c + 1])
+            fold_phis.append(f)
+            bounds.append(c + 1)
+        bounds.append(seg_phi.size)
+        for k in range(len(bounds) - 1):
+            i0, i1 = bounds[k], bounds[k + 1]
+            p, a = seg_phi[i0:i1], seg_alpha[i0:i1]
+            if k > 0:  # prepend the exact fold
+                ga, *_ = _g(wall, b0, np.array([fold_phis[k - 1]]))
+                p, a = np.r_[fold_phis[k - 1], p], np.r_[ga[0], a]
+            if k < len(bounds) - 2:
+                ga, *_ = _g(wall, b0, np.array([fold_phis[k]]))
+                p, a = np.r_[p, fold_phis[k]], np.r_[a, ga[0]]
+            kind = "point" if np.ptp(a) < 1e-12 else "arc"
+            branches.append(_Branch(kind, p, a, start=lo + i0))
+        for f in fold_phis:
+            ga, hh, dd1, _ = _g(wall, b0, np.array([f]))
+            folds.append(Fold(float(np.mod(f, TWO_PI)), float(np.mod(ga[0], TWO_PI)), float(np.hypot(hh[0], dd1[0]))))
+        if edge_after[hi - 1]:  # the straight edge of the kink at phi[hi-1]
+            j = hi % n
+            a0 = alpha[hi - 1]
+            a1 = alpha[j] + (TWO_PI if j < hi - 1 else 0.0)
+            k_phi = phi[hi - 1]
+            branches.append(_Branch("line", np.array([k_phi, k_phi]), np.array([a0, a1]), h_k=float(h[hi - 1])))
+    return branches, folds
+
+
+def _solve_arc(wall, b0, br, targets):
+    """Roots of g(φ) = α on a monotone branch for the targets it covers; returns (mask, φ)."""
+    a = br.alpha
+    inc = a[-1] >= a[0]
+    a_sorted = a if inc else a[::-1]
+    p_sorted = br.phi if inc else br.phi[::-1]
+    lo_a, hi_a = a_sorted[0], a_sorted[-1]
+    # bring each target into the branch's α range (α is defined modulo 2π)
+    shift = np.floor((targets - lo_a) / TWO_PI)
+    t = targets - shift * TWO_PI
+    mask = (t >= lo_a) & (t <= hi_a)
+    if not mask.any():
+        return mask, np.empty(0), t
+    tt = t[mask]
+    k = np.clip(np.searchsorted(a_sorted, tt, side="right") - 1, 0, a_sorted.size - 2)
+    lo, hi = p_sorted[k], p_sorted[k + 1]
+    glo, ghi = a_sorted[k] - tt, a_sorted[k + 1] - tt
+    # linear interpolation as the starting guess, then safeguarded Newton
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(ghi != glo, lo - glo * (hi - lo) / (ghi - glo), 0.5 * (lo + hi))
+    x = np.where(np.isfinite(x), x, 0.5 * (lo + hi))
+    left, right = np.minimum(lo, hi), np.maximum(lo, hi)
+    sign_left = np.where(left == lo, np.sign(glo), np.sign(ghi))
+    for _ in range(60):
+        g, h, d1, d2 = _g(wall, b0, x)
+        res = g - tt
+        if np.max(np.abs(res)) <= 2e-16 * (1 + np.max(np.abs(tt))):
+            break
+        same = np.sign(res) == sign_left
+        left = np.where(same, x, left)
+        right = np.where(same, right, x)
+        deriv = h * (h + d2) / (h * h + d1 * d1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = x - res / deriv
+        bad = ~np.isfinite(step) | (step <= left) | (step >= right)
+        x = np.where(bad, 0.5 * (left + right), step)
+        if np.max(right - left) < 1e-15:
+            break
+    return mask, x, t
+
+
+def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
+    """Solve the paper's equation on ``points`` uniform polar angles.
+
+    Returns
+    -------
+    nodes : Nodes
+    solution : PolarSolution
+    """
+    from scipy.optimize import brentq
+
+    dense = sample_support(wall, b0, max(oversample * points, 4096))
+    branches, folds = _branches(wall, b0, dense)
+    targets = np.linspace(0.0, TWO_PI, points, endpoint=False)
+
+    def candidates(alpha):
+        best_r = np.full(alpha.size, np.inf)
+        best_phi = np.full(alpha.size, np.nan)
+        best_b = np.full(alpha.size, -1)
+        for ib, br in enumerate(branches):
+            if br.kind == "arc":
+                mask, phi, _ = _solve_arc(wall, b0, br, alpha)
+                if phi.size:
+                    _, h, d1, _ = _g(wall, b0, phi)
+                    r = np.hypot(h, d1)
+            elif br.kind == "line":
+                lo, hi = br.alpha
+                t = alpha - np.floor((alpha - lo) / TWO_PI) * TWO_PI
+                mask = (t > lo) & (t < hi)
+                phi = np.full(int(mask.sum()), br.phi[0])
+                r = max(br.h_k, 0.0) / np.cos(t[mask] - br.phi[0])
+            else:
+                continue
+            if not phi.size:
+                continue
+            idx = np.flatnonzero(mask)
+            better = r < best_r[idx] - 1e-15 * (1 + r)
+            best_r[idx[better]] = r[better]
+            best_phi[idx[better]] = phi[better]
+            best_b[idx[better]] = ib
+        return best_r, best_phi, best_b
+
+    radius, phi, chosen = candidates(targets)
+    # refine: where consecutive solutions are far apart in φ (high curvature: ρ small, dφ/dα = R²/(hρ)
+    # large) bisect the α interval, so the φ-Hermite outline stays as accurate as the envelope's
+    max_gap = 2.0 * TWO_PI / points
+    for _ in range(40):
+        nxt = np.roll(np.arange(targets.size), -1)
+        gap = np.abs(np.angle(np.exp(1j * (phi[nxt] - phi))))
+        same = (chosen == chosen[nxt]) & np.isfinite(gap)
+        wide = np.flatnonzero(same & (gap > max_gap))
+        if not wide.size:
+            break
+        mids = targets[wide] + 0.5 * np.mod(targets[nxt[wide]] - targets[wide], TWO_PI)
+        r2, p2, c2 = candidates(np.mod(mids, TWO_PI))
+        order = np.argsort(np.concatenate([targets, np.mod(mids, TWO_PI)]), kind="stable")
+        targets = np.concatenate([targets, np.mod(mids, TWO_PI)])[order]
+        radius = np.concatenate([radius, r2])[order]
+        phi = np.concatenate([phi, p2])[order]
+        chosen = np.concatenate([chosen, c2])[order]
+    points = targets.size
+    scale = max(1.0, float(np.nanmax(dense.h)))
+    # degenerate branches (a whole arc mapped to one α: a corner with ρ ≡ 0) and kink sides are nodes too
+    special = []
+    for ib, br in enumerate(branches):
+        if br.kind == "point":
+            _, h, d1, _ = _g(wall, b0, br.phi[[0, -1]])
+            x = np.array([h[0] * np.cos(br.phi[0]) - d1[0] * np.sin(br.phi[0]),
+                          h[0] * np.sin(br.phi[0]) + d1[0] * np.cos(br.phi[0])])
+            special.append((float(np.mod(br.alpha[0], TWO_PI)), x, br.phi[0], br.phi[-1], 0.0, 0.0, False))
+        elif br.kind == "line":
+            k = br.phi[0]
+            for a, straight in ((br.alpha[0], True), (br.alpha[1], False)):
+                r = max(br.h_k, 0.0) / math.cos(a - k)
+                x = r * np.array([math.cos(a), math.sin(a)])
+                special.append((float(np.mod(a, TWO_PI)), x, k, k, 0.0, 0.0, straight))
+    # corners: the chosen branch jumps between branches that do not join continuously
+    switches = []
+    nxt = np.roll(np.arange(points), -1)
+    for j in np.flatnonzero((chosen != chosen[nxt]) & (chosen >= 0) & (chosen[nxt] >= 0)):
+        ba, bb = branches[chosen[j]], branches[chosen[nxt[j]]]
+        if ba.kind != "arc" or bb.kind != "arc":
+            continue
+        a0 = targets[j]
+        a1 = targets[nxt[j]] + (TWO_PI if nxt[j] == 0 else 0.0)
+
+        def radius_on(branch, a):
+            mask, ph, _ = _solve_arc(wall, b0, branch, np.array([a]))
+            if not mask[0]:
+                return np.nan, np.nan
+            _, h, d1, _ = _g(wall, b0, ph)
+            return float(np.hypot(h[0], d1[0])), float(ph[0])
+
+        def diff(a):
+            return radius_on(ba, a)[0] - radius_on(bb, a)[0]
+
+        # both branches need not cover all of [a0, a1]: find a sub-bracket where both exist and R_A − R_B changes sign
+        grid = np.linspace(a0, a1, 33)
+        values = np.array([diff(a) for a in grid])
+        finite = np.isfinite(values)
+        pairs = [k for k in range(32) if finite[k] and finite[k + 1] and values[k] * values[k + 1] <= 0]
+        if not pairs:
+            continue
+        k = pairs[0]
+        astar = brentq(diff, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200) \
+            if values[k] * values[k + 1] < 0 else (grid[k] if values[k] == 0 else grid[k + 1])
+        ra, pa = radius_on(ba, astar)
+        _, pb = radius_on(bb, astar)
+        x = ra * np.array([math.cos(astar), math.sin(astar)])
+        _, _, _, d2a = _g(wall, b0, np.array([pa, pb]))
+        ha = b0 + wall(np.array([pa, pb]))
+        special.append((float(np.mod(astar, TWO_PI)), x, pa, pb, float(ha[0] + d2a[0]), float(ha[1] + d2a[1]), False))
+        switches.append(float(np.mod(astar, TWO_PI)))
+
+    ok = np.isfinite(radius)
+    for a, *_ in special:  # a target on top of a corner or edge end would duplicate that node
+        ok &= np.abs(np.angle(np.exp(1j * (targets - a)))) > 1e-12
+    g, h, d1, d2 = _g(wall, b0, np.where(ok, phi, 0.0))
+    rho = h + d2
+    on_line = np.array([c >= 0 and branches[c].kind == "line" for c in chosen])
+    xs = radius[:, None] * np.stack([np.cos(targets), np.sin(targets)], axis=1)
+    rho_nodes = np.where(on_line, 0.0, rho)
+    keys = list(targets[ok])
+    xs_l, pin, pout, rin, rout, st = list(xs[ok]), list(phi[ok]), list(phi[ok]), list(rho_nodes[ok]), \
+        list(rho_nodes[ok]), list(on_line[ok])
+    for a, x, p_in, p_out, r_in, r_out, straight in special:
+        keys.append(a)
+        xs_l.append(x)
+        pin.append(p_in)
+        pout.append(p_out)
+        rin.append(r_in)
+        rout.append(r_out)
+        st.append(straight)
+    order = np.argsort(np.array(keys), kind="stable")
+    nodes = Nodes(np.array(xs_l)[order], np.mod(np.array(pin)[order], TWO_PI),
+                  np.mod(np.array(pin)[order], TWO_PI) + np.mod(np.array(pout) - np.array(pin), TWO_PI)[order],
+                  np.array(rin)[order], np.array(rout)[order], np.array(st)[order])
+    nodes = nodes.collapse(1e-12 * scale)
+
+    # the paper's equation, evaluated honestly at the solution: θ = α − atan(R'/R)
+    slope = np.where(ok, radius * np.where(on_line, np.tan(targets - phi), d1 / np.where(h != 0, h, 1.0)), np.nan)
+    theta = targets - np.arctan2(slope, radius)
+    hb = b0 + wall(np.mod(np.where(ok, theta, 0.0), TWO_PI))
+    F = hb - radius**2 / np.sqrt(radius**2 + slope**2)
+    _, hd1, _ = wall.derivatives(np.mod(np.where(ok, theta, 0.0), TWO_PI))
+    psi = np.arctan2(slope, radius)
+    dF = np.where(on_line, 0.0, -hd1 + radius * np.sin(psi))
+    solution = PolarSolution(targets, radius, slope, np.mod(phi, TWO_PI), chosen, tuple(folds), tuple(switches),
+                             float(np.nanmax(np.abs(F[ok]))) if ok.any() else math.nan,
+                             float(np.nanmax(np.abs(dF[ok & ~on_line]))) if (ok & ~on_line).any() else 0.0)
+    return nodes, solution

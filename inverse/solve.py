@@ -1,0 +1,143 @@
+"""``solve_body``: wall function + offset → body outline, verified through the forward wall."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from forward.errors import InvalidArgument
+from forward.outline import support_function
+
+from .body import Body
+from .corners import Corner, corner_deficit
+from .critical import critical_offset, regime_of
+from .envelope import envelope_nodes
+from .polar import polar_nodes
+from .support import check_offset, check_points, sample_support
+
+__all__ = ["solve_body", "METHODS", "DEFAULT_POINTS"]
+
+TWO_PI = 2.0 * math.pi
+DEFAULT_POINTS = 1024
+
+
+def _envelope(wall, b0, points, regime):
+    samples = sample_support(wall, b0, points)
+    nodes, _ = envelope_nodes(samples, wall, b0, case_three=(regime == "corner"))
+    return nodes, {}
+
+
+def _polar(wall, b0, points, regime):
+    nodes, solution = polar_nodes(wall, b0, points)
+    return nodes, {"folds": solution.folds, "polar_residual": solution.residual}
+
+
+#: Solvers by name; each maps (wall, b0, points, regime) to (Nodes, extras).
+METHODS = {"envelope": _envelope, "polar": _polar}
+
+
+def _check_grid(n_nodes, windows, offset):
+    """Angles for the wall check: between the construction angles, outside corner windows."""
+    theta = (np.arange(n_nodes) + offset) * TWO_PI / n_nodes
+    keep = np.ones(theta.size, bool)
+    for lo, hi in windows:
+        keep &= np.mod(theta - lo, TWO_PI) > hi - lo
+    return theta[keep]
+
+
+def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int = DEFAULT_POINTS,
+               cross_check: bool = False) -> Body:
+    """Solve the inverse problem: the body whose wall is ``b0 + b(θ)``.
+
+    Parameters
+    ----------
+    wall : forward.Wall
+        The prescribed wall function.
+    b0 : float
+        Offset added to the wall (the paper's ``b0``).
+    method : {"envelope", "polar"}
+        ``"envelope"`` (default: exact Legendre construction, fastest and most
+        accurate) or ``"polar"`` (the paper's equation for R(α) with branch
+        tracking).
+    points : int
+        Number of outline nodes (uniform in the normal angle for ``envelope``,
+        in the polar angle for ``polar``); corners and kinks add nodes.
+    cross_check : bool
+        Also run the other method and report the largest difference of the two
+        bodies' walls in :attr:`Body.cross_check`.
+
+    Returns
+    -------
+    Body
+        Below the critical offset (``regime == "corner"``) the largest convex
+        body whose wall never exceeds the prescribed one, with its corners.
+
+    Raises
+    ------
+    InvalidArgument, InvalidParameter, InvalidWall
+        For an unknown method, a bad resolution, a non-finite offset, or an
+        offset for which the centre of mass would lie outside the body.
+    """
+    from shapely.geometry import Polygon
+
+    started = time.perf_counter()
+    if method not in METHODS:
+        raise InvalidArgument(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
+    b0 = check_offset(b0)
+    points = check_points(points)
+    critical = critical_offset(wall)
+    regime = regime_of(b0, critical.b_c, wall.scale)
+    nodes, extras = METHODS[method](wall, b0, points, regime)
+    scale = max(1.0, float(np.max(np.hypot(*nodes.x.T))))
+    nodes = nodes.collapse(1e-12 * scale)
+    outline = nodes.outline()
+
+    corners = []
+    widths = nodes.window_widths()
+    for i in np.flatnonzero(widths > 1e-9):
+        px, py = nodes.x[i]
+        lo, hi = float(nodes.phi_in[i]), float(nodes.phi_out[i])
+        deficit, where = corner_deficit(wall, b0, nodes.x[i], lo, hi)
+        corners.append(Corner(float(np.mod(math.atan2(py, px), TWO_PI)), 0.5 * (hi - lo), float(math.hypot(px, py)),
+                              max(deficit, 0.0), (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
+                              where))
+    deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]
+
+    theta = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
+    prescribed = b0 + wall(theta)
+    max_wall_error = float(np.max(np.abs(support_function(outline, theta) - prescribed))) if theta.size else 0.0
+
+    cross = None
+    if cross_check:
+        other = "polar" if method == "envelope" else "envelope"
+        other_nodes, _ = METHODS[other](wall, b0, points, regime)
+        other_outline = other_nodes.collapse(1e-12 * scale).outline()
+        cross = float(np.max(np.abs(support_function(other_outline, theta) - support_function(outline, theta))))
+
+    rho_in, rho_out = nodes.rho_in, nodes.rho_out
+    with np.errstate(divide="ignore"):
+        curvature = np.where((widths > 1e-9) | (np.minimum(rho_in, rho_out) <= 0), np.inf, 1.0 / rho_out)
+    x, y = nodes.x[:, 0], nodes.x[:, 1]
+    polygon = Polygon(outline.polygon(4))
+    area = outline.area
+    notes = []
+    if area <= 1e-12 * scale**2:
+        # a segment (the stick) has no interior; shapely calls such a polygon invalid
+        valid, convex = True, True
+        notes.append("the body is a segment (zero area)")
+    else:
+        valid = bool(polygon.is_valid)
+        convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
+    com_inside = bool(np.min(b0 + wall(np.linspace(0, TWO_PI, 4096, endpoint=False))) > 0)
+    if not com_inside:
+        notes.append("the centre of mass lies on the boundary (b0 + b = 0 somewhere)")
+    return Body(
+        wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles, regime=regime, method=method,
+        outline=outline, x=x, y=y, alpha=np.mod(np.arctan2(y, x), TWO_PI), R=np.hypot(x, y), K=curvature,
+        phi_in=np.mod(nodes.phi_in, TWO_PI), phi_out=np.mod(nodes.phi_in, TWO_PI) + widths,
+        corners=tuple(corners), folds=tuple(extras.get("folds", ())), max_wall_error=max_wall_error,
+        cross_check=cross, polar_residual=extras.get("polar_residual"), convex=convex, valid=valid,
+        com_inside=com_inside, area=area, perimeter=outline.perimeter,
+        seconds=time.perf_counter() - started, notes=tuple(notes))

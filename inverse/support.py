@@ -1,0 +1,108 @@
+"""The body's support function ``h = b0 + b`` sampled on normal angles, kinks kept.
+
+Both solvers start here.  Between kinks of the wall the normal angles are a
+uniform grid; at a kink the grid carries the angle twice, once with the
+left-hand and once with the right-hand slope, so that the straight edge the
+kink stands for appears as two outline points at the same normal angle.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from forward.errors import InvalidArgument, InvalidParameter, InvalidWall
+
+__all__ = ["SupportSamples", "sample_support", "check_offset", "envelope_point"]
+
+TWO_PI = 2.0 * math.pi
+
+
+def check_offset(b0) -> float:
+    """Validate an offset ``b0`` (a finite real number) and return it as float."""
+    try:
+        value = float(b0)
+    except (TypeError, ValueError):
+        raise InvalidParameter(f"`b0` must be a real number, got {b0!r}") from None
+    if not math.isfinite(value):
+        raise InvalidParameter(f"`b0` must be finite, got {value}")
+    return value
+
+
+def check_points(points) -> int:
+    """Validate an outline resolution."""
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 16 or points > 5_000_000:
+        raise InvalidArgument(f"`points` must be an integer between 16 and 5000000, got {points!r}")
+    return int(points)
+
+
+@dataclass(frozen=True, repr=False)
+class SupportSamples:
+    """``h, h', h''`` of ``b0 + b`` on sorted normal angles in [φ_start, φ_start + 2π).
+
+    ``edge_after[i]`` is True where node i and i+1 are the two sides of a kink
+    (same angle, a straight edge between them).
+    """
+
+    phi: np.ndarray
+    h: np.ndarray
+    h1: np.ndarray
+    h2: np.ndarray
+    edge_after: np.ndarray
+
+    @property
+    def rho(self) -> np.ndarray:
+        """Radius of curvature ``h + h''`` of the envelope at every sample."""
+        return self.h + self.h2
+
+    def points(self) -> np.ndarray:
+        """Envelope points ``h n + h' n'`` (the Legendre form)."""
+        return envelope_point(self.phi, self.h, self.h1)
+
+
+def envelope_point(phi, h, h1):
+    """``x(φ) = h(φ) n(φ) + h'(φ) n'(φ)`` with ``n = (cos φ, sin φ)``."""
+    c, s = np.cos(phi), np.sin(phi)
+    return np.stack([h * c - h1 * s, h * s + h1 * c], axis=-1)
+
+
+def sample_support(wall, b0: float, points: int) -> SupportSamples:
+    """Sample ``h = b0 + b`` on ``points`` normal angles (plus one extra per kink).
+
+    Raises
+    ------
+    InvalidWall
+        If ``b0 + b(θ) < 0`` somewhere: the centre of mass would lie outside the body.
+    """
+    kinks = wall.kinks
+    if not kinks:
+        phi = np.linspace(0.0, TWO_PI, points, endpoint=False)
+        b, d1, d2 = wall.derivatives(phi)
+        edge_after = np.zeros(points, bool)
+    else:
+        angles = np.array([k.angle for k in kinks])
+        ends = np.append(angles[1:], angles[0] + TWO_PI)
+        phis, sides = [], []
+        for start, stop in zip(angles, ends):
+            m = max(2, int(round(points * (stop - start) / TWO_PI)) + 1)
+            grid = np.linspace(start, stop, m)
+            phis.append(grid)
+            side = np.zeros(m, int)
+            side[0], side[-1] = +1, -1
+            sides.append(side)
+        phi = np.concatenate(phis)
+        side = np.concatenate(sides)
+        b, d1, d2 = (np.array(v) for v in wall.derivatives(phi))
+        for i in np.flatnonzero(side):
+            b[i], d1[i], d2[i] = wall.one_sided(float(phi[i]), int(side[i]))
+        # rotate so that the grid starts with the right-hand side of the first kink
+        edge_after = side == -1
+    h = b0 + b
+    worst = int(np.argmin(h))
+    if h[worst] < -1e-12 * wall.scale:
+        raise InvalidWall(
+            f"b0 + b(θ) = {h[worst]:.6g} < 0 at θ = {np.mod(phi[worst], TWO_PI):.6g}: the centre of mass would lie "
+            f"outside the body; choose b0 ≥ {-(h[worst] - b0):.6g}")
+    return SupportSamples(phi, h, d1, d2, edge_after)
