@@ -120,7 +120,7 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
     with np.errstate(divide="ignore"):
         curvature = np.where((widths > 1e-9) | (np.minimum(rho_in, rho_out) <= 0), np.inf, 1.0 / rho_out)
     x, y = nodes.x[:, 0], nodes.x[:, 1]
-    polygon = Polygon(outline.polygon(4))
+    polygon = Polygon(outline.polygon(1))
     area = outline.area
     notes = []
     if area <= 1e-12 * scale**2:

@@ -1,0 +1,43 @@
+"""Benchmark: solve + verify a 10,000-node outline vs evaluating b, b', b'' on the same grid.
+
+Run:  python tests/benchmarks/bench_solve.py
+Both timings are taken in the same run (median of repeats); the ratio is what we track,
+because the machines are shared and noisy.  Target: ratio ≤ 5, absolute < 0.5 s, round trip ≤ 1e-10.
+"""
+
+import statistics
+import time
+
+import numpy as np
+
+from forward import Wall
+from inverse import solve_body
+
+N = 10_000
+REPEATS = 7
+
+
+def median_time(func):
+    times = []
+    for _ in range(REPEATS):
+        start = time.perf_counter()
+        result = func()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), result
+
+
+def main():
+    wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    theta = np.linspace(0, 2 * np.pi, N, endpoint=False)
+    t_eval, _ = median_time(lambda: wall.derivatives(theta))
+    for b0 in (0.0, -0.5, -0.6):
+        t_solve, body = median_time(lambda: solve_body(wall, b0, points=N))
+        t_cross, crossed = median_time(lambda: solve_body(wall, b0, points=N, cross_check=True))
+        print(f"b0={b0:+.2f} regime={body.regime:8s} eval b,b',b''={t_eval * 1e3:7.2f} ms  "
+              f"solve+verify={t_solve * 1e3:7.2f} ms  ratio={t_solve / t_eval:5.2f}  "
+              f"round-trip error={body.max_wall_error:.1e}  "
+              f"with polar cross-check={t_cross * 1e3:7.1f} ms (agree {crossed.cross_check:.1e})")
+
+
+if __name__ == "__main__":
+    main()
