@@ -120,7 +120,6 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
     with np.errstate(divide="ignore"):
         curvature = np.where((widths > 1e-9) | (np.minimum(rho_in, rho_out) <= 0), np.inf, 1.0 / rho_out)
     x, y = nodes.x[:, 0], nodes.x[:, 1]
-    polygon = Polygon(outline.polygon(1))
     area = outline.area
     notes = []
     if area <= 1e-12 * scale**2:
@@ -128,6 +127,7 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         valid, convex = True, True
         notes.append("the body is a segment (zero area)")
     else:
+        polygon = Polygon(outline.polygon(1 if len(outline) >= 8 else 4))
         valid = bool(polygon.is_valid)
         convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
     com_inside = bool(np.min(b0 + wall(np.linspace(0, TWO_PI, 4096, endpoint=False))) > 0)
