@@ -11,10 +11,11 @@ import json
 import math
 import sys
 
-__all__ = ["main"]
+__all__ = ["main", "wall_arguments", "load_wall"]
 
 
-def _wall_arguments(parser, optional=False):
+def wall_arguments(parser, optional=False):
+    """Add the positional WALL argument and ``--param`` to a subcommand parser."""
     parser.add_argument("wall", nargs="?" if optional else None,
                         help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
                              "or a file: .csv (theta,b samples) or .json (Fourier: {\"a0\", \"cos\", \"sin\"})")
@@ -22,7 +23,8 @@ def _wall_arguments(parser, optional=False):
                         help="value of a parameter of the expression (repeatable)")
 
 
-def _load_wall(text, params):
+def load_wall(text, params):
+    """The :class:`forward.Wall` named on the command line (expression, .csv samples, .json Fourier)."""
     from forward import Wall
     from forward.errors import InvalidWall
     from forward.expression import parse_param
@@ -85,7 +87,7 @@ def _cmd_solve(args):
     else:
         wall_text, params, b0 = args.wall, args.param, (0.0 if args.b0 is None else args.b0)
     check_outputs(args.output)  # fail on a bad output before any work
-    wall = _load_wall(wall_text, params)
+    wall = load_wall(wall_text, params)
     body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)
     written = write_outputs(body, args.output) if args.output else []
     if args.json:
@@ -117,7 +119,7 @@ def _cmd_solve(args):
 def _cmd_critical(args):
     from inverse import critical_offset
 
-    wall = _load_wall(args.wall, args.param)
+    wall = load_wall(args.wall, args.param)
     result = critical_offset(wall)
     finite = math.isfinite(result.b_c)
     if args.json:
@@ -203,7 +205,7 @@ def _parser():
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     solve = sub.add_parser("solve", help="wall function + offset b0 -> body outline (the inverse problem)")
-    _wall_arguments(solve, optional=True)
+    wall_arguments(solve, optional=True)
     solve.add_argument("--b0", type=float, default=None, help="offset added to the wall (default 0)")
     solve.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                        help="write the body; format by extension: .svg .json .csv .png (repeatable)")
@@ -215,7 +217,7 @@ def _parser():
     solve.set_defaults(run=_cmd_solve)
 
     critical = sub.add_parser("critical", help="exact critical offset b_c = -min(b + b'')")
-    _wall_arguments(critical)
+    wall_arguments(critical)
     critical.add_argument("--json", action="store_true", help="print JSON")
     critical.set_defaults(run=_cmd_critical)
 
@@ -226,6 +228,16 @@ def _parser():
     wall.add_argument("--samples", type=int, default=720, help="number of angles (default 720)")
     wall.add_argument("--json", action="store_true", help="print JSON")
     wall.set_defaults(run=_cmd_wall)
+
+    # Further subcommands live in their own modules ``cases/cli_*.py``, each with
+    # ``register(subparsers)``; they are found here, so adding one touches no other file.
+    import importlib
+    import pkgutil
+
+    import cases
+    for info in sorted(pkgutil.iter_modules(cases.__path__), key=lambda i: i.name):
+        if info.name.startswith("cli_"):
+            importlib.import_module(f"cases.{info.name}").register(sub)
     return parser
 
 
