@@ -109,11 +109,15 @@ class Outline:
         return sum(wk[..., None] * pk[:, None, :] for wk, pk in zip(w, (p0, p1, p2, p3)))
 
     def _derivative(self, s):
+        """B'(s) at the same local parameters ``s`` (shape (m,)) of every segment: shape (n, m, 2)."""
         p0, p1, p2, p3 = self._segments
-        s = np.asarray(s, dtype=float)[None, :].repeat(len(p0), 0)
+        s = np.asarray(s, dtype=float)
         u = 1 - s
-        return 3 * (u**2)[..., None] * (p1 - p0)[:, None] + 6 * (u * s)[..., None] * (p2 - p1)[:, None] \
-            + 3 * (s**2)[..., None] * (p3 - p2)[:, None]
+        weights = np.stack([3 * u**2, 6 * u * s, 3 * s**2])  # (3, m): Bernstein basis of degree 2
+        deltas = np.stack([p1 - p0, p2 - p1, p3 - p2])  # (3, n, 2)
+        # a matrix product: einsum with this signature is several times slower
+        out = weights.T @ deltas.reshape(3, -1)  # (m, n*2)
+        return out.reshape(s.size, -1, 2).transpose(1, 0, 2)
 
     def polygon(self, per_segment: int = 1) -> np.ndarray:
         """Points along the curve, ``per_segment`` per segment (``1``: the nodes)."""
@@ -124,13 +128,21 @@ class Outline:
 
     @property
     def area(self) -> float:
-        """Enclosed area, exact (Green's theorem with a quadrature exact for the cubic)."""
-        x, w = _GL3
-        s, w = (x + 1) / 2, w / 2
-        pts = self.point(s)
-        der = self._derivative(s)
-        integrand = pts[..., 0] * der[..., 1] - pts[..., 1] * der[..., 0]
-        return float(0.5 * np.sum(integrand * w))
+        """Enclosed area, exact for the cubic Bézier curve.
+
+        Green's theorem, ``A = ½∮(x dy − y dx)``; for one cubic segment the
+        integral is the bilinear form of its control points
+        ``(6 P0×P1 + 3 P0×P2 + P0×P3 + 3 P1×P2 + 3 P1×P3 + 6 P2×P3)/10``
+        (integrate the Bernstein products; checked against Gauss–Legendre in the tests).
+        """
+        p0, p1, p2, p3 = self._segments
+
+        def cross(a, b):
+            return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+        twice = (6 * cross(p0, p1) + 3 * cross(p0, p2) + cross(p0, p3) + 3 * cross(p1, p2)
+                 + 3 * cross(p1, p3) + 6 * cross(p2, p3)) / 10
+        return float(0.5 * np.sum(twice))
 
     @property
     def perimeter(self) -> float:
@@ -159,16 +171,20 @@ def _signed_area(pts):
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
+def _dot(p, n):
+    """Row-wise dot products of (k, 2) arrays."""
+    return p[:, 0] * n[:, 0] + p[:, 1] * n[:, 1]
+
+
 def _segment_max(p0, p1, p2, p3, n):
     """max over s ∈ [0, 1] of B(s)·n for matching rows of segments and directions."""
-    d0 = np.einsum("ij,ij->i", p1 - p0, n)
-    d1 = np.einsum("ij,ij->i", p2 - p1, n)
-    d2 = np.einsum("ij,ij->i", p3 - p2, n)
+    q0, q1, q2, q3 = (_dot(p, n) for p in (p0, p1, p2, p3))
+    d0, d1, d2 = q1 - q0, q2 - q1, q3 - q2
     # derivative of the projected cubic is 3(A s² + B s + C)
     a = d0 - 2 * d1 + d2
     b = 2 * (d1 - d0)
     c = d0
-    best = np.maximum(np.einsum("ij,ij->i", p0, n), np.einsum("ij,ij->i", p3, n))
+    best = np.maximum(q0, q3)
     with np.errstate(divide="ignore", invalid="ignore"):
         disc = np.sqrt(np.maximum(b * b - 4 * a * c, 0.0))
         q = -0.5 * (b + np.copysign(disc, b))
@@ -180,9 +196,9 @@ def _segment_max(p0, p1, p2, p3, n):
         if np.any(ok):
             s = r[ok]
             u = 1 - s
-            pt = (u**3)[:, None] * p0[ok] + (3 * u * u * s)[:, None] * p1[ok] \
-                + (3 * u * s * s)[:, None] * p2[ok] + (s**3)[:, None] * p3[ok]
-            best[ok] = np.maximum(best[ok], np.einsum("ij,ij->i", pt, n[ok]))
+            # the projection of the cubic is the cubic of the projections
+            value = u**3 * q0[ok] + 3 * u * u * s * q1[ok] + 3 * u * s * s * q2[ok] + s**3 * q3[ok]
+            best[ok] = np.maximum(best[ok], value)
     return best
 
 
@@ -216,12 +232,17 @@ def support_function(outline: Outline, theta):
     chord = _chord_directions(p0, p1, p2, p3)
     # outward normal of a counter-clockwise curve: the tangent turned clockwise
     normal_angle = np.arctan2(-chord[:, 0], chord[:, 1])
-    unwrapped = normal_angle[0] + np.mod(normal_angle - normal_angle[0], TWO_PI)
-    # straight pieces repeated twice (a segment that reverses) keep the order monotone
-    order = np.argsort(unwrapped, kind="stable")
+    # normals equal to the first one up to rounding must not wrap around to +2π
+    slack = 1e-9
+    unwrapped = normal_angle[0] + np.mod(normal_angle - normal_angle[0] + slack, TWO_PI) - slack
+    # Along a convex counter-clockwise outline the chord normals increase with the segment index.
+    # Rounding breaks ties on a straight edge (many segments with the same normal) in either
+    # direction, so sorting would scramble the segments of an edge; a running maximum in index
+    # order keeps them in place and monotone.
+    unwrapped = np.maximum.accumulate(unwrapped)
     rel = normal_angle[0] + np.mod(theta - normal_angle[0], TWO_PI)
-    pos = np.searchsorted(unwrapped[order], rel, side="right") - 1
-    seg = order[np.mod(pos, nseg)]
+    pos = np.searchsorted(unwrapped, rel, side="right") - 1
+    seg = np.mod(pos, nseg)
     n = np.stack([np.cos(theta), np.sin(theta)], axis=1)
     best = np.full(theta.size, -np.inf)
     for shift in (-1, 0, 1):

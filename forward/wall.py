@@ -1,6 +1,6 @@
 """The wall function b(θ): the object the forward and the inverse side share.
 
-Convention (an asymmetric-body test pinning it is still to be written):
+Convention (pinned by tests/test_conventions.py with a triangle, which has no symmetry axis):
 ``b0 + b(θ)`` is the support function ``h`` of the body evaluated at the
 body-frame polar angle ``θ``, measured counter-clockwise from the body axis.
 Physically, θ is the angle measured *clockwise* from the outward normal of the

@@ -103,9 +103,9 @@ def find_windows(samples, wall, b0: float) -> list[Window]:
         return []
     windows = []
     scale = float(np.max(np.abs(h)))
-    for a, b in zip(idx, np.append(idx[1:], idx[0] + n)):
-        if b - a < 2:
-            continue
+    following = np.append(idx[1:], idx[0] + n)
+    gaps = following - idx >= 2  # most consecutive hull vertices are neighbours: skip them at once
+    for a, b in zip(idx[gaps], following[gaps]):
         inside = np.arange(a + 1, b) % n
         if not negative[inside].any():
             continue
@@ -127,11 +127,15 @@ def _polish(wall, b0, phi1, phi2, lo1, hi1, lo2, hi2, scale, kinked):
         hi2 += TWO_PI
     guess = (phi1, phi2)
     if not kinked:
+        previous = np.inf
         for _ in range(30):
             pts, rho = _envelope(wall, b0, np.array([phi1, phi2]))
             residual = pts[0] - pts[1]
-            if np.hypot(*residual) <= 4e-16 * scale:
+            size = float(np.hypot(*residual))
+            # converged, or stalled at the rounding floor (Newton no longer halves the residual)
+            if size <= 4e-16 * scale or (size <= 1e-13 * scale and size > 0.5 * previous):
                 break
+            previous = size
             jac = np.column_stack([rho[0] * np.array([-np.sin(phi1), np.cos(phi1)]),
                                    -rho[1] * np.array([-np.sin(phi2), np.cos(phi2)])])
             try:

@@ -257,10 +257,14 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
             special.append((float(np.mod(br.alpha[0], TWO_PI)), x, br.phi[0], br.phi[-1], 0.0, 0.0, False))
         elif br.kind == "line":
             k = br.phi[0]
-            for a, straight in ((br.alpha[0], True), (br.alpha[1], False)):
+            # the edge's ends join the arcs on either side of the kink: their one-sided radius of
+            # curvature shapes the neighbouring Hermite segment (ρ = 0 there would flatten it)
+            for a, straight, side in ((br.alpha[0], True, -1), (br.alpha[1], False, +1)):
                 r = max(br.h_k, 0.0) / math.cos(a - k)
                 x = r * np.array([math.cos(a), math.sin(a)])
-                special.append((float(np.mod(a, TWO_PI)), x, k, k, 0.0, 0.0, straight))
+                b_side, _, d2_side = wall.one_sided(float(np.mod(k, TWO_PI)), side)
+                rho_side = max(b0 + float(b_side) + float(d2_side), 0.0)
+                special.append((float(np.mod(a, TWO_PI)), x, k, k, rho_side, rho_side, straight))
     # corners: the chosen branch jumps between branches that do not join continuously
     switches = []
     nxt = np.roll(np.arange(points), -1)
@@ -282,8 +286,13 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
             return radius_on(ba, a)[0] - radius_on(bb, a)[0]
 
         # both branches need not cover all of [a0, a1]: find a sub-bracket where both exist and R_A − R_B changes sign
-        grid = np.linspace(a0, a1, 33)
+        # The crossing may sit exactly on a target (a corner on the α = 0 seam, say), where rounding
+        # decides the sign of R_A − R_B: widen the bracket by a quarter step each way and count
+        # differences at the rounding level as zeros.
+        pad = 0.25 * (a1 - a0)
+        grid = np.linspace(a0 - pad, a1 + pad, 33)
         values = np.array([diff(a) for a in grid])
+        values[np.abs(values) <= 1e-13 * scale] = 0.0
         finite = np.isfinite(values)
         pairs = [k for k in range(32) if finite[k] and finite[k + 1] and values[k] * values[k + 1] <= 0]
         if not pairs:

@@ -23,28 +23,30 @@ TWO_PI = 2.0 * math.pi
 DEFAULT_POINTS = 1024
 
 
-def _envelope(wall, b0, points, regime):
-    samples = sample_support(wall, b0, points)
+def _envelope(wall, b0, points, regime, samples=None):
+    if samples is None:
+        samples = sample_support(wall, b0, points)
     nodes, _ = envelope_nodes(samples, wall, b0, case_three=(regime == "corner"))
     return nodes, {}
 
 
-def _polar(wall, b0, points, regime):
+def _polar(wall, b0, points, regime, samples=None):
     nodes, solution = polar_nodes(wall, b0, points)
     return nodes, {"folds": solution.folds, "polar_residual": solution.residual}
 
 
-#: Solvers by name; each maps (wall, b0, points, regime) to (Nodes, extras).
+#: Solvers by name; each maps (wall, b0, points, regime, samples) to (Nodes, extras); ``samples``
+#: (the support function on the envelope grid, or None) saves evaluating the wall twice.
 METHODS = {"envelope": _envelope, "polar": _polar}
 
 
 def _check_grid(n_nodes, windows, offset):
-    """Angles for the wall check: between the construction angles, outside corner windows."""
+    """Angles for the wall check, between the construction angles, and a mask of those outside corner windows."""
     theta = (np.arange(n_nodes) + offset) * TWO_PI / n_nodes
     keep = np.ones(theta.size, bool)
     for lo, hi in windows:
         keep &= np.mod(theta - lo, TWO_PI) > hi - lo
-    return theta[keep]
+    return theta, keep
 
 
 def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int = DEFAULT_POINTS,
@@ -87,9 +89,11 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         raise InvalidArgument(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
     b0 = check_offset(b0)
     points = check_points(points)
-    critical = critical_offset(wall)
+    # the envelope grid doubles as the bracketing grid of the critical offset
+    samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
+    critical = critical_offset(wall, samples=samples)
     regime = regime_of(b0, critical.b_c, wall.scale)
-    nodes, extras = METHODS[method](wall, b0, points, regime)
+    nodes, extras = METHODS[method](wall, b0, points, regime, samples)
     scale = max(1.0, float(np.max(np.hypot(*nodes.x.T))))
     nodes = nodes.collapse(1e-12 * scale)
     outline = nodes.outline()
@@ -105,14 +109,16 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
                               where))
     deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]
 
-    theta = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
+    theta, keep = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
     prescribed = b0 + wall(theta)
+    lowest = float(np.min(prescribed)) if samples is None else min(float(np.min(prescribed)), float(np.min(samples.h)))
+    theta, prescribed = theta[keep], prescribed[keep]
     max_wall_error = float(np.max(np.abs(support_function(outline, theta) - prescribed))) if theta.size else 0.0
 
     cross = None
     if cross_check:
         other = "polar" if method == "envelope" else "envelope"
-        other_nodes, _ = METHODS[other](wall, b0, points, regime)
+        other_nodes, _ = METHODS[other](wall, b0, points, regime, samples)
         other_outline = other_nodes.collapse(1e-12 * scale).outline()
         cross = float(np.max(np.abs(support_function(other_outline, theta) - support_function(outline, theta))))
 
@@ -130,7 +136,7 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         polygon = Polygon(outline.polygon(1 if len(outline) >= 8 else 4))
         valid = bool(polygon.is_valid)
         convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
-    com_inside = bool(np.min(b0 + wall(np.linspace(0, TWO_PI, 4096, endpoint=False))) > 0)
+    com_inside = lowest > 0  # on the check grid and the construction grid
     if not com_inside:
         notes.append("the centre of mass lies on the boundary (b0 + b = 0 somewhere)")
     return Body(

@@ -51,6 +51,7 @@ class SupportSamples:
     h1: np.ndarray
     h2: np.ndarray
     edge_after: np.ndarray
+    b0: float = 0.0
 
     @property
     def rho(self) -> np.ndarray:
@@ -105,4 +106,4 @@ def sample_support(wall, b0: float, points: int) -> SupportSamples:
         raise InvalidWall(
             f"b0 + b(θ) = {h[worst]:.6g} < 0 at θ = {np.mod(phi[worst], TWO_PI):.6g}: the centre of mass would lie "
             f"outside the body; choose b0 ≥ {-(h[worst] - b0):.6g}")
-    return SupportSamples(phi, h, d1, d2, edge_after)
+    return SupportSamples(phi, h, d1, d2, edge_after, float(b0))

@@ -1,7 +1,8 @@
 """Benchmark: solve + verify a 10,000-node outline vs evaluating b, b', b'' on the same grid.
 
 Run:  python tests/benchmarks/bench_solve.py
-Both timings are taken in the same run (median of repeats); the ratio is what we track,
+Both timings are taken in the same run, interleaved (eval, solve, eval, solve, ...) so that load
+from other processes hits both alike; medians of the repeats.  The ratio is what we track,
 because the machines are shared and noisy.  Target: ratio ≤ 5, absolute < 0.5 s, round trip ≤ 1e-10.
 """
 
@@ -14,25 +15,32 @@ from forward import Wall
 from inverse import solve_body
 
 N = 10_000
-REPEATS = 7
+REPEATS = 15
 
 
-def median_time(func):
-    times = []
-    for _ in range(REPEATS):
-        start = time.perf_counter()
-        result = func()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
+def _timed(func):
+    start = time.perf_counter()
+    result = func()
+    return time.perf_counter() - start, result
+
+
+def median_times(baseline, func, repeats=REPEATS):
+    """Medians of interleaved timings of ``baseline`` and ``func``, and the last result of ``func``."""
+    base, times = [], []
+    for _ in range(repeats):
+        base.append(_timed(baseline)[0])
+        elapsed, result = _timed(func)
+        times.append(elapsed)
+    return statistics.median(base), statistics.median(times), result
 
 
 def main():
     wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
     theta = np.linspace(0, 2 * np.pi, N, endpoint=False)
-    t_eval, _ = median_time(lambda: wall.derivatives(theta))
     for b0 in (0.0, -0.5, -0.6):
-        t_solve, body = median_time(lambda: solve_body(wall, b0, points=N))
-        t_cross, crossed = median_time(lambda: solve_body(wall, b0, points=N, cross_check=True))
+        t_eval, t_solve, body = median_times(lambda: wall.derivatives(theta), lambda: solve_body(wall, b0, points=N))
+        _, t_cross, crossed = median_times(lambda: None, lambda: solve_body(wall, b0, points=N, cross_check=True),
+                                           repeats=3)
         print(f"b0={b0:+.2f} regime={body.regime:8s} eval b,b',b''={t_eval * 1e3:7.2f} ms  "
               f"solve+verify={t_solve * 1e3:7.2f} ms  ratio={t_solve / t_eval:5.2f}  "
               f"round-trip error={body.max_wall_error:.1e}  "
