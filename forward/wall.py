@@ -309,6 +309,15 @@ class Wall:
                 raise InvalidWall(
                     f"wall {self.description!r}: {name}(θ) is not finite at θ = {theta[bad[0]]:.6g} "
                     f"({name} = {arr[bad[0]]}); the wall must be finite with finite slopes everywhere")
+        # the offset grid never lands on "round" angles, where singular walls (1/(1+cos t) at π)
+        # usually blow up: check multiples of π/24 exactly as well
+        special = np.arange(48) * (TWO_PI / 48)
+        values = self._backend.values(special)
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise InvalidWall(
+                f"wall {self.description!r}: b(θ) is not finite at θ = {special[bad[0]]:.6g} "
+                f"(b = {values[bad[0]]}); the wall must be finite everywhere")
         self._scale = max(1.0, float(np.max(np.abs(b))))
         shifted = self._backend.values(theta + TWO_PI)
         diff = np.abs(shifted - b)
