@@ -30,6 +30,12 @@ def load_wall(text, params):
     from forward.expression import parse_param
 
     values = dict(parse_param(p) for p in params)
+    if text.startswith("case:"):
+        from cases.catalog import get_case
+
+        if values:
+            raise InvalidWall(f"--param does not apply to {text!r}: a case fixes its own parameters")
+        return get_case(text).wall()
     lower = text.lower()
     if lower.endswith(".csv") or lower.endswith(".json"):
         if values:
@@ -86,10 +92,15 @@ def _cmd_solve(args):
                   "critical offset b0 = -0.5 (paper Fig. 4).")
     else:
         wall_text, params, b0 = args.wall, args.param, (0.0 if args.b0 is None else args.b0)
+        if wall_text.startswith("case:") and args.b0 is None:
+            from cases.catalog import get_case
+
+            b0 = get_case(wall_text).b0  # a case comes with the offset it is meant for
     check_outputs(args.output)  # fail on a bad output before any work
     wall = load_wall(wall_text, params)
     body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)
-    written = write_outputs(body, args.output) if args.output else []
+    written = write_outputs(body, args.output, kappa=args.kappa, units=args.units,
+                            tolerance=args.tolerance) if args.output else []
     if args.json:
         print(json.dumps(body.summary(), indent=1, allow_nan=False))
         return 0
@@ -143,49 +154,96 @@ def _cmd_wall(args):
     import numpy as np
 
     from forward import load_outline, wall_functions
+    from forward.bodyfile import outline_from_polar
     from forward.errors import InvalidArgument, OutputError
+    from forward.expression import parse_param
 
     if args.H is not None and not (math.isfinite(args.H) and args.H > 0):
         raise InvalidArgument(f"--H must be a positive number, got {args.H}")
     if args.samples < 8:
         raise InvalidArgument(f"--samples must be at least 8, got {args.samples}")
+    if (args.body is None) == (args.polar is None):
+        raise InvalidArgument("give a body file or --polar EXPR (R(α) about the centre of mass), not both or neither")
+    if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
+        raise InvalidArgument(f"--kappa must be a positive length, got {args.kappa}")
+    com = None
+    if args.com is not None:
+        try:
+            com = tuple(float(v) for v in args.com.split(","))
+        except ValueError:
+            com = ()
+        if len(com) != 2 or not all(math.isfinite(v) for v in com):
+            raise InvalidArgument(f"--com must be two numbers X,Y, got {args.com!r}")
     outputs = args.output or []
     for path in outputs:
         ext = os.path.splitext(path)[1].lower()
-        if ext not in (".csv", ".json"):
-            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: .csv, .json")
+        if ext not in (".csv", ".json", ".png"):
+            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: .csv, .json, .png")
         folder = os.path.dirname(os.path.abspath(path))
         if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
             raise OutputError(f"output {path!r}: folder {folder!r} does not exist or is not writable")
-    outline, note = load_outline(args.body)
+    if args.polar is not None:
+        if args.layer is not None or args.kappa is not None:
+            raise InvalidArgument("--layer and --kappa apply to body files, not to --polar")
+        outline, note = outline_from_polar(args.polar, dict(parse_param(p) for p in args.param), com=com)
+        source = f"R(α) = {args.polar}"
+    else:
+        if args.param:
+            raise InvalidArgument("--param applies to --polar expressions, not to a body file")
+        outline, note = load_outline(args.body, layer=args.layer, com=com, kappa=args.kappa)
+        source = args.body
     theta = np.linspace(0, 2 * math.pi, args.samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, args.H)
     for path in outputs:
-        if path.lower().endswith(".csv"):
+        ext = path.lower().rsplit(".", 1)[-1]
+        if ext == "csv":
             text = io.StringIO()
             cols = [theta, lower] + ([upper] if upper is not None else [])
             text.write("theta,b" + (",t" if upper is not None else "") + "\n")
             np.savetxt(text, np.column_stack(cols), delimiter=",", fmt="%.17g")
-            data = text.getvalue()
-        else:
+            data = text.getvalue().encode()
+        elif ext == "json":
             doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
             if upper is not None:
                 doc.update(H=args.H, t=upper.tolist())
-            data = json.dumps(doc)
+            data = json.dumps(doc).encode()
+        else:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(10, 4.2))
+            pts = outline.polygon(4) if len(outline.nodes) < 4096 else outline.nodes
+            pts = np.vstack([pts, pts[:1]])
+            ax0.plot(pts[:, 0], pts[:, 1], "k-")
+            ax0.plot([0], [0], "r+", ms=10)
+            ax0.set_aspect("equal")
+            ax0.set_title("body (units of κ), + centre of mass")
+            ax1.plot(theta, lower, label="b(θ)")
+            if upper is not None:
+                ax1.plot(theta, upper, label=f"t(θ) = H − b(θ+π), H = {args.H:g}")
+            ax1.set_xlabel("θ (rad)")
+            ax1.legend(loc="best", fontsize=8)
+            fig.tight_layout()
+            buffer = io.BytesIO()
+            fig.savefig(buffer, format="png", dpi=100)
+            plt.close(fig)
+            data = buffer.getvalue()
         fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
         try:
-            with os.fdopen(fd, "w") as fh:
+            with os.fdopen(fd, "wb") as fh:
                 fh.write(data)
             os.replace(temp, path)
         except OSError as exc:
             os.unlink(temp)
             raise OutputError(f"cannot write {path!r}: {exc.strerror}") from None
-    summary = {"body": args.body, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
+    summary = {"body": source, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
                "b_max": float(lower.max()), "outputs": outputs}
     if args.json:
         print(json.dumps(summary, indent=1))
     else:
-        print(f"body       {args.body} ({note})")
+        print(f"body       {source} ({note})")
         print(f"wall       b(θ) from {lower.min():.6g} to {lower.max():.6g} on {theta.size} angles")
         if outputs:
             print(f"wrote      {', '.join(outputs)}")
@@ -208,11 +266,16 @@ def _parser():
     wall_arguments(solve, optional=True)
     solve.add_argument("--b0", type=float, default=None, help="offset added to the wall (default 0)")
     solve.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                       help="write the body; format by extension: .svg .json .csv .png (repeatable)")
+                       help="write the body; format by extension: .svg .dxf .json .csv .png (repeatable)")
     solve.add_argument("--points", type=int, default=DEFAULT_POINTS, help=f"outline nodes (default {DEFAULT_POINTS})")
     solve.add_argument("--method", choices=["envelope", "polar"], default="envelope",
                        help="solver (default envelope; the other one is the cross-check)")
     solve.add_argument("--no-cross-check", action="store_true", help="skip the cross-check with the other solver")
+    solve.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+                       help="radius of gyration in --units: .svg/.dxf drawn at real size (default: units of kappa)")
+    solve.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
+    solve.add_argument("--tolerance", type=float, default=None, metavar="T",
+                       help="largest deviation of approximated outlines (DXF polyline) in output units")
     solve.add_argument("--json", action="store_true", help="print the summary as JSON")
     solve.set_defaults(run=_cmd_solve)
 
@@ -221,9 +284,21 @@ def _parser():
     critical.add_argument("--json", action="store_true", help="print JSON")
     critical.set_defaults(run=_cmd_critical)
 
-    wall = sub.add_parser("wall", help="body outline (.json from solve, or .csv x,y) -> wall function b(θ)")
-    wall.add_argument("body", help="body file")
-    wall.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".csv or .json")
+    wall = sub.add_parser("wall", help="body outline (.json/.csv/.svg/.dxf, or --polar R(α)) -> wall function b(θ)")
+    wall.add_argument("body", nargs="?", default=None,
+                      help="body file: .json from solve, .csv x,y points, .svg (closed paths, polygons, rects, "
+                           "circles, ellipses) or .dxf (LWPOLYLINE POLYLINE SPLINE CIRCLE ELLIPSE ARC)")
+    wall.add_argument("--polar", default=None, metavar="EXPR",
+                      help="instead of a file: the outline R(α) about the centre of mass, an expression in t")
+    wall.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                      help="parameter of the --polar expression (repeatable)")
+    wall.add_argument("--layer", default=None, help="DXF layer to read (default: all layers)")
+    wall.add_argument("--com", default=None, metavar="X,Y",
+                      help="centre of mass in drawing coordinates (default: as recorded by coinwall, else centroid)")
+    wall.add_argument("--kappa", type=float, default=None,
+                      help="radius of gyration in drawing units (default: as recorded by coinwall, else 1)")
+    wall.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                      help=".csv (theta,b[,t]: feeds 'coinwall solve'), .json or .png")
     wall.add_argument("--H", type=float, default=None, help="wall distance: also write the upper wall t(θ)")
     wall.add_argument("--samples", type=int, default=720, help="number of angles (default 720)")
     wall.add_argument("--json", action="store_true", help="print JSON")

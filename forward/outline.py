@@ -232,20 +232,23 @@ def support_function(outline: Outline, theta):
     chord = _chord_directions(p0, p1, p2, p3)
     # outward normal of a counter-clockwise curve: the tangent turned clockwise
     normal_angle = np.arctan2(-chord[:, 0], chord[:, 1])
-    # normals equal to the first one up to rounding must not wrap around to +2π
-    slack = 1e-9
+    slack = 1e-9  # normals equal to the first one up to rounding must not wrap around to +2π
     unwrapped = normal_angle[0] + np.mod(normal_angle - normal_angle[0] + slack, TWO_PI) - slack
-    # Along a convex counter-clockwise outline the chord normals increase with the segment index.
-    # Rounding breaks ties on a straight edge (many segments with the same normal) in either
-    # direction, so sorting would scramble the segments of an edge; a running maximum in index
-    # order keeps them in place and monotone.
-    unwrapped = np.maximum.accumulate(unwrapped)
+    # pieces of one straight edge share a normal up to rounding: give them exactly the normal of
+    # the run's first piece, so the stable sort below keeps them in index (geometric) order
+    step = np.abs(np.diff(unwrapped)) > 1e-12
+    run = np.concatenate([[0], np.cumsum(step)])
+    unwrapped = unwrapped[np.flatnonzero(np.concatenate([[True], step]))][run]
+    # Segments sorted by chord normal are in geometric order for a convex curve, whatever
+    # rounding does to ties on a straight edge or to the chords of tiny segments at a corner;
+    # the contact segment for θ is then the last one with chord normal ≤ θ or the next one
+    # *in sorted order* (its neighbour by index may be another piece of the same straight edge).
+    order = np.argsort(unwrapped, kind="stable")
     rel = normal_angle[0] + np.mod(theta - normal_angle[0], TWO_PI)
-    pos = np.searchsorted(unwrapped, rel, side="right") - 1
-    seg = np.mod(pos, nseg)
+    pos = np.searchsorted(unwrapped[order], rel, side="right") - 1
     n = np.stack([np.cos(theta), np.sin(theta)], axis=1)
     best = np.full(theta.size, -np.inf)
     for shift in (-1, 0, 1):
-        k = np.mod(seg + shift, nseg)
+        k = order[np.mod(pos + shift, nseg)]
         best = np.maximum(best, _segment_max(p0[k], p1[k], p2[k], p3[k], n))
     return best.reshape(shape)

@@ -107,9 +107,9 @@ def find_windows(samples, wall, b0: float) -> list[Window]:
     gaps = following - idx >= 2  # most consecutive hull vertices are neighbours: skip them at once
     for a, b in zip(idx[gaps], following[gaps]):
         inside = np.arange(a + 1, b) % n
-        if not negative[inside].any():
-            continue
         i, j = a % n, b % n
+        if not negative[inside].any() and not _clearly_inactive(phi, h, i, j, inside, scale):
+            continue  # lines off the hull by rounding only, on a convex stretch: harmless
         phi1, phi2 = phi[i], phi[j] + (TWO_PI if b >= n else 0.0)
         windows.append(_polish(wall, b0, phi1, phi2, phi[(i - 1) % n], phi[(i + 1) % n],
                                phi[(j - 1) % n] + (TWO_PI if b >= n else 0.0),
@@ -117,6 +117,19 @@ def find_windows(samples, wall, b0: float) -> list[Window]:
                                kinked=bool(samples.edge_after[i] or samples.edge_after[(i - 1) % n]
                                            or samples.edge_after[j] or samples.edge_after[(j - 1) % n])))
     return windows
+
+
+def _clearly_inactive(phi, h, i, j, inside, scale):
+    """Whether the sampled lines strictly between active lines i and j miss the body by more than
+    rounding: a swallowtail narrower than the sample spacing has no sample with ρ < 0, but its
+    lines still stand off the corner where lines i and j meet."""
+    normals = np.array([[np.cos(phi[i]), np.sin(phi[i])], [np.cos(phi[j]), np.sin(phi[j])]])
+    try:
+        corner = np.linalg.solve(normals, [h[i], h[j]])
+    except np.linalg.LinAlgError:
+        return False
+    standoff = h[inside] - (corner[0] * np.cos(phi[inside]) + corner[1] * np.sin(phi[inside]))
+    return bool(np.max(standoff) > 1e-10 * scale)
 
 
 def _polish(wall, b0, phi1, phi2, lo1, hi1, lo2, hi2, scale, kinked):

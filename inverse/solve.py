@@ -104,7 +104,9 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         px, py = nodes.x[i]
         lo, hi = float(nodes.phi_in[i]), float(nodes.phi_out[i])
         deficit, where = corner_deficit(wall, b0, nodes.x[i], lo, hi)
-        corners.append(Corner(float(np.mod(math.atan2(py, px), TWO_PI)), 0.5 * (hi - lo), float(math.hypot(px, py)),
+        direction = float(np.mod(math.atan2(py, px), TWO_PI))
+        direction = 0.0 if direction >= TWO_PI else direction  # np.mod(-1e-17, 2π) rounds to 2π
+        corners.append(Corner(direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
                               max(deficit, 0.0), (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
                               where))
     deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]

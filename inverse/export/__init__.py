@@ -1,7 +1,9 @@
 """Exporters of solved bodies, chosen by file extension.
 
 Every module in this package that defines ``EXTENSION`` and ``write(body, stream)``
-is an exporter: adding a format (DXF, say) is adding one module.  Files are
+is an exporter: adding a format is adding one module.  An exporter may take a
+third argument ``options`` (:class:`ExportOptions`: physical scale, tolerance)
+and may return a report ``{name: achieved deviation, ..., "tolerance": t}``.  Files are
 written atomically: all outputs go to temporary files first and are renamed
 only when every one of them succeeded, so a failure leaves nothing behind.
 """
@@ -9,13 +11,56 @@ only when every one of them succeeded, so a failure leaves nothing behind.
 from __future__ import annotations
 
 import importlib
+import inspect
 import os
 import pkgutil
 import tempfile
+from dataclasses import dataclass, field
 
 from forward.errors import OutputError
 
-__all__ = ["exporters", "check_outputs", "write_outputs"]
+from .options import UNITS, ExportOptions
+
+__all__ = ["exporters", "check_outputs", "write_outputs", "export_body", "ExportOptions", "ExportResult", "UNITS"]
+
+# report entries that are not deviations
+_NOT_DEVIATIONS = {"tolerance", "units", "polyline_vertices", "diameter"}
+
+
+@dataclass(frozen=True, repr=False)
+class ExportResult:
+    """What :func:`export_body` wrote.
+
+    Attributes
+    ----------
+    paths : list of str
+        The files written, in the order given.
+    reports : dict
+        ``path -> report``: for DXF ``{"spline", "polyline", "tolerance", "polyline_vertices", "units"}``,
+        for SVG ``{"path", "tolerance", "diameter", "units"}``; deviations and the tolerance
+        in output units.  Formats without approximation have an empty report.
+    options : ExportOptions
+    """
+
+    paths: list
+    reports: dict = field(default_factory=dict)
+    options: ExportOptions = field(default_factory=ExportOptions)
+
+    def deviations(self) -> dict:
+        """``path -> largest achieved deviation`` for the files that have one."""
+        out = {}
+        for path, report in self.reports.items():
+            values = [v for k, v in report.items() if k not in _NOT_DEVIATIONS]
+            if values:
+                out[path] = max(values)
+        return out
+
+    def __repr__(self) -> str:
+        try:
+            devs = ", ".join(f"{os.path.basename(p)}: {d:.2g}" for p, d in self.deviations().items())
+            return f"ExportResult({len(self.paths)} files, units {self.options.unit_name}, deviations {{{devs}}})"
+        except Exception:  # a repr must never raise
+            return "ExportResult(<unprintable>)"
 
 
 def exporters() -> dict:
@@ -49,17 +94,63 @@ def check_outputs(paths) -> list:
     return checked
 
 
-def write_outputs(body, paths) -> list:
-    """Write ``body`` to every path (format by extension), all or nothing."""
+def _takes_options(module) -> bool:
+    try:
+        return len(inspect.signature(module.write).parameters) >= 3
+    except (TypeError, ValueError):
+        return False
+
+
+def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False) -> list:
+    """Write ``body`` to every path (format by extension), all or nothing; returns the paths.
+
+    ``kappa``/``units``/``tolerance``/``dimension`` are :class:`ExportOptions`; use
+    :func:`export_body` to also get the achieved deviations.
+    """
+    return export_body(body, paths, kappa=kappa, units=units, tolerance=tolerance, dimension=dimension).paths
+
+
+def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False) -> ExportResult:
+    """Write ``body`` to every path, all or nothing, and report the deviations achieved.
+
+    Parameters
+    ----------
+    body : inverse.Body
+    paths : list of str
+        Output files; the format follows the extension.
+    kappa, units : float, str, optional
+        Radius of gyration in ``units`` (mm, cm, in): physical size.  Without them,
+        units of κ.  Only formats that draw the body (SVG, DXF) are scaled; JSON and
+        CSV stay in units of κ, the form ``coinwall wall``/``export`` read back.
+    tolerance : float, optional
+        Largest deviation from the exact outline, in output units.
+    dimension : bool
+        Draw the largest diameter (SVG).
+
+    Raises
+    ------
+    OutputError
+        Unknown extension, unwritable place, or a tolerance that cannot be reached.
+    InvalidArgument
+        Bad scale or tolerance.
+    """
+    options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension)
     checked = check_outputs(paths)
     temps = []
+    reports = {}
     try:
         for path, module in checked:
             folder = os.path.dirname(os.path.abspath(path))
             fd, temp = tempfile.mkstemp(prefix=".coinwall-", suffix=os.path.splitext(path)[1], dir=folder)
             temps.append(temp)
             with os.fdopen(fd, "wb") as stream:
-                module.write(body, stream)
+                report = module.write(body, stream, options) if _takes_options(module) else module.write(body, stream)
+            reports[path] = dict(report) if isinstance(report, dict) else {}
+            achieved = [v for k, v in reports[path].items() if k not in _NOT_DEVIATIONS]
+            limit = reports[path].get("tolerance")
+            if achieved and limit is not None and max(achieved) > limit:
+                raise OutputError(f"output {path!r}: deviation {max(achieved):.3g} exceeds --tolerance "
+                                  f"{limit:.3g} {options.unit_name}; give a larger tolerance")
         for (path, _), temp in zip(checked, temps):
             os.replace(temp, path)
         temps = []
@@ -71,4 +162,4 @@ def write_outputs(body, paths) -> list:
                 os.unlink(temp)
             except OSError:
                 pass
-    return [p for p, _ in checked]
+    return ExportResult([p for p, _ in checked], reports, options)

@@ -1,0 +1,275 @@
+"""``coinwall section | correlation | kam``: Poincaré sections, heads/tails correlation P(n), KAM boundary."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+
+__all__ = ["register"]
+
+
+def register(subparsers):
+    """Add the ``section``, ``correlation`` and ``kam`` subcommands."""
+    from cases.cli import wall_arguments
+
+    section = subparsers.add_parser("section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits")
+    wall_arguments(section)
+    section.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
+    section.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    section.add_argument("--orbits", type=int, default=60, help="number of orbits (default 60)")
+    section.add_argument("--collisions", type=int, default=2000, help="collisions per orbit (default 2000)")
+    section.add_argument("--seed", type=int, default=None, help="seed of the random start states")
+    section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                         help=".png (figure), .csv (theta,phi,orbit) or .json (repeatable)")
+    section.add_argument("--json", action="store_true", help="print a JSON summary")
+    section.set_defaults(run=_cmd_section)
+
+    corr = subparsers.add_parser("correlation", help="heads/tails correlation P(n), decay time τ, bounces needed")
+    wall_arguments(corr)
+    corr.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
+    corr.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    corr.add_argument("--bounces", type=int, default=1_000_000, help="counted collisions in total (default 1e6)")
+    corr.add_argument("--max-lag", type=int, default=40, help="largest n (default 40)")
+    corr.add_argument("--orbits", type=int, default=100, help="independent orbits (default 100)")
+    corr.add_argument("--count", choices=["bottom", "all"], default="bottom",
+                      help="n counts bottom collisions (default) or collisions with either wall")
+    corr.add_argument("--seed", type=int, default=None, help="seed of the random start states")
+    corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".png or .json (repeatable)")
+    corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    corr.set_defaults(run=_cmd_correlation)
+
+    kam = subparsers.add_parser("kam", help="KAM boundary ε_c(H) of the elliptic billiard vs the paper's 1/H + 17/H²")
+    kam.add_argument("--H", required=True, metavar="H1,H2,...", help="comma-separated wall distances (units of κ)")
+    kam.add_argument("--orbits", type=int, default=100, help="orbits per (ε, H) (default 100)")
+    kam.add_argument("--collisions", type=int, default=1000, help="collisions per orbit (default 1000)")
+    kam.add_argument("--steps", type=int, default=7, help="bisection steps in log ε (default 7)")
+    kam.add_argument("--regular-max", type=float, default=0.01, help="criterion: regular fraction below this (0.01)")
+    kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
+    kam.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".png or .json (repeatable)")
+    kam.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    kam.set_defaults(run=_cmd_kam)
+
+
+# ---------------------------------------------------------------------------------------------------- helpers
+def _check_outputs(paths, allowed):
+    from forward.errors import OutputError
+
+    for path in paths:
+        ext = os.path.splitext(path)[1].lower()
+        if ext not in allowed:
+            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(allowed)}")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
+            raise OutputError(f"output {path!r}: folder {folder!r} does not exist or is not writable")
+
+
+def _write_all(files):
+    """Write {path: bytes} all or nothing: every file goes to a temp file first, then all are renamed."""
+    import tempfile
+
+    from forward.errors import OutputError
+
+    temps = []
+    try:
+        for path, data in files.items():
+            fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
+            temps.append((temp, path))
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+        for temp, path in temps:
+            os.replace(temp, path)
+    except OSError as exc:
+        for temp, _ in temps:
+            if os.path.exists(temp):
+                os.unlink(temp)
+        raise OutputError(f"cannot write outputs: {exc.strerror or exc}") from None
+
+
+def _png(draw):
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    draw(ax)
+    fig.tight_layout()
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def _bar(args, total, unit):
+    if args.json or not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False)
+
+
+def _positive(name, value):
+    from forward.errors import InvalidArgument
+
+    if value is None or value <= 0:
+        raise InvalidArgument(f"{name} must be a positive integer, got {value}")
+
+
+def _seed(value):
+    from forward.errors import InvalidArgument
+
+    if value is not None and value < 0:
+        raise InvalidArgument(f"--seed must be a non-negative integer, got {value}")
+
+
+def _table(args):
+    from cases.cli import load_wall
+    from forward.billiard import Billiard
+    from forward.errors import InvalidArgument
+
+    if not math.isfinite(args.H):
+        raise InvalidArgument(f"--H must be a finite number, got {args.H}")
+    wall = load_wall(args.wall, args.param)
+    return wall, Billiard(wall, args.H, args.b0)
+
+
+# ---------------------------------------------------------------------------------------------------- section
+def _cmd_section(args):
+    import io
+
+    import numpy as np
+
+    from forward.poincare import poincare_section
+
+    _positive("--orbits", args.orbits)
+    _positive("--collisions", args.collisions)
+    _seed(args.seed)
+    _check_outputs(args.output, (".png", ".csv", ".json"))
+    _, table = _table(args)
+    result = poincare_section(table, args.orbits, args.collisions, seed=args.seed)
+    files = {}
+    for path in args.output:
+        ext = os.path.splitext(path)[1].lower()
+        if ext == ".png":
+            files[path] = _png(lambda ax: result.plot(ax=ax, title=f"{args.wall} {' '.join(args.param)}, H = {args.H:g}"))
+        elif ext == ".csv":
+            text = io.StringIO()
+            text.write("theta_c,phi_c,orbit\n")
+            np.savetxt(text, np.column_stack([result.theta, result.phi, result.orbit]), delimiter=",",
+                       fmt=["%.17g", "%.17g", "%d"])
+            files[path] = text.getvalue().encode()
+        else:
+            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param)).encode()
+    _write_all(files)
+    summary = {"wall": args.wall, "params": args.param, "H": table.H, "orbits": result.orbits,
+               "collisions": result.collisions, "points": int(result.theta.size), "notes": list(result.notes),
+               "outputs": args.output}
+    if args.json:
+        print(json.dumps(summary, indent=1))
+    else:
+        print(f"section    {result!r}")
+        if args.output:
+            print(f"wrote      {', '.join(args.output)}")
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------------- correlation
+def _cmd_correlation(args):
+    from forward.correlation import correlation
+    from forward.errors import InvalidArgument
+
+    _positive("--bounces", args.bounces)
+    _positive("--max-lag", args.max_lag)
+    _positive("--orbits", args.orbits)
+    _seed(args.seed)
+    if args.max_lag >= args.bounces:
+        raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
+    _check_outputs(args.output, (".png", ".json"))
+    _, table = _table(args)
+    bar = _bar(args, args.bounces, "bounce")
+    try:
+        result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
+                             progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    doc = dict(result.to_dict(), wall=args.wall, params=args.param)
+    files = {}
+    for path in args.output:
+        if path.lower().endswith(".png"):
+            files[path] = _png(lambda ax: result.plot(ax=ax))
+        else:
+            files[path] = json.dumps(doc).encode()
+    _write_all(files)
+    if args.json:
+        print(json.dumps(doc, indent=1, allow_nan=False))
+        return 0
+    print(f"table      {table!r}")
+    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}")
+    print(f"heads      {result.heads_fraction:.4f} ± {result.heads_stderr:.4f}")
+    print("n   P(n)      ±")
+    for n, (p, e) in enumerate(zip(result.P, result.P_stderr)):
+        print(f"{n:<3d} {p:.5f}  {e:.5f}")
+    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} (fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
+    print(f"n_needed   {result.n_needed} (first n with |P(n) − ½| < 0.01; fit: {result.n_needed_fit:.3g})")
+    for note in result.notes:
+        print(f"note       {note}")
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------------- kam
+def _floats(text, name):
+    from forward.errors import InvalidArgument
+
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        values = []
+    if not values or not all(math.isfinite(v) for v in values):
+        raise InvalidArgument(f"{name} must be comma-separated numbers, got {text!r}")
+    return values
+
+
+def _cmd_kam(args):
+    from forward.errors import InvalidArgument
+    from forward.kam import kam_boundary
+
+    H = _floats(args.H, "--H")
+    bracket = _floats(args.bracket, "--bracket")
+    if len(bracket) != 2:
+        raise InvalidArgument(f"--bracket must be two numbers LOW,HIGH, got {args.bracket!r}")
+    _positive("--orbits", args.orbits)
+    _positive("--collisions", args.collisions)
+    if args.steps < 0:
+        raise InvalidArgument(f"--steps must be a non-negative integer, got {args.steps}")
+    _seed(args.seed)
+    _check_outputs(args.output, (".png", ".json"))
+    bar = _bar(args, len(H) * (args.steps + 2), "eval")
+    try:
+        result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
+                              collisions=args.collisions, regular_max=args.regular_max, seed=args.seed,
+                              progress=(lambda: bar.update(1)) if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    files = {}
+    for path in args.output:
+        if path.lower().endswith(".png"):
+            files[path] = _png(lambda ax: result.plot(ax=ax))
+        else:
+            files[path] = json.dumps(result.to_dict()).encode()
+    _write_all(files)
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
+        return 0
+    print(result.table())
+    print(f"criterion  regular fraction < {result.regular_max:g} among {result.orbits} orbits × {result.collisions} "
+          f"collisions (orbit regular if λ/collision ≤ 3 ln N / N)")
+    if args.output:
+        print(f"wrote      {', '.join(args.output)}")
+    return 0

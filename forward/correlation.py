@@ -1,0 +1,372 @@
+"""Heads/tails correlation of the coin: P(n), its decay time τ, and the bounces needed to forget.
+
+Heads and tails
+---------------
+The paper (section III) puts an arrow along the coin's long axis and calls
+"heads" the arrow pointing to the right.  The project's angle θ is measured
+*clockwise from the downward wall normal to the body axis* (the arrow); the
+rigid-body map in :mod:`forward.rigidbody` makes the axis' lab angle
+``ψ = −θ − π/2``, so the arrow is the lab vector
+
+    (cos ψ, sin ψ) = (−sin θ, −cos θ).
+
+It points right when its x component is positive:
+
+    heads  ⇔  sin θ < 0  ⇔  θ mod 2π ∈ (π, 2π);     tails ⇔ θ mod 2π ∈ (0, π).
+
+(θ = 0: arrow straight down; θ = π/2: arrow to the left; θ = 3π/2: to the
+right.)  The set sin θ = 0 has measure zero; it is counted as tails.  θ is
+the body's orientation, the same coordinate at a bottom or a top collision.
+Turning from heads to tails means crossing θ = 0 or π, where the coin
+stands on its edge, which needs ``H > b(0) + b(π)`` (the coin's diameter D
+for a symmetric coin); below that P(n) = 1 for every n.
+
+P(n)
+----
+Default (``count="bottom"``): the probability that the state at a bottom
+collision recurs ``n`` bottom collisions later.  ``count="all"``: from a
+bottom collision, ``n`` collisions later counting both walls.
+
+Statistics.  ``orbits`` independent orbits (Liouville-random starts), each
+long; for each orbit the lag-n agreement frequency is computed over all its
+bottom collisions (after dropping the first ``burn`` collisions, so the
+start's non-stationary first flight does not count), and P(n) is the mean
+over orbits with standard error ``std/√orbits`` — orbits are independent
+blocks, so the error includes the correlations inside each orbit.  The decay
+time τ comes from a weighted fit of ``P(n) − ½ = A exp(−n/τ)`` over lags
+1 … max_lag; its standard error is a delete-one-group jackknife over groups
+of orbits (the fit's own covariance would ignore that P at different lags
+share the same orbits).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .billiard import Billiard, ensemble, random_states, simulate
+from .errors import InvalidArgument
+
+__all__ = ["heads", "Correlation", "correlation", "fit_decay", "TauLaw", "fit_tau_law", "COUNTS"]
+
+COUNTS = ("bottom", "all")
+THRESHOLD = 0.01        # |P(n) − ½| below this: the paper's "non-asymptotic part reduced to 0.01"
+_CHUNK_COLLISIONS = 2_000_000   # collisions held in memory at once
+_GROUPS = 20            # jackknife groups
+
+
+def heads(theta):
+    """True where the arrow (body axis) points right: ``sin θ < 0`` (module docstring)."""
+    return np.sin(np.asarray(theta, dtype=float)) < 0.0
+
+
+def _positive_int(name, value):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
+        raise InvalidArgument(f"`{name}` must be a positive integer, got {value!r}")
+    return int(value)
+
+
+def _exp_model(n, amplitude, tau):
+    return amplitude * np.exp(-n / tau)
+
+
+def fit_decay(P, sigma, lags=None):
+    """Weighted fit of ``P(n) − ½ = A exp(−n/τ)``; returns (A, τ) or (nan, nan) when it fails.
+
+    The start values come from a straight-line fit of log|P − ½| on the lags where
+    P − ½ exceeds twice its error; the fit itself is scipy's ``curve_fit``.
+    """
+    from scipy.optimize import curve_fit
+
+    P = np.asarray(P, dtype=float)
+    sigma = np.asarray(sigma, dtype=float)
+    n = np.arange(P.size, dtype=float) if lags is None else np.asarray(lags, dtype=float)
+    keep = n >= 1
+    n, y, s = n[keep], P[keep] - 0.5, np.maximum(sigma[keep], 1e-12)
+    if y.size < 2:
+        return math.nan, math.nan
+    if np.all(np.abs(y - y[0]) < 1e-15) and abs(y[0]) > 0:
+        return float(y[0]), math.inf  # no decay at all (coin that cannot turn over)
+    strong = np.abs(y) > 2 * s
+    if strong.sum() >= 2:
+        slope, intercept = np.polyfit(n[strong], np.log(np.abs(y[strong])), 1)
+        tau0 = -1.0 / slope if slope < 0 else 10.0 * n.max()
+        a0 = math.copysign(math.exp(intercept), y[strong][0])
+    else:
+        tau0, a0 = 1.0, float(y[0]) * math.e
+    try:
+        (amplitude, tau), _ = curve_fit(_exp_model, n, y, p0=(a0, tau0), sigma=s, absolute_sigma=True,
+                                        bounds=([-np.inf, 1e-3], [np.inf, 1e9]), maxfev=20000)
+    except (RuntimeError, ValueError):
+        return math.nan, math.nan
+    return float(amplitude), float(tau)
+
+
+@dataclass(frozen=True, repr=False)
+class Correlation:
+    """Heads/tails correlation P(n) of a billiard.
+
+    Attributes
+    ----------
+    P : ndarray (max_lag+1,)
+        P(n) for n = 0 … max_lag (P(0) = 1 by definition).
+    P_stderr : ndarray (max_lag+1,)
+        Standard error of P(n) from the spread between orbits.
+    heads_fraction, heads_stderr : float
+        Fraction of bottom collisions showing heads and its standard error
+        (½ for a body symmetric under θ → −θ).
+    tau, tau_stderr : float
+        Decay time of ``P(n) − ½ = A exp(−n/τ)`` (in counted collisions) and its
+        jackknife standard error; ``inf`` when P never decays, NaN when the fit failed.
+    amplitude : float
+        A of the fit.
+    n_needed : int or None
+        First n with ``|P(n) − ½| < 0.01``; None if not reached by max_lag.
+    n_needed_fit : float
+        ``τ·log(|A|/0.01)``: where the fitted curve crosses 0.01.
+    count : str
+        ``"bottom"`` or ``"all"`` (module docstring).
+    bounces : int
+        Counted collisions used (after the burn-in), summed over orbits.
+    orbits : int
+        Independent orbits.
+    max_lag : int
+    table : Billiard
+    seed : int or None
+    notes : tuple of str
+    """
+
+    P: np.ndarray
+    P_stderr: np.ndarray
+    heads_fraction: float
+    heads_stderr: float
+    tau: float
+    tau_stderr: float
+    amplitude: float
+    n_needed: object
+    n_needed_fit: float
+    count: str
+    bounces: int
+    orbits: int
+    max_lag: int
+    table: Billiard
+    seed: object = None
+    notes: tuple = ()
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (non-finite numbers become None)."""
+        def num(x):
+            return float(x) if x is not None and math.isfinite(x) else None
+
+        return {"H": self.table.H, "b0": self.table.b0, "count": self.count, "bounces": self.bounces,
+                "orbits": self.orbits, "max_lag": self.max_lag, "seed": self.seed,
+                "P": [float(p) for p in self.P], "P_stderr": [float(p) for p in self.P_stderr],
+                "heads_fraction": num(self.heads_fraction), "heads_stderr": num(self.heads_stderr),
+                "tau": num(self.tau), "tau_stderr": num(self.tau_stderr), "tau_infinite": self.tau == math.inf,
+                "amplitude": num(self.amplitude), "n_needed": self.n_needed, "n_needed_fit": num(self.n_needed_fit),
+                "threshold": THRESHOLD, "notes": list(self.notes)}
+
+    def plot(self, ax=None):
+        """P(n) − ½ with error bars on a log scale and the fitted exponential; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        n = np.arange(self.P.size)
+        ax.errorbar(n, np.abs(self.P - 0.5), yerr=self.P_stderr, fmt="o", ms=3, label="|P(n) − ½|")
+        if math.isfinite(self.tau):
+            ax.plot(n, np.abs(_exp_model(n, self.amplitude, self.tau)), "-",
+                    label=f"A exp(−n/τ), τ = {self.tau:.3g} ± {self.tau_stderr:.2g}")
+        ax.axhline(THRESHOLD, color="grey", ls=":", label="0.01")
+        ax.set_yscale("log")
+        ax.set_xlabel(f"n ({self.count} collisions)")
+        ax.legend(fontsize=8)
+        return ax
+
+    def __repr__(self) -> str:
+        try:
+            return (f"Correlation(H={self.table.H:g}, count={self.count}, τ = {self.tau:.4g} ± {self.tau_stderr:.2g}, "
+                    f"n_needed={self.n_needed}, P(1)={self.P[1] if self.P.size > 1 else float('nan'):.4f}, "
+                    f"{self.bounces} bounces in {self.orbits} orbits)")
+        except Exception:  # a repr must never raise
+            return "Correlation(<unprintable>)"
+
+
+def _orbit_agreement(traj, need, max_lag, count, burn):
+    """Per-lag agreement frequencies of one orbit (None when too short), and its heads fraction."""
+    side = traj.side[burn:]
+    state = heads(traj.theta[burn:])
+    bottom = np.flatnonzero(side == 0)
+    if count == "bottom":
+        seq = state[bottom][:need]
+        if seq.size <= max_lag:
+            return None, None
+        agree = np.array([1.0] + [np.mean(seq[:-n] == seq[n:]) for n in range(1, max_lag + 1)])
+        return agree, float(np.mean(seq))
+    ref = bottom[:need]
+    ref = ref[ref + max_lag < state.size]
+    if ref.size == 0:
+        return None, None
+    agree = np.array([np.mean(state[ref] == state[ref + n]) for n in range(max_lag + 1)])
+    return agree, float(np.mean(state[ref]))
+
+
+def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, orbits: int = 100, count="bottom",
+                seed=None, burn: int = 20, workers=None, progress=None) -> Correlation:
+    """P(n), τ and the bounces needed for ``|P(n) − ½| < 0.01`` (module docstring).
+
+    Parameters
+    ----------
+    table : Billiard
+    bounces : int
+        Counted collisions in total (bottom collisions for ``count="bottom"``,
+        bottom collisions used as references for ``"all"``), split equally
+        between the orbits.
+    max_lag : int
+        Largest n (< bounces per orbit).
+    orbits : int
+        Independent orbits (≥ 2 for an error estimate).
+    count : {"bottom", "all"}
+    seed : int, optional
+        Seed of the start states.
+    burn : int
+        Collisions dropped at the start of each orbit.
+    workers : int, optional
+        Threads for :func:`~forward.billiard.ensemble`.
+    progress : callable, optional
+        Called with the number of counted collisions finished so far.
+
+    Returns
+    -------
+    Correlation
+    """
+    bounces = _positive_int("bounces", bounces)
+    max_lag = _positive_int("max_lag", max_lag)
+    orbits = _positive_int("orbits", orbits)
+    if count not in COUNTS:
+        raise InvalidArgument(f"`count` must be one of {', '.join(COUNTS)}, got {count!r}")
+    if isinstance(burn, bool) or not isinstance(burn, (int, np.integer)) or burn < 0:
+        raise InvalidArgument(f"`burn` must be a non-negative integer, got {burn!r}")
+    if orbits < 2:
+        raise InvalidArgument(f"`orbits` must be at least 2 (the error comes from the spread between orbits), got {orbits}")
+    per_orbit = bounces // orbits
+    if max_lag >= per_orbit:
+        raise InvalidArgument(f"`max_lag` = {max_lag} must be smaller than the bounces per orbit "
+                              f"({bounces} bounces / {orbits} orbits = {per_orbit}); raise bounces or lower max_lag")
+    starts = random_states(table, orbits, seed)
+    # bottom collisions are about half of all; ask for a margin and continue the few orbits that fall short
+    collisions = 2 * per_orbit + burn + 2 * max_lag + 64
+    group = max(1, min(orbits, _CHUNK_COLLISIONS // collisions))
+    agreements, heads_fractions, notes = [], [], []
+    for first in range(0, orbits, group):
+        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
+        for k, traj in enumerate(trajs):
+            agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
+            tries = 0
+            while agree is None and not traj.note and tries < 4:  # rare: an orbit with few bottom hits
+                more = simulate(table, traj.final_state, collisions)
+                traj = _join(traj, more)
+                agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
+                tries += 1
+            if agree is None:
+                notes.append(f"orbit {first + k}: too few bottom collisions{' (' + traj.note + ')' if traj.note else ''}")
+                continue
+            agreements.append(agree)
+            heads_fractions.append(frac)
+        if progress is not None:
+            progress(min(orbits, first + group) * per_orbit)
+    if len(agreements) < 2:
+        raise InvalidArgument("fewer than two orbits produced enough bottom collisions; the table may trap orbits")
+    agreements = np.array(agreements)
+    m = agreements.shape[0]
+    P = agreements.mean(axis=0)
+    P_stderr = agreements.std(axis=0, ddof=1) / math.sqrt(m)
+    heads_fraction = float(np.mean(heads_fractions))
+    heads_stderr = float(np.std(heads_fractions, ddof=1) / math.sqrt(m))
+    amplitude, tau = fit_decay(P, P_stderr)
+    tau_stderr = math.nan
+    if math.isfinite(tau):
+        groups = np.array_split(np.arange(m), min(_GROUPS, m))
+        taus = []
+        for g in groups:
+            rest = np.setdiff1d(np.arange(m), g)
+            taus.append(fit_decay(agreements[rest].mean(axis=0), P_stderr)[1])
+        taus = np.array(taus)
+        if np.all(np.isfinite(taus)):
+            G = len(groups)
+            tau_stderr = float(math.sqrt((G - 1) / G * np.sum((taus - taus.mean()) ** 2)))
+        else:
+            notes.append("jackknife: some fits failed, no τ error")
+    elif tau == math.inf:
+        tau_stderr = 0.0
+        notes.append("P(n) does not decay: the coin cannot turn over (H below the diameter?)")
+    below = np.flatnonzero(np.abs(P - 0.5) < THRESHOLD)
+    n_needed = int(below[0]) if below.size else None
+    n_needed_fit = (tau * math.log(abs(amplitude) / THRESHOLD)
+                    if math.isfinite(tau) and math.isfinite(amplitude) and abs(amplitude) > THRESHOLD else
+                    (0.0 if math.isfinite(tau) else math.nan))
+    return Correlation(P=P, P_stderr=P_stderr, heads_fraction=heads_fraction, heads_stderr=heads_stderr, tau=tau,
+                       tau_stderr=tau_stderr, amplitude=amplitude, n_needed=n_needed, n_needed_fit=n_needed_fit,
+                       count=count, bounces=per_orbit * m, orbits=m, max_lag=max_lag, table=table, seed=seed,
+                       notes=tuple(notes))
+
+
+def _join(a, b):
+    """Concatenate two consecutive pieces of one orbit (times of ``b`` shifted to continue ``a``)."""
+    from dataclasses import replace
+
+    t0 = a.time[-1] if a.time.size else 0.0
+    return replace(a, time=np.concatenate([a.time, b.time + t0]), theta=np.concatenate([a.theta, b.theta]),
+                   eta=np.concatenate([a.eta, b.eta]), v_theta=np.concatenate([a.v_theta, b.v_theta]),
+                   v_eta=np.concatenate([a.v_eta, b.v_eta]), side=np.concatenate([a.side, b.side]), note=b.note)
+
+
+@dataclass(frozen=True, repr=False)
+class TauLaw:
+    """Fit of τ(H) to the paper's claim τ ∝ 1/(H − D), and to a free power.
+
+    Attributes
+    ----------
+    c, c_stderr : float
+        ``τ = c/(H − D)`` with D fixed.
+    chi2_dof : float
+        Reduced χ² of that one-parameter fit (≫ 1: the law does not describe the data).
+    power, power_stderr : float
+        ``τ = c'·(H − D)^(−p)``: fitted p (the claim is p = 1).
+    D : float
+    """
+
+    c: float
+    c_stderr: float
+    chi2_dof: float
+    power: float
+    power_stderr: float
+    D: float
+
+    def __repr__(self) -> str:
+        try:
+            return (f"TauLaw(τ = {self.c:.4g}/(H − {self.D:g}) ± {self.c_stderr:.2g}, χ²/dof {self.chi2_dof:.3g}; "
+                    f"free power p = {self.power:.3f} ± {self.power_stderr:.3f})")
+        except Exception:  # a repr must never raise
+            return "TauLaw(<unprintable>)"
+
+
+def fit_tau_law(H, tau, tau_stderr, D) -> TauLaw:
+    """Fit ``τ = c/(H − D)`` (weighted, one parameter) and ``τ = c'(H − D)^(−p)`` (log-log, weighted)."""
+    from scipy.optimize import curve_fit
+
+    H, tau, err = (np.asarray(v, dtype=float) for v in (H, tau, tau_stderr))
+    if H.size < 2 or np.any(H <= D) or np.any(~np.isfinite(tau)) or np.any(~(err > 0)):
+        raise InvalidArgument("fit_tau_law needs ≥ 2 points with H > D, finite τ and positive errors")
+    x = 1.0 / (H - D)
+    w = 1.0 / err**2
+    c = float(np.sum(w * x * tau) / np.sum(w * x * x))
+    c_stderr = float(1.0 / math.sqrt(np.sum(w * x * x)))
+    chi2 = float(np.sum(w * (tau - c * x) ** 2))
+    chi2_dof = chi2 / max(H.size - 1, 1)
+    (logc, p), cov = curve_fit(lambda h, a, q: a - q * np.log(h - D), H, np.log(tau), sigma=err / tau,
+                               absolute_sigma=True, p0=(math.log(c), 1.0))
+    return TauLaw(c=c, c_stderr=c_stderr, chi2_dof=chi2_dof, power=float(p), power_stderr=float(math.sqrt(cov[1, 1])),
+                  D=float(D))

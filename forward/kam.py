@@ -1,0 +1,184 @@
+"""KAM boundary of the elliptic billiard: for each H, the ε above which no measurable regular region remains.
+
+Criterion (stated, adjustable): at a given (ε, H), ``orbits`` Liouville-random
+orbits are classified by their largest Lyapunov exponent
+(:func:`forward.lyapunov.chaotic_fraction`, threshold ``3·log(N)/N`` per
+collision over N collisions).  The motion counts as *fully chaotic* when the
+regular fraction is below ``regular_max`` (default 1 %; with the default 100
+orbits that means no regular orbit at all).  ε_c(H) is found by bisection in
+log ε inside ``bracket`` (``steps`` halvings).  The bisection assumes the
+regular fraction falls monotonically with ε; islands that reappear above the
+bracket point found are not searched for.  Islands smaller than about
+1/orbits of phase space are below the resolution of the criterion.
+
+The paper's fit (eq. 20): ``ε ≈ 1/H + 17/H²``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .billiard import Billiard
+from .errors import InvalidArgument
+from .lyapunov import chaotic_fraction
+from .wall import Wall
+
+__all__ = ["KamBoundary", "kam_boundary", "paper_boundary", "ELLIPSE_WALL"]
+
+ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+
+
+def paper_boundary(H):
+    """The paper's eq. (20): ``ε ≈ 1/H + 17/H²``."""
+    H = np.asarray(H, dtype=float)
+    return 1.0 / H + 17.0 / H**2
+
+
+@dataclass(frozen=True, repr=False)
+class KamBoundary:
+    """Measured KAM boundary ε_c(H).
+
+    Attributes
+    ----------
+    H : ndarray (k,)
+    eps_low, eps_high : ndarray (k,)
+        Final bisection bracket: at ``eps_low`` a regular region was found, at
+        ``eps_high`` none (NaN/inf when the bracket did not straddle the boundary).
+    eps : ndarray (k,)
+        Geometric mean of the bracket (the estimate).
+    paper : ndarray (k,)
+        ``1/H + 17/H²``.
+    orbits, collisions : int
+        Orbits per (ε, H) and collisions per orbit.
+    regular_max : float
+        Criterion: regular fraction below this counts as fully chaotic.
+    history : tuple
+        Per H, the list of (ε, regular fraction) evaluated.
+    """
+
+    H: np.ndarray
+    eps_low: np.ndarray
+    eps_high: np.ndarray
+    eps: np.ndarray
+    paper: np.ndarray
+    orbits: int
+    collisions: int
+    regular_max: float
+    history: tuple
+
+    def to_dict(self) -> dict:
+        def num(v):
+            return [float(x) if math.isfinite(x) else None for x in v]
+
+        return {"H": num(self.H), "eps": num(self.eps), "eps_low": num(self.eps_low), "eps_high": num(self.eps_high),
+                "paper": num(self.paper), "orbits": self.orbits, "collisions": self.collisions,
+                "regular_max": self.regular_max,
+                "criterion": f"regular fraction < {self.regular_max:g} among {self.orbits} Liouville-random orbits, "
+                             f"orbit regular if lambda/collision <= 3 log(N)/N over N = {self.collisions}",
+                "history": [[[float(e), float(f)] for e, f in h] for h in self.history]}
+
+    def table(self) -> str:
+        """Plain-text table H, ε_c (bracket), paper, ratio."""
+        lines = ["     H    eps_c   [low, high]          paper   ratio"]
+        for h, e, lo, hi, p in zip(self.H, self.eps, self.eps_low, self.eps_high, self.paper):
+            lines.append(f"{h:6.3g} {e:8.4g}   [{lo:.4g}, {hi:.4g}]   {p:8.4g}   {e / p:5.3f}")
+        return "\n".join(lines)
+
+    def plot(self, ax=None):
+        """ε_c(H) with its bracket against the paper's curve; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        grid = np.linspace(min(self.H.min(), 1.5), self.H.max() * 1.1, 200)
+        ax.plot(grid, paper_boundary(grid), "k-", label=r"paper: $1/H + 17/H^2$")
+        ax.errorbar(self.H, self.eps, yerr=[self.eps - self.eps_low, self.eps_high - self.eps], fmt="o",
+                    label=f"measured (regular < {self.regular_max:.0%}, {self.orbits} orbits)")
+        ax.set_yscale("log")
+        ax.set_xlabel("H (units of κ)")
+        ax.set_ylabel(r"$\varepsilon_c$")
+        ax.legend(fontsize=8)
+        return ax
+
+    def __repr__(self) -> str:
+        try:
+            pairs = ", ".join(f"H={h:g}: {e:.3g}" for h, e in zip(self.H, self.eps))
+            return f"KamBoundary({pairs}; criterion regular < {self.regular_max:g}, {self.orbits} orbits)"
+        except Exception:  # a repr must never raise
+            return "KamBoundary(<unprintable>)"
+
+
+def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 100, collisions: int = 1000,
+                 regular_max: float = 0.01, seed: int = 0, workers=None, progress=None) -> KamBoundary:
+    """ε_c(H) for the paper's ellipse wall by bisection on log ε (module docstring).
+
+    Parameters
+    ----------
+    H_values : sequence of float
+        Wall distances (units of κ); the table must be open at the smallest ε
+        of the bracket (H > 2/√(1+ε_low)), else InvalidArgument.
+    bracket : (float, float)
+        Initial ε interval.
+    steps : int
+        Bisection steps (final bracket ratio ``(high/low)^(1/2^steps)``).
+    orbits, collisions : int
+        Orbits per evaluation and collisions per orbit.
+    regular_max : float
+        Regular fraction below which the motion counts as fully chaotic.
+    seed : int
+    workers : int, optional
+    progress : callable, optional
+        Called after each evaluation with no argument.
+    """
+    H_values = np.atleast_1d(np.asarray(H_values, dtype=float))
+    if H_values.size == 0 or np.any(~np.isfinite(H_values)) or np.any(H_values <= 0.0):
+        raise InvalidArgument(f"`H` values must be finite and positive (units of κ), got {H_values.tolist()}")
+    lo0, hi0 = (float(v) for v in bracket)
+    if not (0 < lo0 < hi0 and math.isfinite(hi0)):
+        raise InvalidArgument(f"`bracket` must be two numbers 0 < low < high, got {bracket!r}")
+    for H in H_values:  # the narrowest table is the one at the smallest ε: refuse before any work
+        Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": lo0}), float(H))
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+        raise InvalidArgument(f"`steps` must be a non-negative integer, got {steps!r}")
+    if not (0 < regular_max < 1):
+        raise InvalidArgument(f"`regular_max` must be in (0, 1), got {regular_max!r}")
+
+    def regular(eps, H):
+        wall = Wall.from_expression(ELLIPSE_WALL, {"eps": eps})
+        frac = chaotic_fraction(Billiard(wall, H), orbits, collisions, seed=seed, workers=workers)
+        if progress is not None:
+            progress()
+        return frac.regular_fraction
+
+    lows, highs, history = [], [], []
+    for H in H_values:
+        hist = []
+        lo, hi = lo0, hi0
+        f_hi = regular(hi, H)
+        hist.append((hi, f_hi))
+        if f_hi >= regular_max:  # still regular at the top of the bracket
+            lows.append(hi), highs.append(math.inf), history.append(tuple(hist))
+            continue
+        f_lo = regular(lo, H)
+        hist.append((lo, f_lo))
+        if f_lo < regular_max:  # already chaotic at the bottom
+            lows.append(0.0), highs.append(lo), history.append(tuple(hist))
+            continue
+        for _ in range(steps):
+            mid = math.sqrt(lo * hi)
+            f = regular(mid, H)
+            hist.append((mid, f))
+            if f < regular_max:
+                hi = mid
+            else:
+                lo = mid
+        lows.append(lo), highs.append(hi), history.append(tuple(hist))
+    lows, highs = np.array(lows), np.array(highs)
+    with np.errstate(invalid="ignore"):
+        eps = np.where(np.isfinite(highs) & (lows > 0), np.sqrt(lows * highs), np.nan)
+    return KamBoundary(H=H_values, eps_low=lows, eps_high=highs, eps=eps, paper=paper_boundary(H_values),
+                       orbits=int(orbits), collisions=int(collisions), regular_max=float(regular_max),
+                       history=tuple(history))

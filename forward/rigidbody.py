@@ -1,0 +1,565 @@
+"""Direct simulation of a rigid body bouncing between two flat walls (no billiard code).
+
+This is the *other side* of the paper's theorem (sections II A–B): a planar
+rigid body of mass ``m`` and radius of gyration ``κ`` moves freely (no
+gravity) between frictionless flat walls at lab height ``y = 0`` and
+``y = H·κ``, and collides elastically with them.  The simulation knows
+nothing of wall functions: it works with the body's own geometry (a vertex
+list, or an ellipse given by its semi-axes and centre) rotated into the lab
+frame, finds the first instant at which the lowest (highest) point of the
+body reaches the floor (ceiling), and applies the impulse computed from the
+actual contact point, lever arm included (paper eq. 2 and 13), with
+restitution 1 along the wall normal.  ``tests/test_rigidbody.py`` holds it to
+the billiard of :mod:`forward.billiard`; ``docs/equivalence.md`` derives why
+they must agree.
+
+State and coordinates
+---------------------
+``y``      height of the centre of mass above the floor (physical length),
+``psi``    lab orientation ψ of the body axis, counter-clockwise from the lab
+           +x axis (radians, unwrapped),
+``ydot``   dy/dt, ``omega`` = dψ/dt (counter-clockwise angular velocity).
+The horizontal motion of the centre of mass is uniform and decouples (the
+walls are frictionless), so it is not tracked.  Body-frame coordinates have
+the centre of mass at the origin and the body axis along +x.
+
+The billiard coordinates of the project (forward/wall.py) are
+
+    θ = −ψ − π/2,   θ̇ = −ω,   η = y/κ,   η̇ = ẏ/κ,
+
+i.e. θ is the body-frame polar angle of the floor's outward (downward) normal,
+equivalently the angle measured clockwise from that normal to the body axis.
+Time is the same physical time on both sides.  See docs/equivalence.md.
+
+Finding the collision (why it cannot be missed)
+-----------------------------------------------
+The body's lowest point is the minimum over *pieces* (a vertex of a polygon,
+or the whole smooth ellipse) of a smooth function ``Y_k(ψ)``, the lab height
+of the piece's extreme point relative to the centre of mass; the gap of piece
+``k`` to the floor is ``g_k(t) = y + ẏt + Y_k(ψ + ωt)`` (to the ceiling,
+``Hκ − y − ẏt − Y_k(ψ + ωt)``).  Each piece has a bound ``|Y_k''| ≤ A_k``
+(a vertex: ``|p_k|``; an ellipse: ``max(a,b)²/min(a,b) + |centre|``), hence
+``|g_k''| ≤ M_k = ω² A_k``.  From a state with all gaps positive, the downward
+parabola ``g + g′s − M s²/2`` is a lower bound on ``g_k(t+s)``; no piece can
+touch before the first positive root of its parabola, so stepping by the
+smallest of those roots never steps over a contact.  When the limiting piece
+approaches with ``g′ < 0`` and ``g ≤ g′²/(4M)``, the interval
+``[t, t + 2g/|g′|]`` is certified to hold exactly one root of that piece
+(``g′`` keeps its sign there and the upper bound is negative at the end) and
+no root of any other piece (it lies within their safe steps); the root is
+then found by Brent's method and polished by Newton steps.  Just after a
+collision the piece that touched has a gap of zero up to rounding and moves
+away (``g′ > 0``); its step is the positive root ``2g′/M`` of ``g′s − M s²/2``,
+so the collision just processed is not found again.  The only case left is an
+exactly grazing contact (``g → 0`` and ``g′ → 0`` together), which is met with
+probability zero; the search then stalls and the trajectory stops with
+:attr:`RigidBodyTrajectory.message` saying so, rather than guessing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InvalidArgument, InvalidOutline
+
+__all__ = [
+    "PolygonShape",
+    "EllipseShape",
+    "RigidBody",
+    "RigidBodyTrajectory",
+    "simulate_rigid_body",
+    "body_to_billiard",
+    "billiard_to_body",
+]
+
+_MAX_STEPS = 200_000  # safe steps per flight before a stall is reported (grazing contact)
+
+
+def body_to_billiard(state, kappa: float = 1.0) -> np.ndarray:
+    """Rigid-body state ``(y, ψ, ẏ, ω)`` → billiard state ``(θ, η, θ̇, η̇)``.
+
+    ``θ = −ψ − π/2``, ``η = y/κ``, ``θ̇ = −ω``, ``η̇ = ẏ/κ`` (docs/equivalence.md).
+    Works on a single state (4,) or rows of states (n, 4).
+    """
+    s = np.asarray(state, dtype=float)
+    y, psi, ydot, omega = (s[..., i] for i in range(4))
+    return np.stack([-psi - 0.5 * math.pi, y / kappa, -omega, ydot / kappa], axis=-1)
+
+
+def billiard_to_body(state, kappa: float = 1.0) -> np.ndarray:
+    """Billiard state ``(θ, η, θ̇, η̇)`` → rigid-body state ``(y, ψ, ẏ, ω)``; inverse of :func:`body_to_billiard`."""
+    s = np.asarray(state, dtype=float)
+    theta, eta, v_theta, v_eta = (s[..., i] for i in range(4))
+    return np.stack([kappa * eta, -theta - 0.5 * math.pi, kappa * v_eta, -v_theta], axis=-1)
+
+
+def _finite(name, value):
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"`{name}` must be a real number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise InvalidArgument(f"`{name}` must be finite, got {number}")
+    return number
+
+
+# ---------------------------------------------------------------------- shapes
+@dataclass(frozen=True, repr=False)
+class PolygonShape:
+    """A body given by its vertices (body frame, centre of mass at the origin, axis along +x).
+
+    Only the vertices can touch a flat wall, so the convex hull is implicit: a
+    non-convex vertex list behaves like its hull.  Two vertices make a stick.
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (n, 2)
+        Vertex positions relative to the centre of mass (physical lengths).
+    """
+
+    vertices: np.ndarray
+
+    def __post_init__(self):
+        pts = np.array(self.vertices, dtype=float)
+        if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 1:
+            raise InvalidOutline(f"`vertices` must be (x, y) pairs, got an array of shape {pts.shape}")
+        if not np.all(np.isfinite(pts)):
+            raise InvalidOutline("`vertices` must be finite")
+        pts.setflags(write=False)
+        object.__setattr__(self, "vertices", pts)
+
+    @classmethod
+    def stick(cls, half_length: float = 1.0) -> "PolygonShape":
+        """The paper's stick: end points ``(±L, 0)``; its wall is ``(L/κ)|cos θ|`` (paper eq. 5)."""
+        L = _finite("half_length", half_length)
+        if L <= 0:
+            raise InvalidOutline(f"`half_length` must be positive, got {L}")
+        return cls(np.array([[-L, 0.0], [L, 0.0]]))
+
+    @property
+    def curvature_bounds(self) -> np.ndarray:
+        """``A_k ≥ |Y_k''(ψ)|`` for every piece of one wall: a vertex's lab height is ``|p| sin(ψ + β)``."""
+        return np.hypot(self.vertices[:, 0], self.vertices[:, 1])
+
+    @property
+    def radius(self) -> float:
+        """Largest distance of the outline from the centre of mass."""
+        return float(np.max(self.curvature_bounds))
+
+    def pieces(self, psi: float):
+        """Lab heights ``Y_k`` (relative to the centre of mass) and ``dY_k/dψ`` of the vertices.
+
+        The same pieces serve both walls (floor: the minimum, ceiling: the maximum).
+        ``dY_k/dψ`` is the lab x of the vertex, i.e. the lever arm of a vertical impulse.
+        """
+        c, s = math.cos(psi), math.sin(psi)
+        x, y = self.vertices[:, 0], self.vertices[:, 1]
+        heights = s * x + c * y
+        slopes = c * x - s * y
+        return heights, slopes, heights, slopes
+
+    def contact_point(self, piece: int, psi: float, side: int) -> np.ndarray:
+        """Body-frame contact point of ``piece`` (a vertex) at orientation ``psi``."""
+        return self.vertices[piece].copy()
+
+    @property
+    def uniform_kappa(self) -> float:
+        """Radius of gyration if the body were uniform: a rod (2 vertices) or a lamina (≥ 3).
+
+        Rod of half-length L: κ² = L²/3.  Lamina: polar moment about the origin
+        (triangle fan, exact) over the area.  Meaningful only if the uniform
+        body's centroid is the origin; it is not checked here.
+        """
+        pts = self.vertices
+        if len(pts) == 2:
+            return float(np.hypot(*(pts[1] - pts[0])) / 2 / math.sqrt(3.0))
+        x, y = pts[:, 0], pts[:, 1]
+        xn, yn = np.roll(x, -1), np.roll(y, -1)
+        cross = x * yn - xn * y
+        area = 0.5 * np.sum(cross)
+        # polar moment of a polygon about the origin (shoelace form of ∫(x²+y²) dA)
+        polar = np.sum(cross * (x * x + x * xn + xn * xn + y * y + y * yn + yn * yn)) / 12.0
+        return float(math.sqrt(polar / area))
+
+    def __repr__(self) -> str:
+        try:
+            return f"PolygonShape({len(self.vertices)} vertices, radius={self.radius:.6g})"
+        except Exception:  # a repr must never raise
+            return "PolygonShape(<unprintable>)"
+
+
+@dataclass(frozen=True, repr=False)
+class EllipseShape:
+    """An elliptical body: semi-axis ``a`` along the body axis, ``b`` across it.
+
+    The ellipse's geometric centre sits at ``centre`` relative to the centre of
+    mass (body frame); a non-zero centre off both axes (a non-uniform density)
+    gives a smooth body with no symmetry axis.  The paper's ellipse
+    ``x² + (1+ε)y² = 1`` is ``a = 1``, ``b = 1/sqrt(1+ε)``, centre 0.
+
+    Attributes
+    ----------
+    a, b : float
+        Semi-axes (physical lengths, positive).
+    centre : tuple of float
+        Geometric centre relative to the centre of mass.
+    """
+
+    a: float
+    b: float
+    centre: tuple = (0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("a", "b"):
+            value = _finite(name, getattr(self, name))
+            if value <= 0:
+                raise InvalidOutline(f"ellipse semi-axis `{name}` must be positive, got {value}")
+            object.__setattr__(self, name, value)
+        try:
+            cx, cy = (float(v) for v in self.centre)
+        except (TypeError, ValueError):
+            raise InvalidOutline(f"`centre` must be an (x, y) pair, got {self.centre!r}") from None
+        if not (math.isfinite(cx) and math.isfinite(cy)):
+            raise InvalidOutline(f"`centre` must be finite, got {(cx, cy)}")
+        object.__setattr__(self, "centre", (cx, cy))
+
+    @property
+    def curvature_bounds(self) -> np.ndarray:
+        """Bound on ``|Y''|``: ``|h_E''| = |ρ − h_E| ≤ max(a,b)²/min(a,b)`` plus ``|centre|`` for the shift.
+
+        (ρ ∈ [min²/max, max²/min] is the ellipse's radius of curvature, h_E ∈ [min, max].)
+        """
+        big, small = max(self.a, self.b), min(self.a, self.b)
+        bound = big * big / small + math.hypot(*self.centre)
+        return np.array([bound])  # one smooth piece per wall
+
+    @property
+    def radius(self) -> float:
+        """Largest distance of the outline from the centre of mass (an upper bound)."""
+        return max(self.a, self.b) + math.hypot(*self.centre)
+
+    def _extreme(self, psi: float, side: int):
+        # The outline point c + (a cos s, b sin s) has lab height sinψ·x + cosψ·y; it is
+        # extreme where (cos s, sin s) ∝ ∓(a sinψ, b cosψ): a closed form, no search.
+        c, s = math.cos(psi), math.sin(psi)
+        spread = math.hypot(self.a * s, self.b * c)
+        sign = -1.0 if side == 0 else 1.0
+        qx = self.centre[0] + sign * self.a * self.a * s / spread
+        qy = self.centre[1] + sign * self.b * self.b * c / spread
+        return qx, qy, s * qx + c * qy, c * qx - s * qy
+
+    def pieces(self, psi: float):
+        """Lab height and ``d/dψ`` of the lowest point (floor piece) and the highest point (ceiling piece)."""
+        _, _, low, low_slope = self._extreme(psi, 0)
+        _, _, high, high_slope = self._extreme(psi, 1)
+        return np.array([low]), np.array([low_slope]), np.array([high]), np.array([high_slope])
+
+    def contact_point(self, piece: int, psi: float, side: int) -> np.ndarray:
+        """Body-frame contact point: the lowest (``side=0``) or highest (``side=1``) point of the outline."""
+        qx, qy, _, _ = self._extreme(psi, side)
+        return np.array([qx, qy])
+
+    @property
+    def uniform_kappa(self) -> float:
+        """κ of a uniform elliptical lamina, ``sqrt((a² + b²)/4)`` (its centroid is the centre)."""
+        return math.sqrt((self.a**2 + self.b**2) / 4.0)
+
+    def __repr__(self) -> str:
+        try:
+            return f"EllipseShape(a={self.a:.6g}, b={self.b:.6g}, centre=({self.centre[0]:.6g}, {self.centre[1]:.6g}))"
+        except Exception:  # a repr must never raise
+            return "EllipseShape(<unprintable>)"
+
+
+# ---------------------------------------------------------------------- the body between two walls
+@dataclass(frozen=True, repr=False)
+class RigidBody:
+    """A rigid body between a floor at ``y = 0`` and a ceiling at ``y = H·κ``.
+
+    Attributes
+    ----------
+    shape : PolygonShape or EllipseShape
+        The outline, body frame, centre of mass at the origin, physical lengths.
+    H : float
+        Wall distance in units of κ (as in the billiard).
+    kappa : float
+        Radius of gyration (physical length).  Not derived from the shape: the
+        mass distribution is independent of the outline (``shape.uniform_kappa``
+        gives the uniform-density value).
+    mass : float
+        Mass; it cancels from the trajectory but enters the impulses and the energy.
+    """
+
+    shape: object
+    H: float
+    kappa: float = 1.0
+    mass: float = 1.0
+
+    def __post_init__(self):
+        if not isinstance(self.shape, (PolygonShape, EllipseShape)):
+            raise InvalidArgument(f"`shape` must be a PolygonShape or EllipseShape, got {type(self.shape).__name__}")
+        for name in ("H", "kappa", "mass"):
+            value = _finite(name, getattr(self, name))
+            if value <= 0:
+                raise InvalidArgument(f"`{name}` must be positive, got {value}")
+            object.__setattr__(self, name, value)
+
+    @property
+    def ceiling(self) -> float:
+        """Physical height of the ceiling, ``H·κ``."""
+        return self.H * self.kappa
+
+    def gaps(self, y: float, psi: float):
+        """Floor and ceiling gaps (physical lengths) at one configuration: ``(floor, ceiling)``."""
+        low, _, high, _ = self.shape.pieces(psi)
+        return float(y + np.min(low)), float(self.ceiling - y - np.max(high))
+
+    def energy(self, ydot, omega):
+        """Kinetic energy of the vertical and rotational motion, ``½m ẏ² + ½m κ² ω²``."""
+        return 0.5 * self.mass * (np.asarray(ydot) ** 2 + self.kappa**2 * np.asarray(omega) ** 2)
+
+    def __repr__(self) -> str:
+        try:
+            return f"RigidBody({self.shape!r}, H={self.H:.6g}, kappa={self.kappa:.6g}, mass={self.mass:.6g})"
+        except Exception:  # a repr must never raise
+            return "RigidBody(<unprintable>)"
+
+
+@dataclass(frozen=True, repr=False)
+class RigidBodyTrajectory:
+    """One entry per collision, in order (arrays of length n).
+
+    Attributes
+    ----------
+    time : ndarray
+        Time of each collision since the start.
+    y, psi : ndarray
+        Centre-of-mass height and orientation (unwrapped) at the collision.
+    ydot, omega : ndarray
+        Velocities *after* the impulse.
+    side : ndarray of int8
+        0 = floor, 1 = ceiling.
+    contact : ndarray, shape (n, 2)
+        Contact point in the body frame.
+    lever : ndarray
+        Lab x of the contact point relative to the centre of mass (the lever arm).
+    impulse : ndarray
+        Magnitude of the impulse along the wall normal (``m`` included).
+    gap : ndarray
+        Smallest gap of the whole body to either wall at the collision (≈ 0: the
+        contact point is on the wall; never noticeably negative: no penetration).
+    start : ndarray, shape (4,)
+        Initial state ``(y, ψ, ẏ, ω)``.
+    body : RigidBody
+        The body and walls.
+    message : str
+        ``""`` if all requested collisions were found; otherwise why it stopped.
+    """
+
+    time: np.ndarray
+    y: np.ndarray
+    psi: np.ndarray
+    ydot: np.ndarray
+    omega: np.ndarray
+    side: np.ndarray
+    contact: np.ndarray
+    lever: np.ndarray
+    impulse: np.ndarray
+    gap: np.ndarray
+    start: np.ndarray
+    body: RigidBody
+    message: str = field(default="")
+
+    @property
+    def states(self) -> np.ndarray:
+        """``(n, 4)`` rigid-body states ``(y, ψ, ẏ, ω)`` after each collision."""
+        return np.stack([self.y, self.psi, self.ydot, self.omega], axis=1)
+
+    @property
+    def billiard(self) -> np.ndarray:
+        """``(n, 4)`` billiard states ``(θ, η, θ̇, η̇)`` after each collision (:func:`body_to_billiard`)."""
+        return body_to_billiard(self.states, self.body.kappa)
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Energy after each collision, ``½m ẏ² + ½m κ² ω²``."""
+        return self.body.energy(self.ydot, self.omega)
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+    def __repr__(self) -> str:
+        try:
+            n = len(self.time)
+            floor = int(np.sum(self.side == 0))
+            tail = f", stopped: {self.message}" if self.message else ""
+            span = f", t = {self.time[-1]:.6g}" if n else ""
+            return f"RigidBodyTrajectory({n} collisions: {floor} floor, {n - floor} ceiling{span}{tail})"
+        except Exception:  # a repr must never raise
+            return "RigidBodyTrajectory(<unprintable>)"
+
+
+def _all_gaps(body, y, psi, ydot, omega):
+    """Gaps and their time derivatives for every piece of both walls (floor pieces first)."""
+    low, low_slope, high, high_slope = body.shape.pieces(psi)
+    g = np.concatenate([y + low, body.ceiling - y - high])
+    dg = np.concatenate([ydot + omega * low_slope, -ydot - omega * high_slope])
+    return g, dg
+
+
+def _safe_steps(g, dg, bound):
+    """First positive root of ``g + g′s − M s²/2`` for every piece (inf when it has none).
+
+    For a piece just leaving contact (``g ≲ 0``, ``g′ > 0``) the larger root is
+    taken: the contact being left is the previous collision, not a new one.
+    """
+    steps = np.full(g.shape, np.inf)
+    for k in range(g.size):
+        gk, dk, mk = g[k], dg[k], bound[k]
+        if mk == 0.0:
+            if dk < 0.0:
+                steps[k] = max(gk, 0.0) / -dk
+            continue
+        disc = dk * dk + 2.0 * mk * gk
+        if gk <= 0.0 and dk >= 0.0:
+            # the contact just processed (gap zero up to rounding), leaving: the step is the
+            # positive root of g′s − M s²/2; the rounding-sized negative gap is not a new contact
+            steps[k] = 2.0 * dk / mk
+        elif disc < 0.0:  # gk < 0 and moving in: contact now
+            steps[k] = 0.0
+        elif dk < 0.0:
+            # cancellation-free form of (dk + sqrt(disc))/mk
+            steps[k] = max(gk, 0.0) * 2.0 / (math.sqrt(disc) - dk)
+        else:
+            steps[k] = (dk + math.sqrt(disc)) / mk
+    return steps
+
+
+def _next_collision(body, y0, psi0, ydot, omega, tol):
+    """Time, piece index and side of the first contact of the free flight from ``(y0, psi0)``.
+
+    Returns ``(t, piece, message)``; ``t`` is None when no contact can ever happen
+    or the search stalled (``message`` says which).
+    """
+    from scipy.optimize import brentq
+
+    shape = body.shape
+    bounds_single = shape.curvature_bounds
+    bound = np.concatenate([bounds_single, bounds_single]) * omega * omega
+    t = 0.0
+    for _ in range(_MAX_STEPS):
+        g, dg = _all_gaps(body, y0 + ydot * t, psi0 + omega * t, ydot, omega)
+        steps = _safe_steps(g, dg, bound)
+        k = int(np.argmin(steps))
+        if not math.isfinite(steps[k]):
+            return None, -1, "no further collision: the body moves away from both walls for ever"
+        gk, dk, mk = g[k], dg[k], bound[k]
+        if dk < 0.0 and (gk <= tol or 4.0 * mk * gk <= dk * dk):
+            others = np.delete(steps, k)
+            limit = float(np.min(others)) if others.size else math.inf
+            width = 2.0 * max(gk, 0.0) / -dk
+            certified = (mk * width < -dk) and width <= limit
+            if certified:
+                if gk <= 0.0:
+                    return t, k, ""
+
+                def gap(s, k=k):
+                    gg, _ = _all_gaps(body, y0 + ydot * (t + s), psi0 + omega * (t + s), ydot, omega)
+                    return float(gg[k])
+
+                end = gap(width)
+                if end < 0.0:
+                    s = brentq(gap, 0.0, width, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
+                    # Newton polish on the smooth piece: the bracket is monotone, so it stays inside
+                    for _ in range(2):
+                        gg, dd = _all_gaps(body, y0 + ydot * (t + s), psi0 + omega * (t + s), ydot, omega)
+                        if dd[k] < 0.0:
+                            s_new = s - gg[k] / dd[k]
+                            if 0.0 <= s_new <= width:
+                                s = s_new
+                    return t + s, k, ""
+                if end == 0.0:
+                    return t + width, k, ""
+        # an exactly grazing piece (g = g′ = 0) gives zero steps until _MAX_STEPS: reported, not guessed
+        t += steps[k]
+    return None, -1, f"collision search stalled after {_MAX_STEPS} safe steps (a grazing contact)"
+
+
+def simulate_rigid_body(body: RigidBody, state, collisions: int) -> RigidBodyTrajectory:
+    """Simulate ``collisions`` wall collisions of ``body`` from ``state = (y, ψ, ẏ, ω)``.
+
+    Free flight (no gravity) between collisions; at a collision with contact
+    point ``r`` (lab frame, relative to the centre of mass) and wall normal
+    ``n = ±ŷ`` the impulse ``J n`` with
+
+        ``J = −2 (v_c·n) / (1/m + (r × n)²/(m κ²))``,  ``v_c = v + ω ẑ × r``,
+
+    changes ``ẏ`` by ``J n_y / m`` and ``ω`` by ``J (r × n)/(m κ²)`` (paper
+    eq. 2/13; ``r × n = r_x n_y`` because ``n`` is vertical).  This conserves
+    ``½m ẏ² + ½m κ² ω²`` and reverses the normal velocity of the contact point.
+
+    Parameters
+    ----------
+    body : RigidBody
+    state : array_like, shape (4,)
+        Initial ``(y, ψ, ẏ, ω)``; the body must lie between the walls (a state
+        touching a wall and moving away from it, e.g. just after a collision, is allowed).
+    collisions : int
+        Number of collisions to find (positive).
+
+    Returns
+    -------
+    RigidBodyTrajectory
+    """
+    if not isinstance(body, RigidBody):
+        raise InvalidArgument(f"`body` must be a RigidBody, got {type(body).__name__}")
+    if isinstance(collisions, bool) or not isinstance(collisions, (int, np.integer)) or collisions <= 0:
+        raise InvalidArgument(f"`collisions` must be a positive integer, got {collisions!r}")
+    start = np.asarray(state, dtype=float).ravel()
+    if start.size != 4 or not np.all(np.isfinite(start)):
+        raise InvalidArgument(f"`state` must be 4 finite numbers (y, psi, ydot, omega), got {state!r}")
+    y, psi, ydot, omega = (float(v) for v in start)
+    scale = body.shape.radius + body.ceiling
+    tol = 1e-9 * scale
+    floor_gap, ceiling_gap = body.gaps(y, psi)
+    if min(floor_gap, ceiling_gap) < -tol:
+        raise InvalidArgument(
+            f"`state` puts the body through a wall (floor gap {floor_gap:.3g}, ceiling gap {ceiling_gap:.3g}); "
+            f"it must lie between y = 0 and y = H·κ = {body.ceiling:.6g}")
+    if ydot == 0.0 and omega == 0.0:
+        raise InvalidArgument("`state` has zero velocity (ydot = omega = 0): the body never reaches a wall")
+
+    shape, m, k2 = body.shape, body.mass, body.kappa**2
+    n_pieces = len(shape.curvature_bounds)
+    out = {name: np.empty(collisions) for name in ("time", "y", "psi", "ydot", "omega", "lever", "impulse", "gap")}
+    side_out = np.empty(collisions, dtype=np.int8)
+    contact_out = np.empty((collisions, 2))
+    clock, message, count = 0.0, "", 0
+    for i in range(collisions):
+        dt, piece, message = _next_collision(body, y, psi, ydot, omega, tol)
+        if dt is None:
+            break
+        clock += dt
+        y, psi = y + ydot * dt, psi + omega * dt
+        side = 0 if piece < n_pieces else 1
+        q = shape.contact_point(piece % n_pieces, psi, side)
+        c, s = math.cos(psi), math.sin(psi)
+        lever = c * q[0] - s * q[1]  # lab x of the contact point: r × n = lever · n_y
+        normal = 1.0 if side == 0 else -1.0
+        approach = normal * (ydot + omega * lever)  # v_c · n
+        impulse = -2.0 * approach / (1.0 / m + lever * lever / (m * k2))
+        ydot += impulse * normal / m
+        omega += impulse * normal * lever / (m * k2)
+        gaps = body.gaps(y, psi)
+        out["time"][i], out["y"][i], out["psi"][i] = clock, y, psi
+        out["ydot"][i], out["omega"][i] = ydot, omega
+        out["lever"][i], out["impulse"][i], out["gap"][i] = lever, impulse, min(gaps)
+        side_out[i] = side
+        contact_out[i] = q
+        count = i + 1
+    return RigidBodyTrajectory(
+        **{name: arr[:count] for name, arr in out.items()}, side=side_out[:count], contact=contact_out[:count],
+        start=start, body=body, message=message)

@@ -1,0 +1,77 @@
+"""Export options: physical scale (κ in mm, cm or in) and the tolerance of approximated outlines.
+
+A solved body lives in units of the radius of gyration κ.  Giving κ in a
+physical unit turns those numbers into a real size: every coordinate is
+multiplied by ``kappa`` and the file states the unit.  Without a scale the
+numbers stay in units of κ and the file says so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from forward.errors import InvalidArgument
+
+__all__ = ["ExportOptions", "UNITS", "DEFAULT_RELATIVE_TOLERANCE"]
+
+#: physical units accepted for ``units``, with their DXF ``$INSUNITS`` code
+UNITS = {"mm": 4, "cm": 5, "in": 1}
+#: tolerance used when none is given, as a fraction of the body's largest diameter
+DEFAULT_RELATIVE_TOLERANCE = 1e-4
+
+
+@dataclass(frozen=True)
+class ExportOptions:
+    """How to write a body.
+
+    Attributes
+    ----------
+    kappa : float or None
+        Radius of gyration in ``units``; ``None`` keeps body units (κ).
+    units : str or None
+        ``"mm"``, ``"cm"`` or ``"in"``; required with ``kappa``, refused without it.
+    tolerance : float or None
+        Largest allowed distance between an exported approximation (polyline)
+        and the exact outline, in output units (``units`` if scaled, else κ).
+        ``None``: ``DEFAULT_RELATIVE_TOLERANCE`` times the largest diameter.
+    dimension : bool
+        Draw the largest diameter with its length (SVG).
+    """
+
+    kappa: float | None = None
+    units: str | None = None
+    tolerance: float | None = None
+    dimension: bool = False
+
+    def __post_init__(self):
+        if self.kappa is not None:
+            if not isinstance(self.kappa, (int, float)) or not math.isfinite(self.kappa) or self.kappa <= 0:
+                raise InvalidArgument(f"--kappa must be a positive finite length, got {self.kappa!r}")
+            if self.units is None:
+                raise InvalidArgument(f"--kappa {self.kappa:g} needs --units; choose one of {', '.join(UNITS)}")
+        if self.units is not None:
+            if self.units not in UNITS:
+                raise InvalidArgument(f"--units must be one of {', '.join(UNITS)}, got {self.units!r}")
+            if self.kappa is None:
+                raise InvalidArgument(f"--units {self.units} needs --kappa (the radius of gyration in {self.units})")
+        if self.tolerance is not None:
+            if not isinstance(self.tolerance, (int, float)) or not math.isfinite(self.tolerance) \
+                    or self.tolerance <= 0:
+                raise InvalidArgument(f"--tolerance must be a positive finite length, got {self.tolerance!r}")
+
+    @property
+    def scale(self) -> float:
+        """Output length per unit κ (1 without a physical scale)."""
+        return 1.0 if self.kappa is None else float(self.kappa)
+
+    @property
+    def unit_name(self) -> str:
+        """The output unit as text: ``"mm"`` … or ``"kappa"``."""
+        return self.units or "kappa"
+
+    def tolerance_for(self, diameter: float) -> float:
+        """The tolerance in output units for a body of largest diameter ``diameter`` (in output units)."""
+        if self.tolerance is not None:
+            return float(self.tolerance)
+        return DEFAULT_RELATIVE_TOLERANCE * max(float(diameter), 1e-300)

@@ -1,0 +1,138 @@
+"""The cases catalog: every case builds, its reference values hold, and `coinwall verify` keeps its verdicts."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from cases import all_cases, get_case
+from cases.cli import main
+from cases.verify import CLAIMS, run_verify
+from inverse import solve_body
+
+CASES = all_cases()
+THETA = np.linspace(0, 2 * np.pi, 1441)
+
+
+def test_catalog_covers_the_issue():
+    """The named cases issue 4 asks for exist."""
+    for name in ("stick", "ellipse", "coin", "appendix-convex", "appendix-critical", "appendix-corner",
+                 "large-offset", "constant-width-smooth", "reuleaux-3", "rectangle", "triangle", "egg",
+                 "two-extrema"):
+        assert name in CASES
+
+
+@pytest.mark.parametrize("name", [n for n, c in CASES.items() if c.make_wall is not None])
+def test_case_references(name):
+    """Solve every case at its offset and compare with its reference values (each carries its source)."""
+    case = CASES[name]
+    wall = case.wall()
+    if name.startswith("reuleaux"):
+        pytest.skip("band-limited sampled wall: checked through the exact body below")
+    body = solve_body(wall, case.b0, points=2048)
+    refs = {r.name: r.value for r in case.references}
+    assert all(r.source for r in case.references)
+    if "b_c" in refs:
+        assert body.b_c == pytest.approx(refs["b_c"], abs=1e-9)
+    if "regime" in refs:
+        assert body.regime == refs["regime"]
+    if "area" in refs:  # the coin (ε = 99) has ends of curvature radius 0.01: the Hermite error is ~3e-9 there
+        assert body.area == pytest.approx(refs["area"], rel=1e-8, abs=1e-12)
+    if "perimeter" in refs:
+        assert body.perimeter == pytest.approx(refs["perimeter"], rel=1e-8)
+    if "R0" in refs:
+        i = int(np.argmin(np.abs(np.angle(np.exp(1j * body.alpha)))))
+        assert body.R[i] == pytest.approx(refs["R0"], abs=1e-9)
+    if "K0" in refs:
+        i = int(np.argmin(np.abs(np.angle(np.exp(1j * body.alpha)))))
+        assert body.K[i] == pytest.approx(refs["K0"], rel=1e-8)
+    if "width" in refs:
+        width = body.wall_of_body(THETA) + body.wall_of_body(THETA + np.pi) + 2 * case.b0
+        assert np.max(np.abs(width - refs["width"])) < 1e-9
+    assert body.max_wall_error < 1e-7
+
+
+@pytest.mark.parametrize("name", [n for n, c in CASES.items() if c.make_outline is not None])
+def test_closed_form_bodies_have_their_walls(name):
+    """Where a case gives its body in closed form, the body's support function is the case's wall."""
+    case = CASES[name]
+    outline = case.outline()
+    wall = case.wall()
+    tol = 1e-6 if name.startswith("reuleaux") else 1e-12  # the Reuleaux wall is a 4096-sample interpolant
+    assert np.max(np.abs(outline.support(THETA) - (case.b0 + wall(THETA)))) < tol
+
+
+@pytest.mark.parametrize("n", [3, 5])
+def test_reuleaux_constant_width_and_barbier(n):
+    """Reuleaux n-gon (exact arcs): width 2 in every direction, perimeter π w (Barbier), and for n = 3
+    the area (π − √3) w²/2."""
+    outline = get_case(f"reuleaux-{n}").outline()
+    width = outline.support(THETA) + outline.support(THETA + np.pi)
+    assert np.max(np.abs(width - 2.0)) < 1e-11  # Bézier arcs: radial error ~1.4e-12 each side
+    assert outline.perimeter == pytest.approx(2 * np.pi, rel=1e-12)
+    if n == 3:
+        assert outline.area == pytest.approx((np.pi - np.sqrt(3)) * 2.0, rel=1e-11)
+
+
+def test_reuleaux_sampled_wall_solves_close_to_the_body():
+    """Solving the sampled (ringing) Reuleaux wall still gives the body to the sampling accuracy: the
+    three vertices come out as Case III corners with tiny deficits (regression: a corner window on the
+    φ = 0 seam was once missed, and straight or tiny segments once confused the support function)."""
+    case = get_case("reuleaux-3")
+    for points in (1000, 1024, 4096):
+        body = solve_body(case.wall(), 0.0, points=points)
+        assert body.max_wall_error < 1e-5
+    # on the sample grid itself (4096) the interpolant is exact, so the body is close to the true one;
+    # between samples the interpolant rings by ~5e-4 near the vertices, which no solver can undo
+    assert np.max(np.abs(body.wall_of_body(THETA) - case.outline().support(THETA))) < 1e-5
+
+
+def test_unknown_case_is_a_clear_error():
+    with pytest.raises(Exception) as err:
+        get_case("case:nope")
+    assert "nope" in str(err.value) and "stick" in str(err.value)
+
+
+def test_verify_keeps_every_verdict():
+    """The fast verify run: every claim present, every verdict as recorded (a row that agreed and
+    starts to disagree — or the reverse — fails here)."""
+    report = run_verify(fast=True)
+    assert tuple(r.key for r in report.rows)[:len(CLAIMS)] == CLAIMS
+    changed = [(r.key, r.expected, r.agreement, r.computed) for r in report.rows if not r.unchanged]
+    assert not changed
+    assert {r.agreement for r in report.rows} <= {"yes", "no", "partly"}
+
+
+def test_verify_writes_markdown_and_figures(tmp_path, capsys):
+    assert main(["verify", "--fast", "--out", str(tmp_path)]) == 0
+    text = (tmp_path / "paper-check.md").read_text()
+    assert "| # | claim |" in text and "fig4_critical.png" in text
+    assert (tmp_path / "figures" / "fig4_critical.png").stat().st_size > 10000
+    assert (tmp_path / "figures" / "appendix_gallery.png").stat().st_size > 10000
+    assert "every verdict as recorded" in capsys.readouterr().out
+
+
+def test_cli_cases_and_case_walls(capsys):
+    assert main(["cases"]) == 0
+    out = capsys.readouterr().out
+    assert "appendix-corner" in out and "paper Appendix" in out
+    assert main(["cases", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert any(c["name"] == "coin" and c["params"] == {"eps": 99.0} for c in doc)
+    # a case brings its own offset (Case III at b0 = −0.6)
+    assert main(["solve", "case:appendix-corner", "--json", "--no-cross-check"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["regime"] == "corner" and summary["b0"] == -0.6
+    assert main(["critical", "case:ellipse", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["b_c"] == pytest.approx(-0.5, abs=1e-12)
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["solve", "case:nope"], "unknown case 'nope'"),
+    (["solve", "case:ellipse", "--param", "eps=2"], "--param does not apply"),
+])
+def test_cli_case_errors(args, needle, capsys):
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert needle in err and err.count("\n") == 1
