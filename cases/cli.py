@@ -149,6 +149,7 @@ def _cmd_critical(args):
 def _cmd_wall(args):
     import io
     import os
+    from forward.files import default_file_mode
     import tempfile
 
     import numpy as np
@@ -231,6 +232,7 @@ def _cmd_wall(args):
             plt.close(fig)
             data = buffer.getvalue()
         fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
+        os.fchmod(fd, default_file_mode())
         try:
             with os.fdopen(fd, "wb") as fh:
                 fh.write(data)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from forward.files import default_file_mode
 import sys
 
 __all__ = ["register"]
@@ -76,6 +77,7 @@ def _write_all(files):
     try:
         for path, data in files.items():
             fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
+            os.fchmod(fd, default_file_mode())
             temps.append((temp, path))
             with os.fdopen(fd, "wb") as fh:
                 fh.write(data)

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+from forward.files import default_file_mode
 import time
 from dataclasses import dataclass, field
 
@@ -673,6 +674,7 @@ def run_verify(fast: bool = False, out: str | None = None, progress: bool = Fals
     if out:
         md_path = os.path.join(out, "paper-check.md")
         fd, temp = tempfile.mkstemp(dir=out, prefix=".coinwall-", suffix=".md")
+        os.fchmod(fd, default_file_mode())
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(report.markdown())
         os.replace(temp, md_path)

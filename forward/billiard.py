@@ -20,35 +20,66 @@ smallest t > 0 with ``g(t) = 0`` over both walls.
 Why the kernel (``method="kernel"``) cannot miss a root.  The period is cut into
 cells (a uniform grid of :data:`CELLS` cells, additionally cut at every kink
 of the wall, so that b is smooth inside each cell).  For each cell ``j`` we
-precompute an upper bound ``bmax_j`` of b and an upper bound ``c_j`` of b''
-on the cell (from dense sampling, see :func:`_cell_bounds` for the margin
-and the check that enforces it).  The ray is then walked cell by cell:
+precompute an upper bound ``bmax_j`` of b, an upper bound ``c_j`` of b''
+(from dense sampling, see :func:`_cell_bounds` for the margin and the check
+that enforces it), and a *proxy*: the quintic Hermite interpolant ``p_j`` of
+the exact b, b', b'' at the cell's ends with a bound ``e_j ≥ |b − p_j|`` on
+the cell (sampled with a margin and checked the same way, see
+:func:`_cell_proxies`; ~1e-8 where the ε = 99 coin is sharpest, ~1e-11
+typically).  The ray is then walked cell by cell:
 
-1. *Box test*: if the line ``A + B t`` stays above ``bmax_j`` during the time
-   the ray spends over cell j, then ``g > 0`` there: no root in this cell.
-   Only times when the line is inside the band [min b, max b] of the whole
-   wall are walked at all.
-2. Otherwise, inside the cell, ``g'' = −v_θ² b'' ≥ −K`` with ``K = v_θ² c_j``,
-   so from any point t with ``g(t) > 0`` the parabola
-   ``g(t) + g'(t) τ − ½ K τ²`` is a lower bound of ``g(t + τ)`` as long as
-   ``t + τ`` stays in the cell.  Its smallest positive root τ* (∞ if none) is a
-   step over which g cannot vanish.  Stepping t ← t + τ* is *conservative
-   advancement*: every step is certified root-free, the iterates increase
-   monotonically towards the first root and converge to it quadratically
-   for a transversal hit (the bound is second order).  When the iterate
-   leaves the cell the cell has no root.
-3. When ``g(t) ≤ tol`` (:data:`HIT_TOL` times max(1, H, wall scale)) the
-   iterate is the collision; one Newton step polishes it on the exact wall,
-   so the contact point lies on the wall to rounding (~1e-15).
+1. *Box test*: if the line ``A + B t`` stays above ``bmax_j + tol`` during
+   the time the ray spends over cell j, then ``g > tol`` there: no contact in
+   this cell.  Only times when the line is inside the band [min b, max b] of
+   the whole wall are walked at all.
+2. *Proxy stage* (cheap, no wall evaluation): ``G = A + B t − p_j − e_j − tol``
+   is a lower bound of ``g − tol``, and ``G'' ≥ −K_p`` with
+   ``K_p = v_θ² max p_j''`` (rigorous for the polynomial).  So from any t with
+   ``G(t) > 0`` the parabola ``G + G' τ − ½ K_p τ²`` is a lower bound of
+   ``G(t + τ)`` inside the cell, and any τ up to its smallest positive root is
+   a step over which g cannot reach tol (*conservative advancement*).  The
+   step used is that root, or for an approaching ray with
+   ``2 K_p G ≤ G'²`` the lower bound ``G|G'|/(G'² + ½ K_p G)`` of it (from
+   ``sqrt(a² + x) ≤ a + x/2a``; no square root, at least 0.8 of the root,
+   still second order; near a tangency the root itself, which steps past
+   it).  If a step leaves the cell, the cell has no contact.  Steps stop
+   when ``G ≤ e_j``: a contact may be near.
+3. *Exact stage*: the same conservative steps on the exact gap g, with
+   ``g'' ≥ −K``, ``K = v_θ² c_j``, from where the proxy stage stopped.  When
+   ``g ≤ tol`` (:data:`HIT_TOL` times max(1, H, wall scale)) the iterate is
+   the collision; one Newton step polishes it on the exact wall, so the
+   contact point lies on the wall to rounding.  Newton's iterate lies beyond
+   the certified step by only O(K g²/|g'|³); once that distance is below
+   rounding of t (1e-15 relative) Newton's point is taken directly and
+   confirmed on the exact wall (``|g| ≤ tol``), which saves the last
+   certified step.  A step that no longer changes t (a flight of ~1e6 time
+   units at a grazing angle) is a contact if ``g ≤ |g'|·ulp(t)``.
 
-The only approximation is therefore the declared one: a graze whose gap never
-drops below ``tol`` (≈1e-13) is not a collision, one that does is.  Kinks of
-the wall are cell edges, where b'' has its point mass; on entering a cell
-through a kink the kink's one-sided slope is used, never a derivative
-evaluated on the wrong side.  Just after a reflection the gap of the wall
-just left is exactly zero (up to rounding) and ``g' > 0``, so the step there
-is the positive root ``2 g'/K`` of ``g' τ − ½ K τ²``, which cannot re-detect the
-collision that was just processed.
+Every interval skipped is certified by a lower bound of g (box, proxy or
+exact parabola), so the iterates never pass the first contact.  The only
+approximations are the declared ones: a graze whose gap never drops below
+``tol`` (≈1e-13) is not a collision, one that does is; time intervals below
+rounding of t (see 3.) are not resolved; and the cell bounds ``bmax_j``,
+``c_j``, ``e_j`` come from dense sampling with a checked margin, not from
+interval arithmetic.  Kinks of the wall are cell edges, where b'' has its
+point mass; on entering a cell through a kink the kink's one-sided slope is
+used, never a derivative evaluated on the wrong side, and the proxy of a cell
+next to a kink interpolates the one-sided values.  Just after a reflection
+the gap of the wall just left is exactly zero (up to rounding) and
+``g' > 0`` (known from the reflection, no wall evaluation), so the first step
+there is the positive root ``2 g'/K`` of ``g' τ − ½ K τ²``, which cannot
+re-detect the collision that was just processed.  Of the two walls, the one
+whose band the ray is in first is searched first, and its hit time caps the
+search on the other (so a shallow ray never searches far ahead in time on
+one wall while the other is hit at once).
+
+The kernel is compiled with numba's ``error_model="numpy"`` (no zero-division
+branches: every division of the kernel has a nonzero denominator by
+construction, and in the generated wall code a division by zero gives inf/nan
+as casadi does) and without ``fastmath`` (which could reorder the polish and
+the bounds).  All
+per-cell data is one (m, 14) table, so each search passes numba only three
+arrays (reference counting per array and call was ~25 % of the run time).
 
 The reference stepper (``method="reference"``) is deliberately simple and uses
 only :meth:`Wall.derivatives`: conservative advancement with the *global*
@@ -426,7 +457,8 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
       check fails the margin of that cell is doubled and the check repeated
       (so an unresolved narrow feature cannot slip through silently).
 
-    Returns a dict of arrays for the kernel.
+    Also the quintic proxy of b per cell and its error bound (:func:`_cell_proxies`).
+    Returns a dict of arrays; :func:`_cell_table` packs them for the kernel.
     """
     kinks = sorted(k.angle % TWO_PI for k in wall.kinks)
     edges = list(np.linspace(0.0, TWO_PI, cells + 1))
@@ -593,7 +625,11 @@ LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2M
 
 @njit(**OPTIONS)
 def _root_step(g0, g1, K):
-    # smallest τ > 0 with g0 + g1 τ − ½ K τ² = 0 (g0 ≥ 0), ∞ if none
+    # smallest τ > 0 with g0 + g1 τ − ½ K τ² = 0 (g0 ≥ 0), ∞ if none, or a lower bound of it
+    if g1 < 0.0 and K > 0.0 and 2.0 * K * g0 <= g1 * g1:
+        # sqrt(a² + x) ≤ a + x/(2a) gives a lower bound of the root without a square root, at
+        # least 0.8 of it when x ≤ a² (near a tangency, a → 0, it would stall: exact root there)
+        return g0 * (-g1) / (g1 * g1 + 0.5 * K * g0)
     disc = g1 * g1 + 2.0 * K * g0
     if disc < 0.0:
         return INF

@@ -284,3 +284,67 @@ def test_cli_simulate_errors(capsys, argv, match):
     err = capsys.readouterr().err
     assert match in err and err.count("\n") == 1
 
+
+
+# ------------------------------------------------------------------------------------------------ kernel internals
+@pytest.mark.parametrize("name", ["coin", "stick", "asymmetric", "fourier"])
+def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
+    """The kernel skips time intervals using b ≤ p_j + e_j (quintic proxy per cell) and b ≤ bmax_j.
+    Check both on a grid the bounds were not built from (random points, 200 per cell), with the
+    wall evaluated by Wall.__call__ (casadi / Fourier backend), not by the kernel's code."""
+    from forward.billiard import _cell_bounds
+
+    wall = WALLS[name][0]
+    bd = _cell_bounds(wall)
+    edges, proxy = bd["edges"], bd["proxy"]
+    rng = np.random.default_rng(17)
+    u = rng.uniform(0.0, 1.0, (edges.size - 1, 200))
+    s = np.diff(edges)[:, None] * u
+    b = wall((edges[:-1, None] + s).ravel()).reshape(s.shape)
+    p = sum(proxy[:, k, None] * s**k for k in range(6))
+    assert np.all(np.abs(b - p) <= bd["perr"][:, None])
+    assert np.all(b <= bd["bmax"][:, None])
+    # the proxy is useful: its error is far below the wall's variation over a cell
+    assert np.median(bd["perr"]) < 1e-9
+
+
+def test_shallow_ray_long_flight_agrees_with_reference():
+    """A nearly horizontal ray (v_η = −4e-7) close to the upper wall: the lower wall is ~1e6 time
+    units ahead in η while the upper wall is hit at once.  The search must not get lost far ahead
+    (it once stalled where t + τ == t at t ≈ 4e6); the reference finds the same collisions."""
+    table = Billiard(WALLS["coin"][0], 3.0)
+    state = [648.5441680425411 % (2 * math.pi), 2.783060397966679, 0.9999999999999206, -3.9885691227592446e-07]
+    kern = simulate(table, state, 3)
+    ref = simulate(table, state, 3, method="reference")
+    assert kern.note == "" and len(kern) == 3
+    assert np.array_equal(kern.side, ref.side)
+    assert _max_diff(kern, ref) < 1e-9
+
+
+def test_near_tangent_pass_is_not_a_collision_and_does_not_stall():
+    """Wall 1 + 0.1 cos θ (max 1.1 at θ = 0), a ray descending at slope 1e-4 that passes 1e-3 above
+    the maximum: the gap has a minimum of ~1e-3 there (no contact), and again ~3.7e-4 one period
+    later, then the ray hits near the third maximum.  Conservative steps must step past the near
+    tangencies (they once stalled there) and agree with the reference stepper."""
+    table = Billiard(Wall.from_fourier(1.0, [0.1]), 3.0)
+    slope = -1e-4
+    direction = np.array([1.0, slope]) / math.hypot(1.0, slope)
+    start = [-0.5, 1.1 + 1e-3 - slope * 0.5, *direction]  # passes η = 1.101 at θ = 0
+    kern = simulate(table, start, 2)
+    ref = simulate(table, start, 2, method="reference")
+    assert kern.note == "" and ref.note == ""
+    assert np.array_equal(kern.side, ref.side) and kern.side[0] == 0
+    assert kern.theta[0] > 2 * 2 * math.pi - 1.0  # not at the first or second maximum
+    assert _max_diff(kern, ref) < 1e-9
+
+
+def test_long_run_on_a_rippled_wall_completes():
+    """20 harmonics (the benchmark's wall): many near-tangent passes; every collision is found."""
+    rng = np.random.default_rng(0)
+    rng.uniform(-1, 1, 10)  # the benchmark draws the 5-harmonic wall first
+    k = np.arange(1, 21)
+    amp = 0.3 / k**2
+    wall = Wall.from_fourier(1.0, amp * rng.uniform(-1, 1, 20), amp * rng.uniform(-1, 1, 20))
+    table = Billiard(wall, 3.0)
+    traj = simulate(table, random_states(table, 1, seed=1)[0], 100_000)
+    assert traj.note == "" and len(traj) == 100_000

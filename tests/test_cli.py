@@ -116,3 +116,15 @@ def test_failure_mid_write_leaves_nothing(tmp_path, capsys, monkeypatch):
     assert main(["solve", "1", "-o", str(tmp_path / "a.json"), "-o", str(tmp_path / "b.svg")]) == 2
     assert "No space left" in capsys.readouterr().err
     assert os.listdir(tmp_path) == []
+
+
+def test_outputs_get_the_usual_file_mode(tmp_path, capsys):
+    """Outputs are renamed from temporary files; they must still get 0666 minus the umask, like any file."""
+    import os
+    import stat
+
+    from forward.files import default_file_mode
+
+    out = tmp_path / "body.svg"
+    assert main(["solve", "-o", str(out), "--no-cross-check"]) == 0
+    assert stat.S_IMODE(os.stat(out).st_mode) == default_file_mode()

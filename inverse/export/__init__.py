@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib
 import inspect
 import os
+from forward.files import default_file_mode
 import pkgutil
 import tempfile
 from dataclasses import dataclass, field
@@ -142,6 +143,7 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
         for path, module in checked:
             folder = os.path.dirname(os.path.abspath(path))
             fd, temp = tempfile.mkstemp(prefix=".coinwall-", suffix=os.path.splitext(path)[1], dir=folder)
+            os.fchmod(fd, default_file_mode())
             temps.append(temp)
             with os.fdopen(fd, "wb") as stream:
                 report = module.write(body, stream, options) if _takes_options(module) else module.write(body, stream)
