@@ -82,7 +82,8 @@ def _fmt_angles(angles):
 def _cmd_solve(args):
     from cases import EXAMPLE
     from inverse import solve_body
-    from inverse.export import check_outputs, write_outputs
+    from cases.cli_export import describe_written
+    from inverse.export import ExportOptions, check_outputs, export_body
 
     if args.wall is None:
         wall_text, params = EXAMPLE["wall"], [f"{k}={v}" for k, v in EXAMPLE["params"].items()]
@@ -97,10 +98,11 @@ def _cmd_solve(args):
 
             b0 = get_case(wall_text).b0  # a case comes with the offset it is meant for
     check_outputs(args.output)  # fail on a bad output before any work
+    ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance)  # and on a bad scale
     wall = load_wall(wall_text, params)
     body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)
-    written = write_outputs(body, args.output, kappa=args.kappa, units=args.units,
-                            tolerance=args.tolerance) if args.output else []
+    result = export_body(body, args.output, kappa=args.kappa, units=args.units,
+                         tolerance=args.tolerance) if args.output else None
     if args.json:
         print(json.dumps(body.summary(), indent=1, allow_nan=False))
         return 0
@@ -122,8 +124,9 @@ def _cmd_solve(args):
     print(f"check      {check}")
     for note in body.notes:
         print(f"note       {note}")
-    if written:
-        print(f"wrote      {', '.join(written)}")
+    if result is not None:
+        for line in describe_written(result):
+            print(line)
     return 0
 
 

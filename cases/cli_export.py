@@ -61,18 +61,26 @@ def _cmd_export(args):
         return 0
     scale = f"kappa = {args.kappa:g} {args.units}" if args.kappa else "units of kappa (no physical scale)"
     print(f"body       {args.body} (b0 = {body.b0:g}, regime {body.regime}); {scale}")
+    for line in describe_written(result):
+        print(line)
+    return 0
+
+
+def describe_written(result):
+    """One line per written file, with the deviation the exporter achieved (used by solve and export)."""
+    lines = []
     for path in result.paths:
         report = result.reports.get(path, {})
         if "polyline" in report:
-            print(f"wrote      {path}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
-                  f"{report['polyline_vertices']} vertices, deviation {report['polyline']:.3g} "
-                  f"<= tolerance {report['tolerance']:.3g} {report['units']}")
+            lines.append(f"wrote      {path}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
+                         f"{report['polyline_vertices']} vertices, deviation {report['polyline']:.3g} "
+                         f"<= tolerance {report['tolerance']:.3g} {report['units']}")
         elif "path" in report:
-            print(f"wrote      {path}: exact Bézier path (rounding {report['path']:.1e} {report['units']}), "
-                  f"largest diameter {report['diameter']:.6g} {report['units']}")
+            lines.append(f"wrote      {path}: exact Bézier path (rounding {report['path']:.1e} {report['units']}), "
+                         f"largest diameter {report['diameter']:.6g} {report['units']}")
         else:
-            print(f"wrote      {path}")
-    return 0
+            lines.append(f"wrote      {path}")
+    return lines
 
 
 def _parse_com(text):
