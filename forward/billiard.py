@@ -78,7 +78,7 @@ branches: every division of the kernel has a nonzero denominator by
 construction, and in the generated wall code a division by zero gives inf/nan
 as casadi does) and without ``fastmath`` (which could reorder the polish and
 the bounds).  All
-per-cell data is one (m, 18) table, so each search passes numba only three
+per-cell data is one (m, 14) table, so each search passes numba only three
 arrays (reference counting per array and call was ~25 % of the run time).
 
 The reference stepper (``method="reference"``) is deliberately simple and uses
@@ -106,7 +106,6 @@ __all__ = ["Billiard", "Trajectory", "simulate", "random_states", "ensemble", "c
 TWO_PI = 2.0 * math.pi
 METHODS = ("kernel", "reference")
 CELLS = 128          # uniform cells per period (kinks add more)
-WINDOW = 8           # cells skipped at once when the line clears their common bmax
 SAMPLES = 32         # samples per cell for the bounds
 HIT_TOL = 1e-13      # a gap below tol·max(1, H, scale) is a contact
 _GAP_GRID = 4096
@@ -592,18 +591,17 @@ def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAM
 
 
 def _cell_table(bounds) -> np.ndarray:
-    """The cell bounds as one (m, 18) table for the kernel (one row, one cache line or two, per cell).
+    """The cell bounds as one (m, 14) table for the kernel (one row, one cache line or two, per cell).
 
     Columns: left and right edge, bmax, c (bound of b''), the kink slopes seen when
     entering through the left edge (moving forward) and through the right edge
     (moving backward; NaN where the edge is no kink), the quintic proxy c0..c5,
-    its error bound e and max p'', and the windows for skipping WINDOW cells at
-    once (their common bmax and far edge, forward and backward).  One table instead of a dozen arrays keeps
+    its error bound e and max p''.  One table instead of a dozen arrays keeps
     the per-call bookkeeping of numba small.
     """
     edges = bounds["edges"]
     m = edges.size - 1
-    table = np.empty((m, 18))
+    table = np.empty((m, 14))
     table[:, 0] = edges[:-1]
     table[:, 1] = edges[1:]
     table[:, 2] = bounds["bmax"]
@@ -613,17 +611,6 @@ def _cell_table(bounds) -> np.ndarray:
     table[:, 6:12] = bounds["proxy"]
     table[:, 12] = bounds["perr"]
     table[:, 13] = bounds["p2max"]
-    # windows of WINDOW cells for skipping ahead: max bmax over cells j..j+W−1 (forward) and
-    # j−W+1..j (backward), and the far edge of the window, unwrapped relative to cell j's period
-    w = min(WINDOW, m)
-    ahead = (np.arange(m)[:, None] + np.arange(w)[None, :])
-    behind = (np.arange(m)[:, None] - np.arange(w)[None, :])
-    table[:, 14] = bounds["bmax"][ahead % m].max(axis=1)
-    last = ahead[:, -1]
-    table[:, 15] = edges[last % m + 1] + TWO_PI * (last // m)
-    table[:, 16] = bounds["bmax"][behind % m].max(axis=1)
-    first = behind[:, -1]
-    table[:, 17] = edges[first % m] + TWO_PI * (first // m)
     return np.ascontiguousarray(table)
 
 
@@ -633,8 +620,7 @@ PI = math.pi
 INF = math.inf
 ROUND_T = 1e-15  # a time interval this small (relative) is rounding
 # columns of the cell table (one row per cell, see _cell_table)
-LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, WMAX_FWD, WEDGE_FWD, \
-    WMAX_BWD, WEDGE_BWD = range(18)
+LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX = range(14)
 
 
 @njit(**OPTIONS)
@@ -713,35 +699,7 @@ def _first_hit(phi0, A, B, vt, tcap, leaving, g1_leave, c, cells, lookup, wmin, 
     start = off - phi0
     t_in = t_lo
     at_edge = False
-    if vt > 0.0:
-        wmax_col = WMAX_FWD
-        wedge_col = WEDGE_FWD
-        step = WINDOW if WINDOW < m else m
-    else:
-        wmax_col = WMAX_BWD
-        wedge_col = WEDGE_BWD
-        step = -(WINDOW if WINDOW < m else m)
     while True:
-        # window test: the line above the common bmax (+ tol) of the next WINDOW cells skips them all
-        t_w = (cells[j, wedge_col] + start) * ivt
-        if t_w < t_hi:
-            if B >= 0.0:
-                lw = A + B * t_in
-            else:
-                lw = A + B * t_w
-            if lw > cells[j, wmax_col] + tol:
-                j += step
-                if j >= m:
-                    j -= m
-                    off += TWO_PI
-                    start = off - phi0
-                elif j < 0:
-                    j += m
-                    off -= TWO_PI
-                    start = off - phi0
-                t_in = t_w
-                at_edge = True
-                continue
         t_out = (cells[j, edge] + start) * ivt
         if t_out > t_hi:
             t_out = t_hi
@@ -923,7 +881,6 @@ def _run_many(states, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
 '''
 
 _HEADER = ("import math\nimport numpy as np\nfrom numba import njit, prange\n\n"
-           f"WINDOW = {WINDOW}\n"
            "OPTIONS = dict(cache=True, error_model='numpy')\n\n")
 _NOTES = {1: "free flight: the particle moves parallel to the walls in an open channel and never collides again",
           2: "the kernel's root search did not converge (a near-tangent graze?)"}

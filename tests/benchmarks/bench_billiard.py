@@ -108,20 +108,19 @@ def rate_kernel(table, collisions, seed=1):
 
 
 def count_work(table, collisions=20_000, seed=1):
-    """Work per collision of the kernel: windows skipped, cells tested, box tests failed, proxy steps, wall evaluations.
+    """Work per collision of the kernel: cells tested, box tests failed, proxy steps, wall evaluations.
 
     The kernel's own source is run as plain Python (numba decorators replaced by the identity)
     with counters added at fixed lines, so the counts are those of the compiled kernel's
     algorithm (not its timing).
     """
-    from forward.billiard import KERNEL_SOURCE, _cell_table
+    from forward.billiard import KERNEL_SOURCE
 
     source, constants = wall_source(table.wall)
-    counts = {"windows_skipped": 0, "cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}
+    counts = {"cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}
     probes = [("        if lmin <= cells[j, BMAX] + tol and t_out >= t_in:\n",
                "        counts['cells'] += 1\n        if lmin <= cells[j, BMAX] + tol and t_out >= t_in:\n"
                "            counts['box_failed'] += 1\n"),
-              ("                t_in = t_w\n", "                t_in = t_w\n                counts['windows_skipped'] += 1\n"),
               ("                    s = vt * t - a\n",
                "                    s = vt * t - a\n                    counts['proxy_steps'] += 1\n")]
     kernel = KERNEL_SOURCE
