@@ -11,7 +11,7 @@ import json
 import math
 import sys
 
-__all__ = ["main", "wall_arguments", "load_wall"]
+__all__ = ["main", "wall_arguments", "table_arguments", "load_wall"]
 
 
 def wall_arguments(parser, optional=False):
@@ -21,6 +21,13 @@ def wall_arguments(parser, optional=False):
                              "or a file: .csv (theta,b samples) or .json (Fourier: {\"a0\", \"cos\", \"sin\"})")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="value of a parameter of the expression (repeatable)")
+
+
+def table_arguments(parser):
+    """Add WALL, ``--param``, ``--H`` and ``--b0``: the billiard table of the dynamics subcommands."""
+    wall_arguments(parser)
+    parser.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
+    parser.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
 
 
 def load_wall(text, params):
@@ -151,15 +158,13 @@ def _cmd_critical(args):
 
 def _cmd_wall(args):
     import io
-    import os
-    from forward.files import default_file_mode
-    import tempfile
 
     import numpy as np
 
     from forward import load_outline, wall_functions
+    from forward.files import check_paths, write_all
     from forward.bodyfile import outline_from_polar
-    from forward.errors import InvalidArgument, OutputError
+    from forward.errors import InvalidArgument
     from forward.expression import parse_param
 
     if args.H is not None and not (math.isfinite(args.H) and args.H > 0):
@@ -179,13 +184,7 @@ def _cmd_wall(args):
         if len(com) != 2 or not all(math.isfinite(v) for v in com):
             raise InvalidArgument(f"--com must be two numbers X,Y, got {args.com!r}")
     outputs = args.output or []
-    for path in outputs:
-        ext = os.path.splitext(path)[1].lower()
-        if ext not in (".csv", ".json", ".png"):
-            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: .csv, .json, .png")
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
-            raise OutputError(f"output {path!r}: folder {folder!r} does not exist or is not writable")
+    check_paths(outputs, (".csv", ".json", ".png"))
     if args.polar is not None:
         if args.layer is not None or args.kappa is not None:
             raise InvalidArgument("--layer and --kappa apply to body files, not to --polar")
@@ -198,6 +197,7 @@ def _cmd_wall(args):
         source = args.body
     theta = np.linspace(0, 2 * math.pi, args.samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, args.H)
+    files = {}
     for path in outputs:
         ext = path.lower().rsplit(".", 1)[-1]
         if ext == "csv":
@@ -234,15 +234,8 @@ def _cmd_wall(args):
             fig.savefig(buffer, format="png", dpi=100)
             plt.close(fig)
             data = buffer.getvalue()
-        fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
-        os.fchmod(fd, default_file_mode())
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                fh.write(data)
-            os.replace(temp, path)
-        except OSError as exc:
-            os.unlink(temp)
-            raise OutputError(f"cannot write {path!r}: {exc.strerror}") from None
+        files[path] = data
+    write_all(files)
     summary = {"body": source, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
                "b_max": float(lower.max()), "outputs": outputs}
     if args.json:

@@ -5,20 +5,19 @@ from __future__ import annotations
 import json
 import math
 import os
-from forward.files import default_file_mode
 import sys
+
+from forward.files import check_paths, write_all
 
 __all__ = ["register"]
 
 
 def register(subparsers):
     """Add the ``section``, ``correlation`` and ``kam`` subcommands."""
-    from cases.cli import wall_arguments
+    from cases.cli import table_arguments
 
     section = subparsers.add_parser("section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits")
-    wall_arguments(section)
-    section.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
-    section.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    table_arguments(section)
     section.add_argument("--orbits", type=int, default=60, help="number of orbits (default 60)")
     section.add_argument("--collisions", type=int, default=2000, help="collisions per orbit (default 2000)")
     section.add_argument("--seed", type=int, default=None, help="seed of the random start states")
@@ -28,9 +27,7 @@ def register(subparsers):
     section.set_defaults(run=_cmd_section)
 
     corr = subparsers.add_parser("correlation", help="heads/tails correlation P(n), decay time τ, bounces needed")
-    wall_arguments(corr)
-    corr.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
-    corr.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    table_arguments(corr)
     corr.add_argument("--bounces", type=int, default=1_000_000, help="counted collisions in total (default 1e6)")
     corr.add_argument("--max-lag", type=int, default=40, help="largest n (default 40)")
     corr.add_argument("--orbits", type=int, default=100, help="independent orbits (default 100)")
@@ -55,41 +52,6 @@ def register(subparsers):
 
 
 # ---------------------------------------------------------------------------------------------------- helpers
-def _check_outputs(paths, allowed):
-    from forward.errors import OutputError
-
-    for path in paths:
-        ext = os.path.splitext(path)[1].lower()
-        if ext not in allowed:
-            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(allowed)}")
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
-            raise OutputError(f"output {path!r}: folder {folder!r} does not exist or is not writable")
-
-
-def _write_all(files):
-    """Write {path: bytes} all or nothing: every file goes to a temp file first, then all are renamed."""
-    import tempfile
-
-    from forward.errors import OutputError
-
-    temps = []
-    try:
-        for path, data in files.items():
-            fd, temp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".coinwall-")
-            os.fchmod(fd, default_file_mode())
-            temps.append((temp, path))
-            with os.fdopen(fd, "wb") as fh:
-                fh.write(data)
-        for temp, path in temps:
-            os.replace(temp, path)
-    except OSError as exc:
-        for temp, _ in temps:
-            if os.path.exists(temp):
-                os.unlink(temp)
-        raise OutputError(f"cannot write outputs: {exc.strerror or exc}") from None
-
-
 def _png(draw):
     import io
 
@@ -151,7 +113,7 @@ def _cmd_section(args):
     _positive("--orbits", args.orbits)
     _positive("--collisions", args.collisions)
     _seed(args.seed)
-    _check_outputs(args.output, (".png", ".csv", ".json"))
+    check_paths(args.output, (".png", ".csv", ".json"))
     _, table = _table(args)
     result = poincare_section(table, args.orbits, args.collisions, seed=args.seed)
     files = {}
@@ -167,7 +129,7 @@ def _cmd_section(args):
             files[path] = text.getvalue().encode()
         else:
             files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param)).encode()
-    _write_all(files)
+    write_all(files)
     summary = {"wall": args.wall, "params": args.param, "H": table.H, "orbits": result.orbits,
                "collisions": result.collisions, "points": int(result.theta.size), "notes": list(result.notes),
                "outputs": args.output}
@@ -191,7 +153,7 @@ def _cmd_correlation(args):
     _seed(args.seed)
     if args.max_lag >= args.bounces:
         raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
-    _check_outputs(args.output, (".png", ".json"))
+    check_paths(args.output, (".png", ".json"))
     _, table = _table(args)
     bar = _bar(args, args.bounces, "bounce")
     try:
@@ -207,7 +169,7 @@ def _cmd_correlation(args):
             files[path] = _png(lambda ax: result.plot(ax=ax))
         else:
             files[path] = json.dumps(doc).encode()
-    _write_all(files)
+    write_all(files)
     if args.json:
         print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
@@ -250,7 +212,7 @@ def _cmd_kam(args):
     if args.steps < 0:
         raise InvalidArgument(f"--steps must be a non-negative integer, got {args.steps}")
     _seed(args.seed)
-    _check_outputs(args.output, (".png", ".json"))
+    check_paths(args.output, (".png", ".json"))
     bar = _bar(args, len(H) * (args.steps + 2), "eval")
     try:
         result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
@@ -265,7 +227,7 @@ def _cmd_kam(args):
             files[path] = _png(lambda ax: result.plot(ax=ax))
         else:
             files[path] = json.dumps(result.to_dict()).encode()
-    _write_all(files)
+    write_all(files)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
         return 0

@@ -14,12 +14,10 @@ _CHUNK = 200_000  # collisions per kernel call: progress updates and bounded mem
 
 def register(subparsers):
     """Add the ``simulate`` subcommand."""
-    from cases.cli import wall_arguments
+    from cases.cli import table_arguments
 
     parser = subparsers.add_parser("simulate", help="run the equivalent billiard (numba kernel) for one orbit")
-    wall_arguments(parser)
-    parser.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
-    parser.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    table_arguments(parser)
     parser.add_argument("--collisions", type=int, default=100_000, help="number of collisions (default 100000)")
     parser.add_argument("--seed", type=int, default=None, help="seed of the random start state (Liouville measure)")
     parser.add_argument("--method", choices=["kernel", "reference"], default="kernel",

@@ -29,11 +29,12 @@ from __future__ import annotations
 
 import math
 import os
-from forward.files import default_file_mode
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from forward.files import write_all
 
 __all__ = ["Row", "Report", "run_verify", "CLAIMS"]
 
@@ -657,8 +658,6 @@ def _dynamics_rows(fast):
 
 def run_verify(fast: bool = False, out: str | None = None, progress: bool = False) -> Report:
     """Recompute every claim; with ``out``, write ``out/paper-check.md`` and ``out/figures/*.png``."""
-    import tempfile
-
     started = time.perf_counter()
     rows = tuple(_rows(fast))
     figures, md_path = (), None
@@ -673,11 +672,7 @@ def run_verify(fast: bool = False, out: str | None = None, progress: bool = Fals
     report = Report(rows, figures, None, time.perf_counter() - started, fast)
     if out:
         md_path = os.path.join(out, "paper-check.md")
-        fd, temp = tempfile.mkstemp(dir=out, prefix=".coinwall-", suffix=".md")
-        os.fchmod(fd, default_file_mode())
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(report.markdown())
-        os.replace(temp, md_path)
+        write_all({md_path: report.markdown().encode("utf-8")})
         report = Report(rows, figures, md_path, report.seconds, fast)
     return report
 

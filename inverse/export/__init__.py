@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import io
 import os
-from forward.files import default_file_mode
 import pkgutil
-import tempfile
 from dataclasses import dataclass, field
 
 from forward.errors import OutputError
+from forward.files import write_all
 
 from .options import UNITS, ExportOptions
 
@@ -137,31 +137,19 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
     """
     options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension)
     checked = check_outputs(paths)
-    temps = []
-    reports = {}
+    reports, files = {}, {}
     try:
         for path, module in checked:
-            folder = os.path.dirname(os.path.abspath(path))
-            fd, temp = tempfile.mkstemp(prefix=".coinwall-", suffix=os.path.splitext(path)[1], dir=folder)
-            os.fchmod(fd, default_file_mode())
-            temps.append(temp)
-            with os.fdopen(fd, "wb") as stream:
-                report = module.write(body, stream, options) if _takes_options(module) else module.write(body, stream)
+            stream = io.BytesIO()
+            report = module.write(body, stream, options) if _takes_options(module) else module.write(body, stream)
             reports[path] = dict(report) if isinstance(report, dict) else {}
             achieved = [v for k, v in reports[path].items() if k not in _NOT_DEVIATIONS]
             limit = reports[path].get("tolerance")
             if achieved and limit is not None and max(achieved) > limit:
                 raise OutputError(f"output {path!r}: deviation {max(achieved):.3g} exceeds --tolerance "
                                   f"{limit:.3g} {options.unit_name}; give a larger tolerance")
-        for (path, _), temp in zip(checked, temps):
-            os.replace(temp, path)
-        temps = []
+            files[path] = stream.getvalue()
     except OSError as exc:
         raise OutputError(f"cannot write output: {exc}") from None
-    finally:
-        for temp in temps:
-            try:
-                os.unlink(temp)
-            except OSError:
-                pass
+    write_all(files)  # only once every format was produced: all or nothing
     return ExportResult([p for p, _ in checked], reports, options)
