@@ -23,7 +23,7 @@ def register(subparsers):
     section.add_argument("--seed", type=int, default=None, help="seed of the random start states")
     section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                          help=".png (figure), .csv (theta,phi,orbit) or .json (repeatable)")
-    section.add_argument("--json", action="store_true", help="print a JSON summary")
+    section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
     section.set_defaults(run=_cmd_section)
 
     corr = subparsers.add_parser("correlation", help="heads/tails correlation P(n), decay time τ, bounces needed")
@@ -70,11 +70,19 @@ def _png(draw):
 
 
 def _bar(args, total, unit):
+    """A tqdm progress bar on stderr when stderr is a terminal and the output is not JSON, else None."""
     if args.json or not sys.stderr.isatty():
         return None
     from tqdm import tqdm
 
-    return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False)
+    try:
+        columns, lines = os.get_terminal_size(sys.stderr.fileno())
+    except OSError:
+        columns = lines = 0
+    # a terminal that reports no size (0 × 0: some containers, CI and editor pseudo-terminals) makes
+    # tqdm take −1 rows and silently hide the bar; give it a standard size instead
+    size = {} if columns > 0 and lines > 0 else {"ncols": 80, "nrows": 24}
+    return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False, **size)
 
 
 def _positive(name, value):
@@ -115,7 +123,13 @@ def _cmd_section(args):
     _seed(args.seed)
     check_paths(args.output, (".png", ".csv", ".json"))
     _, table = _table(args)
-    result = poincare_section(table, args.orbits, args.collisions, seed=args.seed)
+    bar = _bar(args, args.orbits, "orbit")
+    try:
+        result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
+                                  progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
     files = {}
     for path in args.output:
         ext = os.path.splitext(path)[1].lower()

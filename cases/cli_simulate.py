@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import time
 
 __all__ = ["register"]
@@ -30,6 +29,7 @@ def _cmd_simulate(args):
     import numpy as np
 
     from cases.cli import load_wall
+    from cases.cli_analysis import _bar
     from forward.billiard import Billiard, compile_kernel, random_states, simulate
     from forward.errors import InvalidArgument
 
@@ -41,11 +41,7 @@ def _cmd_simulate(args):
     table = Billiard(wall, args.H, args.b0)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
-    bar = None
-    if not args.json and sys.stderr.isatty() and args.collisions > _CHUNK:
-        from tqdm import tqdm
-
-        bar = tqdm(total=args.collisions, unit="coll", unit_scale=True, file=sys.stderr, leave=False)
+    bar = _bar(args, args.collisions, "coll") if args.collisions > _CHUNK else None
     done, total_time, bottom, note = 0, 0.0, 0, ""
     start = time.perf_counter()
     current = state

@@ -43,16 +43,27 @@ typically).  The ray is then walked cell by cell:
    ``sqrt(a² + x) ≤ a + x/2a``; no square root, at least 0.8 of the root,
    still second order; near a tangency the root itself, which steps past
    it).  If a step leaves the cell, the cell has no contact.  Steps stop
-   when ``G ≤ e_j``: a contact may be near.
+   when ``G ≤ e_j``: a contact may be near.  (When Taylor's bound
+   ``G + G'τ + ½ v_θ² max|p_j''| τ²`` already shows that the step just taken
+   ends with ``G ≤ e_j``, the stage stops there without evaluating G again.)
 3. *Exact stage*: the same conservative steps on the exact gap g, with
    ``g'' ≥ −K``, ``K = v_θ² c_j``, from where the proxy stage stopped.  When
    ``g ≤ tol`` (:data:`HIT_TOL` times max(1, H, wall scale)) the iterate is
-   the collision; one Newton step polishes it on the exact wall, so the
-   contact point lies on the wall to rounding.  Newton's iterate lies beyond
-   the certified step by only O(K g²/|g'|³); once that distance is below
-   rounding of t (1e-15 relative) Newton's point is taken directly and
-   confirmed on the exact wall (``|g| ≤ tol``), which saves the last
-   certified step.  A step that no longer changes t (a flight of ~1e6 time
+   the collision, polished onto the exact wall.  Each evaluation gives b, b'
+   and b'' (``wall_b2``), so the *second-order finish* applies: from
+   ``g, g' < 0, g''`` the step ``δ = δN + ½ g'' δN²/|g'|`` (δN = Newton's)
+   reaches the root up to the Taylor remainder ``|v_θ|³ max|b'''| |δ|³/6``
+   (``max|b'''|`` per cell, sampled like the other bounds), and the slope at
+   the root is ``b' + b'' v_θ δ`` up to ``½ max|b'''| (v_θ δ)²``.  When the
+   position remainder is below ``0.01·tol`` and the slope remainder below
+   1e-17 (1 + |b'|), and the certified step from the same point reaches the
+   root to rounding of t (1e-15 relative; the two differ by O((K + |g''|)
+   δ²/|g'|)), ``t + δ`` is the first contact and the wall is not evaluated
+   again.  That is the usual end of a search: one wall evaluation per
+   collision.  Otherwise (a contact far into the proxy's error, e.g. where
+   the ε = 99 coin is sharpest, or a graze) the older finish runs: a Newton
+   step to a point confirmed on the exact wall (``|g| ≤ tol``) and the slope
+   evaluated there.  A step that no longer changes t (a flight of ~1e6 time
    units at a grazing angle) is a contact if ``g ≤ |g'|·ulp(t)``.
 
 Every interval skipped is certified by a lower bound of g (box, proxy or
@@ -77,9 +88,14 @@ The kernel is compiled with numba's ``error_model="numpy"`` (no zero-division
 branches: every division of the kernel has a nonzero denominator by
 construction, and in the generated wall code a division by zero gives inf/nan
 as casadi does) and without ``fastmath`` (which could reorder the polish and
-the bounds).  All
-per-cell data is one (m, 14) table, so each search passes numba only three
-arrays (reference counting per array and call was ~25 % of the run time).
+the bounds).  All per-cell data is one (m, 16) table.  numba increments and
+decrements the reference count of every array argument with atomic
+instructions on each call; ``_run`` therefore rebuilds its arrays as views
+without a reference count (``numba.carray`` on the data pointer) before the
+searches, and the search is inlined at a single call site (a loop over the
+two walls).  Measured effects, in the commit that made them: the atomics were
+~13 % of the samples of a profile; inlining gave 5-10 %; a second inlined call
+site tripled the compile time (3 → 12 s) for nothing more.
 
 The reference stepper (``method="reference"``) is deliberately simple and uses
 only :meth:`Wall.derivatives`: conservative advancement with the *global*
@@ -492,8 +508,9 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     fine = 4 * samples
     w = (np.arange(fine) + 0.37) / fine
     pts_f = edges[:-1, None] + width[:, None] * w[None, :]
-    bf, _, d2f = wall.derivatives(pts_f.ravel())
-    bf, d2f = bf.reshape(pts_f.shape).max(axis=1), d2f.reshape(pts_f.shape).max(axis=1)
+    bf, _, d2f_all = wall.derivatives(pts_f.ravel())
+    d2f_all = d2f_all.reshape(pts_f.shape)
+    bf, d2f = bf.reshape(pts_f.shape).max(axis=1), d2f_all.max(axis=1)
     for _ in range(60):
         bad_b = bf > bmax + margin_b
         bad_2 = d2f > cmax + margin_2
@@ -503,6 +520,7 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
         margin_2[bad_2] *= 2
     bmax = bmax + margin_b
     cmax = cmax + margin_2
+    d3max = _third_derivative_bound(pts_2, d2, pts_f, d2f_all)
     bmin_global = float(np.min(b) - np.max(margin_b))
     slope_left = np.full(m + 1, np.nan)
     slope_right = np.full(m + 1, np.nan)
@@ -514,10 +532,30 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
             slope_left[[0, m]], slope_right[[0, m]] = k.slope_left, k.slope_right
     lookup = np.searchsorted(edges, np.linspace(0.0, TWO_PI, cells, endpoint=False), side="right") - 1
     lookup = np.clip(lookup, 0, m - 1).astype(np.int64)
-    proxy, perr, p2max = _cell_proxies(wall, edges, slope_left, slope_right, samples)
+    proxy, perr, p2max, p2abs = _cell_proxies(wall, edges, slope_left, slope_right, samples)
     return {"edges": edges, "bmax": bmax, "cmax": cmax, "slope_left": slope_left, "slope_right": slope_right,
             "lookup": lookup, "nunif": cells, "wmin": bmin_global, "wmax": float(bmax.max()),
-            "proxy": proxy, "perr": perr, "p2max": p2max}
+            "proxy": proxy, "perr": perr, "p2max": p2max, "p2abs": p2abs, "d3max": d3max}
+
+
+def _third_derivative_bound(pts, d2, pts_f, d2f):
+    """Per-cell bound of |b'''| from the slopes of sampled b'' (interior points of each cell).
+
+    Twice the largest difference quotient of neighbouring samples plus the
+    largest change between neighbouring quotients, then checked against the
+    quotients on the finer shifted grid (doubled where they exceed it).  Used
+    only to decide when a contact found by a second-order step needs no
+    confirming evaluation (the Taylor remainder of that step, see the kernel).
+    """
+    q = np.abs(np.diff(d2, axis=1) / np.diff(pts, axis=1))
+    bound = 2.0 * q.max(axis=1) + np.abs(np.diff(q, axis=1)).max(axis=1) + 1e-9
+    qf = np.abs(np.diff(d2f, axis=1) / np.diff(pts_f, axis=1)).max(axis=1)
+    for _ in range(60):
+        bad = qf > bound
+        if not bad.any():
+            break
+        bound[bad] *= 2
+    return bound
 
 
 def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAMPLES):
@@ -532,7 +570,7 @@ def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAM
     between neighbouring samples plus a rounding floor, then checked on a
     shifted grid 4 times finer (margin doubled where the check fails).
     ``p2max_j ≥ max p_j''`` over the cell is rigorous for the polynomial: the
-    sampled maximum plus max|p'''| times half the sample spacing.
+    sampled maximum plus max|p'''| times half the sample spacing; ``p2abs_j ≥ max |p_j''|`` likewise.
     """
     m = edges.size - 1
     width = np.diff(edges)
@@ -586,22 +624,23 @@ def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAM
     grid = np.linspace(0.0, 1.0, 65)
     p2 = polynomial(width[:, None] * grid[None, :], 2).max(axis=1)
     p3 = 6 * np.abs(proxy[:, 3]) + 24 * np.abs(proxy[:, 4]) * width + 60 * np.abs(proxy[:, 5]) * width**2
+    p2abs = np.abs(polynomial(width[:, None] * grid[None, :], 2)).max(axis=1) + p3 * width / 128 * 1.01
     p2max = p2 + p3 * width / 128 * 1.01
-    return np.ascontiguousarray(proxy), perr, p2max
+    return np.ascontiguousarray(proxy), perr, p2max, p2abs
 
 
 def _cell_table(bounds) -> np.ndarray:
-    """The cell bounds as one (m, 14) table for the kernel (one row, one cache line or two, per cell).
+    """The cell bounds as one (m, 16) table for the kernel (one row, one cache line or two, per cell).
 
     Columns: left and right edge, bmax, c (bound of b''), the kink slopes seen when
     entering through the left edge (moving forward) and through the right edge
     (moving backward; NaN where the edge is no kink), the quintic proxy c0..c5,
-    its error bound e and max p''.  One table instead of a dozen arrays keeps
+    its error bound e, max p'', the bound of |b'''| and max |p''|.  One table instead of a dozen arrays keeps
     the per-call bookkeeping of numba small.
     """
     edges = bounds["edges"]
     m = edges.size - 1
-    table = np.empty((m, 14))
+    table = np.empty((m, 16))
     table[:, 0] = edges[:-1]
     table[:, 1] = edges[1:]
     table[:, 2] = bounds["bmax"]
@@ -611,16 +650,31 @@ def _cell_table(bounds) -> np.ndarray:
     table[:, 6:12] = bounds["proxy"]
     table[:, 12] = bounds["perr"]
     table[:, 13] = bounds["p2max"]
+    table[:, 14] = bounds["d3max"]
+    table[:, 15] = bounds["p2abs"]
     return np.ascontiguousarray(table)
 
 
 KERNEL_SOURCE = '''
 TWO_PI = 2.0 * math.pi
+INV_TWO_PI = 1.0 / TWO_PI
 PI = math.pi
 INF = math.inf
 ROUND_T = 1e-15  # a time interval this small (relative) is rounding
 # columns of the cell table (one row per cell, see _cell_table)
-LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX = range(14)
+LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS = range(16)
+POS_TOL = 0.01  # a second-order contact is taken unconfirmed when its Taylor remainder is below POS_TOL·tol
+
+
+@intrinsic
+def _data_pointer(typingctx, arr):
+    # the data pointer of an array, to rebuild it with numba.carray as a view *without* a reference
+    # count: numba increments and decrements the count of every array argument with atomic
+    # instructions on every call, which cost ~25 % of the run time when the search functions
+    # received the cell table directly; the views are used only while _run's own arguments live
+    def codegen(context, builder, signature, args):
+        return context.make_array(signature.args[0])(context, builder, args[0]).data
+    return types.CPointer(arr.dtype)(arr), codegen
 
 
 @njit(**OPTIONS)
@@ -640,18 +694,21 @@ def _root_step(g0, g1, K):
     return INF
 
 
-@njit(**OPTIONS)
-def _first_hit(phi0, A, B, vt, tcap, leaving, g1_leave, c, cells, lookup, wmin, wmax, tol):
+@njit(inline='always', **OPTIONS)
+def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, lookup, wmin, wmax, tol):
     # first t in (0, tcap) where g(t) = A + B t − b(phi0 + vt t) ≤ tol, and b' there;
-    # (INF, 0) if none; (−1, 0) if the exact stage did not converge
+    # (INF, 0) if none; (−1, 0) if the exact stage did not converge.  iB = 1/B and ivt = 1/vt
+    # (computed once per collision by the caller: divisions are slow and on the critical path)
     if B > 0.0:
         if A > wmax:
             return INF, 0.0
         t_lo = 0.0
-        t_hi = (wmax - A) / B
+        t_hi = (wmax - A) * iB
     elif B < 0.0:
-        t_lo = max(0.0, (wmax - A) / B)
-        t_hi = max(0.0, (wmin - A) / B) * (1.0 + 1e-12) + 1e-300
+        # entering the band [wmin, wmax] an ulp late is harmless: the wall stays below wmax by
+        # the bound margin (≥ 1e-12 of the scale), far more than the line moves in an ulp of t
+        t_lo = max(0.0, (wmax - A) * iB)
+        t_hi = max(0.0, (wmin - A) * iB) * (1.0 + 1e-12) + 1e-300
     else:
         if A > wmax:
             return INF, 0.0
@@ -672,16 +729,18 @@ def _first_hit(phi0, A, B, vt, tcap, leaving, g1_leave, c, cells, lookup, wmin, 
             return INF, 0.0
         return t, d1
     # cell exits by a product with 1/vt: consecutive cells share their boundary time, so none is skipped
-    ivt = 1.0 / vt
     m = cells.shape[0]
     nunif = lookup.shape[0]
     phi = phi0 + vt * t_lo
-    off = TWO_PI * math.floor(phi / TWO_PI)
+    off = TWO_PI * math.floor(phi * INV_TWO_PI)
     x = phi - off
-    if x >= TWO_PI:
+    if x >= TWO_PI:  # the product may round across a multiple of 2π
         x -= TWO_PI
         off += TWO_PI
-    i = int(x * (nunif / TWO_PI))
+    elif x < 0.0:
+        x += TWO_PI
+        off -= TWO_PI
+    i = int(x * (nunif * INV_TWO_PI))
     if i >= nunif:
         i = nunif - 1
     j = lookup[i]
@@ -727,35 +786,70 @@ def _first_hit(phi0, A, B, vt, tcap, leaving, g1_leave, c, cells, lookup, wmin, 
                 a = cells[j, LEFT] + start
                 e = cells[j, PERR]
                 Kp = vt2 * cells[j, P2MAX]
+                Ka = vt2 * cells[j, P2ABS]
                 c0 = cells[j, P0]
                 c1 = cells[j, P1]
                 c2 = cells[j, P2]
                 c3 = cells[j, P3]
                 c4 = cells[j, P4]
                 c5 = cells[j, P5]
+                c2d = 2.0 * c2
+                c3d = 3.0 * c3
+                c4d = 4.0 * c4
+                c5d = 5.0 * c5
                 for it in range(64):
+                    # Estrin's scheme for p and p' (this loop is bound by the latency of the chain)
                     s = vt * t - a
-                    G = A + B * t - (c0 + s * (c1 + s * (c2 + s * (c3 + s * (c4 + s * c5))))) - e - tol
+                    s2 = s * s
+                    p = (c0 + c1 * s) + s2 * ((c2 + c3 * s) + s2 * (c4 + c5 * s))
+                    G = A + B * t - p - e - tol
                     if G <= e:
                         break  # a contact may be near: the exact stage decides
-                    dp = c1 + s * (2.0 * c2 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))
-                    tau = _root_step(G, B - vt * dp, Kp)
+                    dp = (c1 + c2d * s) + s2 * ((c3d + c4d * s) + s2 * c5d)
+                    G1 = B - vt * dp
+                    tau = _root_step(G, G1, Kp)
                     if not (t + tau < t_out):
                         clear = True
                         break
                     t += tau
+                    if G + G1 * tau + 0.5 * Ka * tau * tau <= e:
+                        # Taylor: G(t + τ) ≤ G + G'τ + ½ Ka τ² ≤ e, so the test above would stop at
+                        # once (the usual last step before a contact): skip evaluating the proxy
+                        break
             if not clear:
                 # exact stage: conservative steps on the exact g (curvature bound vt² c_j)
                 K = vt2 * cells[j, CMAX]
+                D3 = abs(vt) * vt2 * cells[j, D3MAX]
                 for it in range(1000):
-                    b, d1 = wall_b1(phi0 + vt * t, c)
+                    b, d1, d2 = wall_b2(phi0 + vt * t, c)
+                    second = True  # b'' at t belongs to this cell's smooth piece
                     if it == 0 and at_edge and t == t_in:
                         # entering through a kink: its one-sided slope, never the other side's
                         slope = cells[j, SLOPE_FWD] if vt > 0.0 else cells[j, SLOPE_BWD]
                         if slope == slope:
                             d1 = slope
+                            second = False
                     g0 = A + B * t - b
                     g1 = B - vt * d1
+                    if second and g1 < 0.0:
+                        # the second-order step to the root, δ = δN + ½ g'' δN²/|g'| with Newton's δN;
+                        # |g(t + δ)| ≤ |model residual| + D3 |δ|³/6 (Taylor; |g⁽³⁾| ≤ |vt|³ max|b⁽³⁾|)
+                        # and b' there is d1 + b'' vt δ to ½ max|b⁽³⁾| (vt δ)²: when both are below
+                        # rounding scale, no confirming evaluation is needed
+                        dn = g0 / (-g1)
+                        g2 = -vt2 * d2
+                        dh = dn + 0.5 * g2 * dn * dn / (-g1)
+                        rem = D3 * dh * dh * abs(dh) / 6.0
+                        res = abs(g0 + dh * (g1 + 0.5 * g2 * dh)) + rem
+                        slope_err = 0.5 * D3 * dh * dh / abs(vt)
+                        if (res <= POS_TOL * tol and rem <= 1e-17 * abs(g1) and slope_err <= 1e-17 * (1.0 + abs(d1))
+                                and t + dh < t_out):
+                            if g0 <= tol:
+                                return t + dh, d1 + vt * d2 * dh
+                            tau = _root_step(g0, g1, K)
+                            if (t + dh) - (t + tau) <= ROUND_T * (1.0 + t):
+                                # the certified step reaches the root to rounding: it is the first contact
+                                return t + dh, d1 + vt * d2 * dh
                     if g0 <= tol:
                         if g1 < 0.0:  # one Newton step on the exact wall
                             tn = t + g0 / (-g1)
@@ -807,6 +901,9 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
     eta = state[1]
     vt = state[2]
     ve = state[3]
+    c = carray(_data_pointer(c), c.shape)
+    cells = carray(_data_pointer(cells), cells.shape)
+    lookup = carray(_data_pointer(lookup), lookup.shape)
     wraps = math.floor(theta / TWO_PI)
     th = theta - wraps * TWO_PI
     time = 0.0
@@ -816,19 +913,30 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
         # caps the search on the other wall (for a shallow ray the wall "ahead" in η can be very far)
         # (the wall behind is in reach only while the ray is still inside its band)
         if ve < 0.0:
-            ahead_first = not ((H - b0 - eta) <= wmax and (wmax - (eta - b0)) / ve > 0.0)
+            ahead_first = not ((H - b0 - eta) <= wmax and (eta - b0) > wmax)
         else:
-            ahead_first = not ((eta - b0) <= wmax and ve > 0.0 and (wmax - (H - b0 - eta)) / -ve > 0.0)
-        if (ve >= 0.0) == ahead_first:
-            tu, du = _first_hit(th + PI, H - b0 - eta, -ve, vt, INF, leaving == 1, g1_leave, c, cells, lookup,
-                                wmin, wmax, tol)
-            tl, dl = _first_hit(th, eta - b0, ve, vt, tu, leaving == 0, g1_leave, c, cells, lookup, wmin, wmax,
-                                tol)
-        else:
-            tl, dl = _first_hit(th, eta - b0, ve, vt, INF, leaving == 0, g1_leave, c, cells, lookup, wmin, wmax,
-                                tol)
-            tu, du = _first_hit(th + PI, H - b0 - eta, -ve, vt, tl, leaving == 1, g1_leave, c, cells, lookup,
-                                wmin, wmax, tol)
+            ahead_first = not ((eta - b0) <= wmax and ve > 0.0 and (H - b0 - eta) > wmax)
+        ive = 1.0 / ve
+        ivt = 1.0 / vt
+        upper_first = (ve >= 0.0) == ahead_first
+        # one call site in a loop over the two walls: _first_hit is inlined, and a second copy of it
+        # would double the compile time for nothing
+        tu = INF
+        tl = INF
+        du = 0.0
+        dl = 0.0
+        for k in range(2):
+            upper = upper_first if k == 0 else not upper_first
+            tcap = INF if k == 0 else (tu if upper_first else tl)
+            if upper:  # upper wall: gap H − b0 − η − v_η t − b(θ + π + v_θ t)
+                phi0, A, B, iB, near = th + PI, H - b0 - eta, -ve, -ive, leaving == 1
+            else:  # lower wall: gap η − b0 + v_η t − b(θ + v_θ t)
+                phi0, A, B, iB, near = th, eta - b0, ve, ive, leaving == 0
+            tk, dk = _first_hit(phi0, A, B, vt, iB, ivt, tcap, near, g1_leave, c, cells, lookup, wmin, wmax, tol)
+            if upper:
+                tu, du = tk, dk
+            else:
+                tl, dl = tk, dk
         if tl < 0.0 or tu < 0.0:
             return i, 2
         if tu < tl:
@@ -848,13 +956,12 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
             k = math.floor(th / TWO_PI)
             th -= k * TWO_PI
             wraps += k
-        dot = ve - s * vt
-        nn = 1.0 + s * s
-        vt = vt + 2.0 * dot * s / nn
-        ve = ve - 2.0 * dot / nn
-        speed = math.sqrt(vt * vt + ve * ve)
-        vt /= speed
-        ve /= speed
+        f = 2.0 * (ve - s * vt) / (1.0 + s * s)
+        vt = vt + f * s
+        ve = ve - f
+        scale = 1.0 / math.sqrt(vt * vt + ve * ve)  # keeps the speed 1 to rounding over long runs
+        vt *= scale
+        ve *= scale
         # g' of the wall just left (> 0 after the reflection), for the first step of the next search
         if side == 0:
             g1_leave = ve - vt * s
@@ -880,7 +987,8 @@ def _run_many(states, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
         status[k] = s
 '''
 
-_HEADER = ("import math\nimport numpy as np\nfrom numba import njit, prange\n\n"
+_HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, prange, types\n"
+           "from numba.extending import intrinsic\n\n"
            "OPTIONS = dict(cache=True, error_model='numpy')\n\n")
 _NOTES = {1: "free flight: the particle moves parallel to the walls in an open channel and never collides again",
           2: "the kernel's root search did not converge (a near-tangent graze?)"}
@@ -892,8 +1000,8 @@ class _Compiled:
     def __init__(self, wall: Wall):
         from .wallcode import load_module, wall_source
 
-        source, constants = wall_source(wall)
-        self.module = load_module(_HEADER + "@njit(**OPTIONS)\n" + source + KERNEL_SOURCE, "coinwall_billiard")
+        source, constants = wall_source(wall, "@njit(**OPTIONS)\n")
+        self.module = load_module(_HEADER + source + KERNEL_SOURCE, "coinwall_billiard")
         self.constants = np.ascontiguousarray(constants, dtype=float)
         self.bounds = _cell_bounds(wall)
         self.cells = _cell_table(self.bounds)
@@ -916,7 +1024,10 @@ def _compiled(table: Billiard) -> _Compiled:
 
 
 def compile_kernel(table: Billiard) -> float:
-    """Compile (or load from numba's disk cache) the kernel for ``table``'s wall; return the seconds it took."""
+    """Compile (or load from numba's disk cache) the kernels for ``table``'s wall; return the seconds it took.
+
+    Both the single-orbit kernel (:func:`simulate`) and the parallel one (:func:`ensemble`).
+    """
     import time
 
     _check_table(table)
@@ -924,6 +1035,7 @@ def compile_kernel(table: Billiard) -> float:
     comp = _compiled(table)
     states = random_states(table, 1, seed=0)
     _kernel_run(comp, table, states[0], -1, 1)
+    ensemble(table, states, 1, workers=1)  # the parallel driver is a separate compiled function
     return time.perf_counter() - start
 
 

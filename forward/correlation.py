@@ -196,20 +196,29 @@ class Correlation:
 
 def _orbit_agreement(traj, need, max_lag, count, burn):
     """Per-lag agreement frequencies of one orbit (None when too short), and its heads fraction."""
+    # count_nonzero/k is bit for bit the mean of the boolean comparison (an exact integer over k) and
+    # ~5x faster.  (A ±1 dot product is exact too, but OpenBLAS threads keep spinning after the call
+    # and slow the kernel's numba threads on a 2-core machine.)
     side = traj.side[burn:]
-    state = heads(traj.theta[burn:])
+    theta = traj.theta[burn:]
     bottom = np.flatnonzero(side == 0)
+    agree = np.empty(max_lag + 1)
+    agree[0] = 1.0
     if count == "bottom":
-        seq = state[bottom][:need]
+        seq = heads(theta[bottom[:need]])  # only the counted collisions need sin θ
         if seq.size <= max_lag:
             return None, None
-        agree = np.array([1.0] + [np.mean(seq[:-n] == seq[n:]) for n in range(1, max_lag + 1)])
+        for n in range(1, max_lag + 1):
+            agree[n] = np.count_nonzero(seq[:-n] == seq[n:]) / (seq.size - n)
         return agree, float(np.mean(seq))
+    state = heads(theta)
     ref = bottom[:need]
     ref = ref[ref + max_lag < state.size]
     if ref.size == 0:
         return None, None
-    agree = np.array([np.mean(state[ref] == state[ref + n]) for n in range(max_lag + 1)])
+    at_ref = state[ref]
+    for n in range(1, max_lag + 1):
+        agree[n] = np.count_nonzero(at_ref == state[ref + n]) / ref.size
     return agree, float(np.mean(state[ref]))
 
 

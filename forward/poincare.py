@@ -33,6 +33,7 @@ from .errors import InvalidArgument
 __all__ = ["PoincareSection", "poincare_section", "incidence_angle"]
 
 TWO_PI = 2.0 * math.pi
+_CHUNK_COLLISIONS = 2_000_000   # collisions (41 bytes each) held in memory at once
 
 
 def incidence_angle(table: Billiard, theta, v_theta, v_eta, side=0):
@@ -53,11 +54,13 @@ def incidence_angle(table: Billiard, theta, v_theta, v_eta, side=0):
         φ in [−π/2, π/2] (module docstring for the convention).
     """
     theta = np.asarray(theta, dtype=float)
-    side = np.broadcast_to(np.asarray(side), theta.shape)
-    # slope of the wall actually hit: lower b'(θ); upper −b'(θ+π)
-    slope = np.where(side == 0, table.wall.derivatives(theta)[1],
-                     -table.wall.derivatives(theta + math.pi)[1])
-    sign = np.where(side == 0, 1.0, -1.0)
+    top = np.broadcast_to(np.asarray(side) != 0, theta.shape)
+    # only the wall actually hit is needed: the lower wall's slope b'(θ), the upper wall's −b'(θ+π).
+    # One derivatives call on the contact angles, shifted by π where the top was hit, instead of both
+    # walls at every point (the wall evaluation is most of the cost for an expression wall)
+    slope = table.wall.derivatives(np.where(top, theta + math.pi, theta))[1]
+    slope = np.where(top, -slope, slope)
+    sign = np.where(top, -1.0, 1.0)
     tangential = np.asarray(v_theta) + slope * np.asarray(v_eta)
     normal = sign * (np.asarray(v_eta) - slope * np.asarray(v_theta))
     return np.arctan2(tangential, normal)
@@ -107,15 +110,26 @@ class PoincareSection:
                 "starts": self.starts.tolist(), "notes": list(self.notes)}
 
     def plot(self, ax=None, markersize=0.6, title=None):
-        """Scatter φ_c/π against θ_c/π, one colour per orbit; returns the matplotlib Axes."""
+        """Scatter φ_c/π against θ_c/π, one colour per orbit; returns the matplotlib Axes.
+
+        ``markersize`` is the marker area in points² (as ``scatter``'s ``s``).
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(7, 5))
         cmap = plt.get_cmap("tab20" if self.orbits <= 20 else "turbo")
-        colours = cmap(self.orbit % 20 if self.orbits <= 20 else self.orbit / max(self.orbits - 1, 1))
-        ax.scatter(self.theta / math.pi, self.phi / math.pi, s=markersize, c=colours, linewidths=0,
-                   rasterized=True)
+        # one marker-only line per orbit rather than one scatter with a colour per point: Agg stamps a
+        # line's identical markers from one cached raster, ~10x faster for millions of points, and no
+        # (points, 4) colour array is built; orbits are drawn in order, as the scatter drew them
+        size = math.sqrt(markersize)
+        cuts = np.flatnonzero(np.diff(self.orbit)) + 1
+        runs = zip(np.r_[0, cuts], np.r_[cuts, self.orbit.size]) if self.orbit.size else ()
+        for first, last in runs:
+            k = int(self.orbit[first])
+            colour = cmap(k % 20 if self.orbits <= 20 else k / max(self.orbits - 1, 1))
+            ax.plot(self.theta[first:last] / math.pi, self.phi[first:last] / math.pi, linestyle="none", marker="o",
+                    markersize=size, markeredgewidth=0, color=colour, rasterized=True)
         ax.set_xlim(0, 2)
         ax.set_ylim(-0.5, 0.5)
         ax.set_xlabel(r"contact angle $\theta_c/\pi$")
@@ -132,8 +146,12 @@ class PoincareSection:
 
 
 def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, seed=None, states=None,
-                     workers=None) -> PoincareSection:
+                     workers=None, progress=None) -> PoincareSection:
     """Bottom-wall Poincaré section of ``orbits`` orbits.
+
+    The orbits are followed in groups of at most ``_CHUNK_COLLISIONS`` collisions in all, so memory
+    stays bounded by the group plus the section's points (24 bytes each); every orbit is computed
+    from its own start state by the same code, so the result does not depend on the grouping.
 
     Parameters
     ----------
@@ -148,24 +166,52 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
         Explicit start states instead of random ones.
     workers : int, optional
         Threads for :func:`~forward.billiard.ensemble`.
+    progress : callable, optional
+        Called with the number of orbits finished so far, after each group.
 
     Returns
     -------
     PoincareSection
     """
+    if isinstance(collisions, bool) or not isinstance(collisions, (int, np.integer)) or collisions <= 0:
+        raise InvalidArgument(f"`collisions` must be a positive integer, got {collisions!r}")
+    collisions = int(collisions)
     if states is None:
         if isinstance(orbits, bool) or not isinstance(orbits, (int, np.integer)) or orbits <= 0:
             raise InvalidArgument(f"`orbits` must be a positive integer, got {orbits!r}")
         states = random_states(table, int(orbits), seed)
     starts = np.array(states, dtype=float).reshape(-1, 4)
-    trajs = ensemble(table, starts, collisions, workers=workers)
-    thetas, phis, labels, notes = [], [], [], []
-    for k, traj in enumerate(trajs):
-        bottom = traj.side == 0
-        thetas.append(np.mod(traj.theta[bottom], TWO_PI))
-        phis.append(incidence_angle(table, traj.theta[bottom], traj.v_theta[bottom], traj.v_eta[bottom]))
-        labels.append(np.full(int(bottom.sum()), k, dtype=np.int64))
-        if traj.note:
-            notes.append(f"orbit {k}: {traj.note}")
-    return PoincareSection(theta=np.concatenate(thetas), phi=np.concatenate(phis), orbit=np.concatenate(labels),
-                           starts=starts, collisions=int(collisions), table=table, notes=tuple(notes))
+    n = starts.shape[0]
+    if n == 0:
+        raise InvalidArgument("`states` must hold at least one start state [theta, eta, v_theta, v_eta], got none")
+    group = max(1, min(n, _CHUNK_COLLISIONS // collisions))
+    thetas, phis, counts, notes = [], [], [], []
+    for first in range(0, n, group):
+        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
+        theta, v_theta, v_eta = [], [], []
+        for k, traj in enumerate(trajs, start=first):
+            bottom = traj.side == 0
+            theta.append(traj.theta[bottom])
+            v_theta.append(traj.v_theta[bottom])
+            v_eta.append(traj.v_eta[bottom])
+            counts.append(theta[-1].size)
+            if traj.note:
+                notes.append(f"orbit {k}: {traj.note}")
+        # the group's trajectories (41 bytes per collision, views of the kernel's output) must go
+        # before the next group is computed, including the loop variable's reference to the last one
+        del trajs, traj, bottom
+        theta = np.concatenate(theta)
+        # one call per group rather than per orbit: the wall is evaluated in blocks
+        phis.append(incidence_angle(table, theta, np.concatenate(v_theta), np.concatenate(v_eta)))
+        thetas.append(np.mod(theta, TWO_PI))
+        del theta, v_theta, v_eta
+        if progress is not None:
+            progress(min(n, first + group))
+    # concatenate one field at a time, freeing its pieces, so the peak is the section plus one field
+    theta = np.concatenate(thetas)
+    del thetas
+    phi = np.concatenate(phis)
+    del phis
+    orbit = np.repeat(np.arange(n, dtype=np.int64), counts)
+    return PoincareSection(theta=theta, phi=phi, orbit=orbit, starts=starts, collisions=collisions, table=table,
+                           notes=tuple(notes))

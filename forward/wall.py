@@ -22,7 +22,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .errors import InvalidParameter, InvalidWall
+from .errors import InvalidWall
 
 __all__ = ["Wall", "Kink"]
 

@@ -16,7 +16,9 @@ wall as ordinary code.  This module writes that code:
   fixed source, the trigonometric sum by the angle-addition recurrence, with
   the coefficients in ``c``.
 
-The source defines ``wall_b1(phi, c) -> (b, db)``; it runs as plain Python too
+The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, db, d2b)``
+(the kernel's last evaluation before a contact needs b'', see :mod:`forward.billiard`);
+it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
 """
 
@@ -36,7 +38,7 @@ from .errors import InvalidWall
 __all__ = ["wall_source", "python_wall", "load_module", "cache_dir"]
 
 FOURIER_SOURCE = '''
-def wall_b1(phi, c):
+{decorator}def wall_b2(phi, c):
     # c = [a0, n, cos_1..cos_n, sin_1..sin_n]; cos kφ, sin kφ by the angle-addition
     # recurrence (one cos and one sin call instead of 2n; error grows like n·1e-16)
     n = int(c[1])
@@ -46,12 +48,21 @@ def wall_b1(phi, c):
     sk = s1
     b = c[0]
     db = 0.0
+    d2b = 0.0
     for k in range(1, n + 1):
         a = c[1 + k]
         s = c[1 + n + k]
-        b += a * ck + s * sk
+        term = a * ck + s * sk
+        b += term
         db += k * (s * ck - a * sk)
+        d2b -= k * k * term
         ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
+    return b, db, d2b
+
+
+{decorator}def wall_b1(phi, c):
+    # b and b' only (the compiler drops the unused b'' sum)
+    b, db, d2b = wall_b2(phi, c)
     return b, db
 '''
 
@@ -83,15 +94,12 @@ def _op_table():
     return unary, binary
 
 
-def _expression_source(parsed):
-    """Translate casadi's algorithm for ``(b, b')`` into Python source + constants."""
+def _translate(func, name, unary, binary, constants, text):
+    """Python source of one casadi Function of one input (its instruction list, translated literally)."""
     import casadi as ca
 
-    t = parsed.symbol
-    func = ca.Function("wall_b1", [t], [parsed.expr, ca.jacobian(parsed.expr, t)])
-    unary, binary = _op_table()
-    lines = ["def wall_b1(phi, c):", "    o0 = 0.0", "    o1 = 0.0"]
-    constants = []
+    outputs = func.n_out()
+    lines = [f"def {name}(phi, c):"] + [f"    o{k} = 0.0" for k in range(outputs)]
     for k in range(func.n_instructions()):
         op = func.instruction_id(k)
         ins = func.instruction_input(k)
@@ -108,43 +116,62 @@ def _expression_source(parsed):
         elif op in binary:
             lines.append(f"    w{outs[0]} = " + binary[op].format(x=f"w{ins[0]}", y=f"w{ins[1]}"))
         else:
-            raise InvalidWall(f"wall {parsed.text!r}: casadi operation {op} has no numba translation; "
+            raise InvalidWall(f"wall {text!r}: casadi operation {op} has no numba translation; "
                               f"give the wall as samples or a Fourier series instead")
-    lines.append("    return o0, o1")
-    return "\n".join(lines) + "\n", np.array(constants or [0.0])
+    lines.append("    return " + ", ".join(f"o{k}" for k in range(outputs)))
+    return "\n".join(lines) + "\n"
 
 
-def wall_source(wall):
-    """Python source of ``wall_b1(phi, c) -> (b, b')`` for ``wall`` and its constant array ``c``.
+def _expression_source(parsed, decorator):
+    """Translate casadi's algorithms for ``(b, b')`` and ``(b, b', b'')`` into Python source + constants."""
+    import casadi as ca
+
+    t = parsed.symbol
+    d1 = ca.jacobian(parsed.expr, t)
+    unary, binary = _op_table()
+    constants = []  # both functions read one array (their constants one after the other)
+    sources = [_translate(ca.Function(name, [t], outputs), name, unary, binary, constants, parsed.text)
+               for name, outputs in (("wall_b1", [parsed.expr, d1]),
+                                     ("wall_b2", [parsed.expr, d1, ca.jacobian(d1, t)]))]
+    return "\n\n".join(decorator + src for src in sources), np.array(constants or [0.0])
+
+
+def wall_source(wall, decorator: str = ""):
+    """Python source of ``wall_b1(phi, c) -> (b, b')`` and ``wall_b2(phi, c) -> (b, b', b'')``.
 
     Parameters
     ----------
     wall : Wall
+    decorator : str
+        A line put before each ``def`` (e.g. ``"@njit(cache=True)\\n"``); empty for plain Python.
 
     Returns
     -------
     source : str
-        A function definition using only :mod:`math` (no imports inside).
+        Two function definitions using only :mod:`math` (no imports inside).
     constants : numpy.ndarray
-        The array to pass as ``c``.
+        The array to pass as ``c`` (to either function).
     """
     backend = wall._backend
     if hasattr(backend, "parsed"):
-        return _expression_source(backend.parsed)
+        return _expression_source(backend.parsed, decorator)
     if hasattr(backend, "cos") and hasattr(backend, "sin"):
         n = backend.cos.size
         constants = np.concatenate([[backend.a0, float(n)], backend.cos, backend.sin])
-        return FOURIER_SOURCE, constants
+        return FOURIER_SOURCE.format(decorator=decorator), constants
     raise InvalidWall(f"wall {wall!r}: unknown wall kind {wall.kind!r}; the billiard kernel handles "
                       f"expression, Fourier and sample walls")
 
 
-def python_wall(wall):
-    """The generated ``wall_b1`` as an uncompiled Python function of one angle (for checks)."""
+def python_wall(wall, order: int = 1):
+    """The generated ``wall_b1`` (``order=1``) or ``wall_b2`` (``order=2``) as a plain Python function of one angle.
+
+    Uncompiled, for checks against :meth:`Wall.derivatives`.
+    """
     source, constants = wall_source(wall)
     namespace = {"math": math}
     exec(compile(source, "<coinwall wall code>", "exec"), namespace)  # our own generated source, not user text
-    func = namespace["wall_b1"]
+    func = namespace["wall_b1" if order == 1 else "wall_b2"]
     return lambda phi: func(float(phi), constants)
 
 

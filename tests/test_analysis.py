@@ -65,6 +65,68 @@ def test_section_whispering_gallery_orbit_stays_bounded():
     assert abs(np.mean(long.phi) - phi0) < 0.01
 
 
+
+@pytest.mark.parametrize("text", ["abs(cos(t))", "1 + 0.2*cos(t) + 0.1*sin(2*t) + 0.05*cos(3*t)"])
+def test_incidence_angle_evaluates_only_the_wall_hit(text, monkeypatch):
+    """One wall evaluation per point (the wall that was hit), same φ as evaluating both walls everywhere.
+
+    Reference: the module docstring's formula with the lower slope b'(θ) and the upper slope −b'(θ+π)
+    both computed at every point and the one of the wall hit selected afterwards (the implementation
+    before it was changed to evaluate only the wall hit). An asymmetric wall makes the two slopes
+    differ; the stick has kinks.
+    """
+    table = Billiard(Wall.from_expression(text, {}), 4.0)
+    rng = np.random.default_rng(5)
+    theta = rng.uniform(-10.0, 10.0, 3000)
+    side = rng.integers(0, 2, theta.size)
+    angle = rng.uniform(0.0, 2 * math.pi, theta.size)
+    v_theta, v_eta = np.cos(angle), np.sin(angle)
+    lower, upper = table.wall.derivatives(theta)[1], -table.wall.derivatives(theta + math.pi)[1]
+    slope = np.where(side == 0, lower, upper)
+    sign = np.where(side == 0, 1.0, -1.0)
+    expected = np.arctan2(v_theta + slope * v_eta, sign * (v_eta - slope * v_theta))
+
+    calls = []
+    derivatives = table.wall.derivatives
+    monkeypatch.setattr(table.wall, "derivatives", lambda t: calls.append(np.size(t)) or derivatives(t))
+    phi = incidence_angle(table, theta, v_theta, v_eta, side)
+    assert calls == [theta.size]
+    np.testing.assert_allclose(phi, expected, rtol=0, atol=1e-15)
+    # a scalar side applies to every point
+    for wall_side in (0, 1):
+        phi = incidence_angle(table, theta, v_theta, v_eta, wall_side)
+        np.testing.assert_allclose(phi, np.where(side == wall_side, expected, phi), rtol=0, atol=1e-15)
+
+
+def test_section_in_groups_equals_one_ensemble_and_reports_progress(monkeypatch):
+    """Orbits followed in groups (memory bound) give the same section, bit for bit, as all at once.
+
+    Reference: the same call with every orbit in one ``ensemble`` call (a chunk larger than the
+    whole run). Each orbit is computed from its own start state, so grouping must not change a bit.
+    """
+    import forward.poincare as poincare
+
+    table = Billiard(Wall.from_expression("1 + 0.2*cos(t) + 0.1*sin(2*t)", {}), 3.0)
+    whole = poincare_section(table, 5, 400, seed=2)
+    monkeypatch.setattr(poincare, "_CHUNK_COLLISIONS", 800)  # groups of 2 orbits: 2, 2, 1
+    done = []
+    grouped = poincare_section(table, 5, 400, seed=2, progress=done.append)
+    assert done == [2, 4, 5]
+    assert whole.theta.size > 900 and set(np.unique(whole.orbit)) == set(range(5))
+    for name in ("theta", "phi", "orbit", "starts"):
+        a, b = getattr(whole, name), getattr(grouped, name)
+        assert a.dtype == b.dtype and np.array_equal(a, b), name
+    # explicit states take the same path
+    again = poincare_section(table, states=whole.starts, collisions=400, progress=done.append)
+    assert np.array_equal(again.phi, whole.phi) and done[-3:] == [2, 4, 5]
+
+
+@pytest.mark.parametrize("collisions", [0, -3, 2.5, True])
+def test_section_rejects_bad_collisions(collisions):
+    with pytest.raises(InvalidArgument, match="collisions"):
+        poincare_section(ellipse(0.55, 1.9), 2, collisions)
+
+
 # ---------------------------------------------------------------------------------------------------- lyapunov
 def test_lyapunov_unstable_vertical_orbit_closed_form():
     """ε = 0.003, H = 3, vertical orbit at θ = 0 between two dispersing mirrors.

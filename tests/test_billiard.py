@@ -46,12 +46,16 @@ def test_generated_wall_code_matches_wall_derivatives(name):
         wall = Wall.from_samples(theta, 1 + 0.2 * np.cos(theta) + 0.05 * np.sin(3 * theta))
     else:
         wall = WALLS[name][0]
-    func = python_wall(wall)
     theta = np.linspace(-3.0, 10.0, 777) + 1e-3
-    b, d1, _ = wall.derivatives(theta)
-    got = np.array([func(x) for x in theta])
+    b, d1, d2 = wall.derivatives(theta)
+    got = np.array([python_wall(wall)(x) for x in theta])
     np.testing.assert_allclose(got[:, 0], b, rtol=0, atol=1e-14)
     np.testing.assert_allclose(got[:, 1], d1, rtol=0, atol=1e-13)
+    # wall_b2 (the kernel's last evaluation before a contact) also gives b''
+    got2 = np.array([python_wall(wall, order=2)(x) for x in theta])
+    np.testing.assert_allclose(got2[:, 0], b, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(got2[:, 1], d1, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got2[:, 2], d2, rtol=1e-13, atol=1e-12)
 
 
 def _max_diff(a, b, n=None):
@@ -112,6 +116,38 @@ def test_contact_on_wall_and_speed_conserved(name):
     # every collision lies inside the strip: the contact is on one wall and below/above the other
     assert np.all(traj.eta >= table.lower(traj.theta) - allowed)
     assert np.all(traj.eta <= table.upper(traj.theta) + allowed)
+
+
+@pytest.mark.parametrize("name", ["coin", "stick", "asymmetric", "fourier"])
+def test_reflection_uses_the_exact_slope_at_the_contact(name):
+    """Specular reflection about the wall's normal at the reported contact point: with s the slope
+    of the wall hit (b'(θ) below, −b'(θ+π) above, from Wall.derivatives, not the kernel's code),
+    v_out = v_in − 2 (v_in·n) n, n ∝ (−s, 1).  The kernel takes the slope from a second-order
+    Taylor step of its last wall evaluation (no evaluation at the contact itself), so this checks
+    that step on every collision.  Kinks are excluded (the slope there is one-sided)."""
+    wall, H = WALLS[name]
+    table = Billiard(wall, H)
+    # many short orbits: the reported θ is unwrapped, and its rounding (|θ|·2^-52) moves the slope
+    # by |b''| times that, so long drifts would blur the check
+    starts = random_states(table, 60, seed=23)
+    checked = 0
+    for start, traj in zip(starts, ensemble(table, starts, 50)):
+        vin = np.column_stack([np.r_[start[2], traj.v_theta[:-1]], np.r_[start[3], traj.v_eta[:-1]]])
+        top = traj.side == 1
+        phi = np.mod(traj.theta, 2 * math.pi) + np.where(top, math.pi, 0.0)
+        _, d1, d2 = wall.derivatives(phi)
+        s = np.where(top, -d1, d1)
+        f = 2.0 * (vin[:, 1] - s * vin[:, 0]) / (1.0 + s * s)
+        expect_vt, expect_ve = vin[:, 0] + f * s, vin[:, 1] - f
+        smooth = np.ones(len(traj), dtype=bool)
+        for k in wall.kinks:
+            smooth &= np.abs((phi - k.angle + math.pi) % (2 * math.pi) - math.pi) > 1e-9
+        # a few roundings of θ (unwrapping, θ + π, mod 2π) times |b''|, and of the reflection itself
+        allowed = 4e-15 + 8 * np.spacing(np.abs(traj.theta) + 2 * math.pi) * (1 + np.abs(d2))
+        assert np.all(np.abs(traj.v_theta - expect_vt)[smooth] < allowed[smooth])
+        assert np.all(np.abs(traj.v_eta - expect_ve)[smooth] < allowed[smooth])
+        checked += int(smooth.sum())
+    assert checked > 2500
 
 
 @pytest.mark.parametrize("name,collisions", [("coin", 8), ("stick", 8), ("asymmetric", 8), ("fourier", 30)])
@@ -304,6 +340,11 @@ def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
     p = sum(proxy[:, k, None] * s**k for k in range(6))
     assert np.all(np.abs(b - p) <= bd["perr"][:, None])
     assert np.all(b <= bd["bmax"][:, None])
+    # |b'''| <= d3max: each difference quotient of b'' inside a cell is a mean value of b'''
+    s_sorted = np.sort(s, axis=1)
+    d2 = wall.derivatives((edges[:-1, None] + s_sorted).ravel())[2].reshape(s.shape)
+    quotient = np.abs(np.diff(d2, axis=1) / np.diff(s_sorted, axis=1))
+    assert np.all(quotient <= bd["d3max"][:, None])
     # the proxy is useful: its error is far below the wall's variation over a cell
     assert np.median(bd["perr"]) < 1e-9
 

@@ -1,7 +1,6 @@
 """The cases catalog: every case builds, its reference values hold, and `coinwall verify` keeps its verdicts."""
 
 import json
-import math
 
 import numpy as np
 import pytest

@@ -1,0 +1,130 @@
+"""Progress bars of the long CLI commands, checked on a real pseudo-terminal.
+
+``coinwall simulate``, ``correlation``, ``kam`` and ``section`` draw a tqdm bar on stderr when stderr is a
+terminal, and draw nothing with ``--json`` or when stderr is a pipe.  ``isatty`` cannot be faked
+in-process with pytest's capture, so each test runs the command in a fresh Python process with
+stderr (and for ``--json`` also stdout) on the slave side of a pty from ``os.openpty``.  Each run
+takes a few seconds (interpreter start, imports, the kernel's compile/load, a short run).
+"""
+
+import json
+import os
+import re
+import subprocess
+import sys
+import threading
+
+import pytest
+
+if not hasattr(os, "openpty") or sys.platform.startswith("win"):
+    pytest.skip("needs a POSIX pseudo-terminal (os.openpty)", allow_module_level=True)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+BAR = re.compile(r"\d+%\|")  # tqdm's "  0%|", " 50%|", "100%|"
+
+# (command, unit of its bar): sizes chosen to be short but to need a bar (simulate draws one only
+# above its 200 000-collision chunk)
+COMMANDS = {
+    "simulate": (["simulate", ELLIPSE, "--param", "eps=99", "--H", "2.4", "--collisions", "1000000", "--seed", "1"],
+                 "coll"),
+    "correlation": (["correlation", ELLIPSE, "--param", "eps=99", "--H", "2.4", "--bounces", "100000",
+                     "--max-lag", "10", "--orbits", "10", "--seed", "1"], "bounce"),
+    "kam": (["kam", "--H", "3", "--orbits", "4", "--collisions", "200", "--steps", "1"], "eval"),
+    # two groups of 20 orbits (poincare_section holds 2·10⁶ collisions at a time), no figure
+    "section": (["section", ELLIPSE, "--param", "eps=0.55", "--H", "1.9", "--orbits", "30", "--collisions", "100000",
+                 "--seed", "1"], "orbit"),
+}
+
+
+def _set_size(fd, rows, columns):
+    import fcntl
+    import struct
+    import termios
+
+    fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
+
+
+def _run(argv, stderr_tty=True, stdout_tty=False, size=(24, 100), timeout=180):
+    """Run ``coinwall argv``; returns (exit status, stdout text, stderr text, what reached the terminal).
+
+    With ``stderr_tty`` stderr goes to a pty (and with ``stdout_tty`` stdout too), whose output is
+    returned as the fourth item (the pty turns "\\n" into "\\r\\n"); the other streams are pipes.
+    """
+    env = dict(os.environ)
+    env["PYTHONPATH"] = ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    env.pop("COLUMNS", None), env.pop("LINES", None)  # the terminal's own size must decide
+    command = [sys.executable, "-c", "import sys; from cases.cli import main; sys.exit(main())", *argv]
+    if not stderr_tty:
+        done = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, env=env, timeout=timeout)
+        return done.returncode, done.stdout.decode(), done.stderr.decode(), ""
+    master, slave = os.openpty()
+    if size is not None:
+        _set_size(slave, *size)
+    received = []
+
+    def read():  # drain the pty while the child runs, so it never blocks on a full buffer
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:  # EIO: every slave descriptor is closed (Linux)
+                return
+            if not data:
+                return
+            received.append(data)
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=slave if stdout_tty else subprocess.PIPE,
+                                   stderr=slave, env=env)
+    finally:
+        os.close(slave)
+    try:
+        stdout, _ = process.communicate(timeout=timeout)
+    finally:
+        if process.poll() is None:
+            process.kill()
+        reader.join(10)
+        os.close(master)
+    return process.returncode, (stdout or b"").decode(), "", b"".join(received).decode(errors="replace")
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_bar_on_a_terminal(name):
+    argv, unit = COMMANDS[name]
+    status, stdout, _, terminal = _run(argv)
+    assert status == 0, terminal
+    assert BAR.search(terminal) and f"{unit}/s" in terminal, terminal
+    # leave=False: the bar is wiped at the end ("\r", blanks, "\r"), the summary goes to stdout
+    assert terminal.rstrip(" ").endswith("\r"), terminal[-200:]
+    assert stdout.strip()
+
+
+def test_bar_on_a_terminal_that_reports_no_size():
+    # a pty nobody sized is 0 × 0 (some containers and CI runners): tqdm alone would hide its bar
+    argv, unit = COMMANDS["simulate"]
+    status, _, _, terminal = _run(argv, size=None)
+    assert status == 0, terminal
+    assert BAR.search(terminal) and f"{unit}/s" in terminal, terminal
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_json_on_a_terminal_is_quiet(name):
+    # stdout and stderr both on the terminal, as when a user types the command: everything that
+    # arrives must be the JSON document and nothing else
+    argv, unit = COMMANDS[name]
+    status, _, _, terminal = _run(argv + ["--json"], stdout_tty=True)
+    assert status == 0, terminal
+    assert not BAR.search(terminal) and f"{unit}/s" not in terminal, terminal
+    doc = json.loads(terminal.replace("\r\n", "\n"))
+    assert isinstance(doc, dict) and doc
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_no_bar_when_stderr_is_a_pipe(name):
+    argv, unit = COMMANDS[name]
+    status, stdout, stderr, _ = _run(argv, stderr_tty=False)
+    assert status == 0, stderr
+    assert not BAR.search(stderr) and f"{unit}/s" not in stderr and "\r" not in stderr, stderr
+    assert stdout.strip()
