@@ -11,7 +11,7 @@ import json
 import math
 import sys
 
-__all__ = ["main", "wall_arguments", "table_arguments", "load_wall"]
+__all__ = ["main", "wall_arguments", "table_arguments", "load_table", "load_wall"]
 
 
 def wall_arguments(parser, optional=False):
@@ -24,10 +24,36 @@ def wall_arguments(parser, optional=False):
 
 
 def table_arguments(parser):
-    """Add WALL, ``--param``, ``--H`` and ``--b0``: the billiard table of the dynamics subcommands."""
+    """Add WALL, ``--param``, ``--H``, ``--b0`` and ``--kappa``: the billiard table of the dynamics subcommands."""
     wall_arguments(parser)
-    parser.add_argument("--H", type=float, required=True, help="distance between the walls (units of κ)")
+    parser.add_argument("--H", type=float, required=True,
+                        help="distance between the walls (units of κ, or of --kappa's length unit)")
     parser.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
+    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+                        help="radius of gyration of a physical body, in the length unit of the wall, --H and --b0 "
+                             "(all three are divided by it; results are in units of κ). Default: they already are "
+                             "in units of κ")
+
+
+def load_table(args):
+    """The wall and the :class:`forward.billiard.Billiard` of a dynamics subcommand (``table_arguments``).
+
+    With ``--kappa`` the wall, ``--H`` and ``--b0`` are lengths in the unit of κ's value and are
+    divided by it: the billiard is always in units of κ (η = y/κ, paper eq. 8).
+    """
+    from forward.billiard import Billiard
+    from forward.errors import InvalidArgument
+
+    for name, value in (("--H", args.H), ("--b0", args.b0)):
+        if not math.isfinite(value):
+            raise InvalidArgument(f"{name} must be a finite number, got {value}")
+    kappa = args.kappa
+    if kappa is not None and not (math.isfinite(kappa) and kappa > 0):
+        raise InvalidArgument(f"--kappa must be a positive length, got {kappa}")
+    wall = load_wall(args.wall, args.param)
+    if kappa is None:
+        return wall, Billiard(wall, args.H, args.b0)
+    return wall, Billiard(wall.scaled(1.0 / kappa), args.H / kappa, args.b0 / kappa)
 
 
 def load_wall(text, params):

@@ -100,14 +100,9 @@ def _seed(value):
 
 
 def _table(args):
-    from cases.cli import load_wall
-    from forward.billiard import Billiard
-    from forward.errors import InvalidArgument
+    from cases.cli import load_table
 
-    if not math.isfinite(args.H):
-        raise InvalidArgument(f"--H must be a finite number, got {args.H}")
-    wall = load_wall(args.wall, args.param)
-    return wall, Billiard(wall, args.H, args.b0)
+    return load_table(args)
 
 
 # ---------------------------------------------------------------------------------------------------- section
@@ -144,7 +139,7 @@ def _cmd_section(args):
         else:
             files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param)).encode()
     write_all(files)
-    summary = {"wall": args.wall, "params": args.param, "H": table.H, "orbits": result.orbits,
+    summary = {"wall": args.wall, "params": args.param, "kappa": args.kappa, "H": table.H, "orbits": result.orbits,
                "collisions": result.collisions, "points": int(result.theta.size), "notes": list(result.notes),
                "outputs": args.output}
     if args.json:
@@ -176,7 +171,7 @@ def _cmd_correlation(args):
     finally:
         if bar is not None:
             bar.close()
-    doc = dict(result.to_dict(), wall=args.wall, params=args.param)
+    doc = dict(result.to_dict(), wall=args.wall, params=args.param, kappa=args.kappa)
     files = {}
     for path in args.output:
         if path.lower().endswith(".png"):

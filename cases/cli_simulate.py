@@ -28,17 +28,16 @@ def register(subparsers):
 def _cmd_simulate(args):
     import numpy as np
 
-    from cases.cli import load_wall
+    from cases.cli import load_table
     from cases.cli_analysis import _bar
-    from forward.billiard import Billiard, compile_kernel, random_states, simulate
+    from forward.billiard import compile_kernel, random_states, simulate
     from forward.errors import InvalidArgument
 
     if args.collisions <= 0:
         raise InvalidArgument(f"--collisions must be a positive integer, got {args.collisions}")
     if args.seed is not None and args.seed < 0:
         raise InvalidArgument(f"--seed must be a non-negative integer, got {args.seed}")
-    wall = load_wall(args.wall, args.param)
-    table = Billiard(wall, args.H, args.b0)
+    wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
     bar = _bar(args, args.collisions, "coll") if args.collisions > _CHUNK else None
@@ -66,7 +65,8 @@ def _cmd_simulate(args):
     seconds = time.perf_counter() - start
     area, perimeter = table.area_perimeter()
     summary = {
-        "wall": args.wall, "params": dict(wall.params), "H": table.H, "b0": table.b0, "seed": args.seed,
+        "wall": args.wall, "params": dict(wall.params), "kappa": args.kappa, "H": table.H, "b0": table.b0,
+        "seed": args.seed,
         "method": args.method, "collisions": done, "seconds": seconds,
         "collisions_per_second": done / seconds if seconds > 0 else None,
         "compile_seconds": compile_seconds,

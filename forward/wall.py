@@ -285,6 +285,26 @@ class Wall:
         # b'' extrapolated linearly from δ and 2δ: error O(δ²)
         return float(b[0]), float(d1[1] - side * delta * d2[1]), float(2 * d2[1] - d2[2])
 
+    def scaled(self, factor: float) -> "Wall":
+        """The wall ``factor · b(θ)``, of the same kind, with exact derivatives.
+
+        Used to change the length unit: a wall given in millimetres, for a body
+        of radius of gyration κ mm, is ``wall.scaled(1 / κ)`` in units of κ.
+        """
+        from dataclasses import replace
+
+        if isinstance(factor, bool) or not isinstance(factor, (int, float, np.floating)) \
+                or not (math.isfinite(factor) and factor > 0):
+            raise InvalidWall(f"the scale factor must be a positive finite number, got {factor!r}")
+        factor = float(factor)
+        backend = self._backend
+        description = f"{factor:.12g}·({self.description})"
+        if isinstance(backend, _ExpressionBackend):
+            parsed = replace(backend.parsed, expr=backend.parsed.expr * factor)
+            return Wall(_ExpressionBackend(parsed), description, self.kind, self.params)
+        return Wall(_FourierBackend(backend.a0 * factor, backend.cos * factor, backend.sin * factor), description,
+                    self.kind, self.params)
+
     @property
     def scale(self) -> float:
         """A typical magnitude of the wall (max |b|, at least 1), used for relative tolerances."""

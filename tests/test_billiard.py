@@ -307,11 +307,48 @@ def test_cli_simulate_json(capsys):
     assert again["final_state"] == first["final_state"]  # same seed, same orbit
 
 
+def test_cli_kappa_means_physical_lengths(capsys):
+    """``--kappa K``: the wall, H and b0 are lengths in K's unit.  The coin drawn at twice the size
+    (wall 2·b, H = 2·2.4, b0 = 2·0.01) with κ = 2 is the same billiard as the dimensionless one, so
+    the orbit from the same seed is the same up to the rounding of (2·b)·(1/2) against b, which a
+    chaotic orbit amplifies slowly over 30 collisions."""
+    from cases.cli import main
+
+    common = ["--collisions", "30", "--seed", "4", "--json"]
+    assert main(["simulate", ELLIPSE, "--param", "eps=99", "--H", "2.4", "--b0", "0.01", *common]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert main(["simulate", "2*" + ELLIPSE, "--param", "eps=99", "--H", "4.8", "--b0", "0.02", "--kappa", "2",
+                 *common]) == 0
+    scaled = json.loads(capsys.readouterr().out)
+    assert scaled["kappa"] == 2 and plain["kappa"] is None
+    assert scaled["H"] == pytest.approx(2.4, abs=1e-15) and scaled["b0"] == pytest.approx(0.01, abs=1e-15)
+    np.testing.assert_allclose(scaled["start"], plain["start"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(scaled["final_state"], plain["final_state"], rtol=0, atol=1e-8)
+
+
+def test_wall_scaled_is_exact_and_keeps_kinks():
+    stick = Wall.from_expression("L*abs(cos(t))", {"L": 3})
+    half = stick.scaled(0.5)
+    theta = np.linspace(0.1, 6.0, 50)
+    for got, want in zip(half.derivatives(theta), stick.derivatives(theta)):
+        np.testing.assert_allclose(got, 0.5 * want, rtol=1e-15, atol=0)
+    assert [k.angle for k in half.kinks] == pytest.approx([k.angle for k in stick.kinks], abs=1e-12)
+    assert half.kinks[0].jump == pytest.approx(0.5 * stick.kinks[0].jump, rel=1e-12)
+    fourier = WALLS["fourier"][0]
+    np.testing.assert_allclose(fourier.scaled(3.0)(theta), 3.0 * fourier(theta), rtol=1e-15, atol=0)
+    for bad in (0.0, -1.0, float("nan"), float("inf"), True, "2"):
+        with pytest.raises(CoinwallError, match="scale factor"):
+            stick.scaled(bad)
+
+
 @pytest.mark.parametrize("argv,match", [
     (["simulate", "abs(cos(t))", "--H", "1", "--collisions", "0"], "--collisions"),
     (["simulate", "abs(cos(t))", "--H", "1", "--collisions", "-5"], "--collisions"),
     (["simulate", "1+0*t", "--H", "1.5"], "no room"),
-    (["simulate", "abs(cos(t))", "--H", "nan"], "`H`"),
+    (["simulate", "abs(cos(t))", "--H", "nan"], "--H must be a finite number"),
+    (["simulate", "abs(cos(t))", "--H", "3", "--kappa", "0"], "--kappa must be a positive length"),
+    (["simulate", "abs(cos(t))", "--H", "3", "--kappa", "-2"], "--kappa must be a positive length"),
+    (["simulate", "1+0*t", "--H", "1.5", "--kappa", "2"], "no room"),  # b = 0.5 κ, H = 0.75 κ < 2 b
 ])
 def test_cli_simulate_errors(capsys, argv, match):
     from cases.cli import main
