@@ -87,7 +87,9 @@ one wall while the other is hit at once).
 The kernel is compiled with numba's ``error_model="numpy"`` (no zero-division
 branches: every division of the kernel has a nonzero denominator by
 construction, and in the generated wall code a division by zero gives inf/nan
-as casadi does) and without ``fastmath`` (which could reorder the polish and
+as casadi does: a wall sample that is not finite makes the cell bounds refuse the
+wall, and a non-finite gap in the exact stage stops the orbit with a note, so a
+pole between checked angles is never read as "no contact") and without ``fastmath`` (which could reorder the polish and
 the bounds).  All per-cell data is one (m, 16) table.  numba increments and
 decrements the reference count of every array argument with atomic
 instructions on each call; ``_run`` therefore rebuilds its arrays as views
@@ -114,7 +116,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InvalidArgument
+from .errors import InvalidArgument, InvalidWall
 from .wall import Wall
 
 __all__ = ["Billiard", "Trajectory", "simulate", "random_states", "ensemble", "compile_kernel", "METHODS"]
@@ -319,6 +321,9 @@ def _check_states(table: Billiard, states, name="state"):
     leaving = np.full(arr.shape[0], -1, dtype=np.int64)
     for i in range(arr.shape[0]):
         th, eta, vt, ve = arr[i]
+        if not (math.isfinite(lower[i]) and math.isfinite(upper[i])):
+            raise InvalidWall(f"wall {table.wall.description!r} is not finite at θ = {th:.9g} or θ + π, where "
+                              f"`{name}` {arr[i].tolist()} starts; the billiard needs a finite wall")
         if not (lower[i] - tol <= eta <= upper[i] + tol):
             raise InvalidArgument(f"`{name}` {arr[i].tolist()} is outside the strip: at θ = {th:.6g} η must lie "
                                   f"between {lower[i]:.6g} and {upper[i]:.6g}")
@@ -509,6 +514,7 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     w = (np.arange(fine) + 0.37) / fine
     pts_f = edges[:-1, None] + width[:, None] * w[None, :]
     bf, _, d2f_all = wall.derivatives(pts_f.ravel())
+    _require_finite(wall, (pts_b, pts_2, pts_f, pts_f), (b, d2, bf.reshape(pts_f.shape), d2f_all.reshape(pts_f.shape)))
     d2f_all = d2f_all.reshape(pts_f.shape)
     bf, d2f = bf.reshape(pts_f.shape).max(axis=1), d2f_all.max(axis=1)
     for _ in range(60):
@@ -536,6 +542,22 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     return {"edges": edges, "bmax": bmax, "cmax": cmax, "slope_left": slope_left, "slope_right": slope_right,
             "lookup": lookup, "nunif": cells, "wmin": bmin_global, "wmax": float(bmax.max()),
             "proxy": proxy, "perr": perr, "p2max": p2max, "p2abs": p2abs, "d3max": d3max}
+
+
+def _require_finite(wall: Wall, points, values):
+    """InvalidWall naming the first angle where a sampled b or b'' is nan or infinite.
+
+    The wall was checked on a grid when it was made; the kernel's denser sampling can still
+    land on a pole or a domain error between those points, and a nan bound would silently
+    turn a cell into "no contact here".
+    """
+    for pts, vals in zip(points, values):
+        bad = ~np.isfinite(vals)
+        if bad.any():
+            angle = float(np.asarray(pts).ravel()[np.flatnonzero(bad.ravel())[0]] % TWO_PI)
+            raise InvalidWall(f"wall {wall.description!r} is not finite at θ = {angle:.9g} (b or b'' is nan or "
+                              f"infinite there; found by the billiard's dense sampling): the billiard needs a "
+                              f"finite wall")
 
 
 def _third_derivative_bound(pts, d2, pts_f, d2f):
@@ -612,6 +634,7 @@ def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAM
 
     u = np.concatenate([[1e-9], (np.arange(2 * samples) + 0.5) / (2 * samples), [1 - 1e-9]])
     err = error(u)
+    _require_finite(wall, [edges[:-1, None] + width[:, None] * u[None, :]], [err])
     floor = 1e-14 * max(1.0, wall.scale)
     perr = 2.0 * np.max(np.abs(err), axis=1) + np.max(np.abs(np.diff(err, axis=1)), axis=1) + floor
     fine = 8 * samples
@@ -724,6 +747,8 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
         if B >= 0.0:
             return INF, 0.0
         b, d1 = wall_b1(phi0, c)
+        if not (abs(b) < INF and abs(d1) < INF):
+            return -2.0, 0.0
         t = (A - b) / (-B)
         if leaving or t <= 0.0 or t >= tcap:
             return INF, 0.0
@@ -831,6 +856,8 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
                             second = False
                     g0 = A + B * t - b
                     g1 = B - vt * d1
+                    if not (abs(g0) < INF and abs(g1) < INF):
+                        return -2.0, 0.0  # the wall is nan or infinite here: stop, never skip silently
                     if second and g1 < 0.0:
                         # the second-order step to the root, δ = δN + ½ g'' δN²/|g'| with Newton's δN;
                         # |g(t + δ)| ≤ |model residual| + D3 |δ|³/6 (Taylor; |g⁽³⁾| ≤ |vt|³ max|b⁽³⁾|)
@@ -937,6 +964,8 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
                 tu, du = tk, dk
             else:
                 tl, dl = tk, dk
+        if tl == -2.0 or tu == -2.0:
+            return i, 3
         if tl < 0.0 or tu < 0.0:
             return i, 2
         if tu < tl:
@@ -991,7 +1020,9 @@ _HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, pra
            "from numba.extending import intrinsic\n\n"
            "OPTIONS = dict(cache=True, error_model='numpy')\n\n")
 _NOTES = {1: "free flight: the particle moves parallel to the walls in an open channel and never collides again",
-          2: "the kernel's root search did not converge (a near-tangent graze?)"}
+          2: "the kernel's root search did not converge (a near-tangent graze?)",
+          3: "the wall evaluated to nan or infinity where the particle met it (a pole or a domain error of the "
+             "expression between the angles it was checked on)"}
 
 
 class _Compiled:

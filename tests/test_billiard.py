@@ -19,7 +19,7 @@ from scipy.integrate import quad
 
 from forward import Wall
 from forward.billiard import Billiard, ensemble, random_states, simulate
-from forward.errors import CoinwallError, InvalidArgument
+from forward.errors import CoinwallError, InvalidArgument, InvalidWall
 from forward.wallcode import python_wall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
@@ -282,6 +282,23 @@ def test_bad_simulate_input(state, collisions, match):
     with pytest.raises(InvalidArgument, match=match) as info:
         simulate(table, state, collisions)
     assert "\n" not in str(info.value)
+
+
+def test_wall_that_is_nan_between_checked_angles_is_refused_or_reported():
+    """sqrt(sin²(θ − 1) − w²) is nan for |θ − 1| < w (and θ − 1 − π): too narrow for the wall's own
+    check (4096 angles), so it must not be silently read as "no contact".  Width 1e-4: the kernel's
+    denser cell sampling finds it and refuses the wall.  Width 1e-7: no sample lands in it; a
+    vertical ray at θ = 1 meets the wall exactly there and the orbit stops with a note."""
+    wide = Wall.from_expression("1 + 0.1*cos(t) + 1e-9*sqrt(sin(t-1)**2 - 1e-8)")
+    with pytest.raises(InvalidWall, match="not finite at θ = 0.99") as info:
+        simulate(Billiard(wide, 3.0), [2.0, 1.5, 0.6, 0.8], 10)
+    assert "\n" not in str(info.value)
+    narrow = Billiard(Wall.from_expression("1 + 0.1*cos(t) + 1e-9*sqrt(sin(t-1)**2 - 1e-14)"), 3.0)
+    # from θ = 1 − 1.5e-7 (finite) nearly straight down: the contact is at θ ≈ 1 − 6e-8, inside
+    traj = simulate(narrow, [1.0 - 1.5e-7, 1.5, 2e-7, -1.0], 10)
+    assert len(traj) == 0 and "nan or infinity" in traj.note
+    with pytest.raises(InvalidWall, match="not finite at θ = 1"):
+        simulate(narrow, [1.0, 1.5, 0.0, -1.0], 10)  # a start right on the nan
 
 
 def test_free_flight_is_reported_not_looped():
