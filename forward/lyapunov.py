@@ -248,7 +248,8 @@ class ChaoticFraction:
 
     @property
     def regular_fraction(self) -> float:
-        return 1.0 - self.fraction
+        """``regular / orbits`` (computed from the counts: ``1 − fraction`` rounds, e.g. 1 − 399/400 < 1/400)."""
+        return self.regular / self.orbits if self.orbits else float("nan")
 
     def __repr__(self) -> str:
         try:

@@ -167,6 +167,20 @@ def test_chaotic_fraction_counts_and_validates():
         chaotic_fraction(stick, orbits=0)
 
 
+def test_regular_fraction_is_exact_at_the_threshold():
+    """One regular orbit of 400 is exactly 1/400 = 0.0025, so ``regular_max = 0.0025`` must not count it
+    as chaotic.  (It was ``1 − 399/400``, which rounds to 0.0024999999999999467 and moved ε_c at H = 3
+    from 2.71 to 8.49 in the KAM sensitivity study.)"""
+    from dataclasses import replace
+
+    stick = Billiard(Wall.from_expression("abs(cos(t))", {}), 2.2)
+    frac = chaotic_fraction(stick, orbits=4, collisions=100, seed=2)
+    one_in_400 = replace(frac, fraction=399 / 400, regular=1, orbits=400)
+    assert 1.0 - one_in_400.fraction < 0.0025  # the rounding the count-based value avoids
+    assert one_in_400.regular_fraction == 0.0025
+    assert not one_in_400.regular_fraction < 0.0025
+
+
 # ---------------------------------------------------------------------------------------------------- correlation
 @pytest.fixture(scope="module")
 def coin_correlation():
