@@ -243,6 +243,8 @@ def _cmd_kam(args):
     print(result.table())
     print(f"criterion  regular fraction < {result.regular_max:g} among {result.orbits} orbits × {result.collisions} "
           f"collisions (orbit regular if λ/collision ≤ 3 ln N / N)")
+    print("caveat     near the boundary the regular region is small islands (~1 %) and not monotonic in ε: "
+          "ε_c moves with --seed and --orbits (docs/dynamics.md, 'Criterion sensitivity')")
     if args.output:
         print(f"wrote      {', '.join(args.output)}")
     return 0
