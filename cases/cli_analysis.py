@@ -99,25 +99,20 @@ def _seed(value):
         raise InvalidArgument(f"--seed must be a non-negative integer, got {value}")
 
 
-def _table(args):
-    from cases.cli import load_table
-
-    return load_table(args)
-
-
 # ---------------------------------------------------------------------------------------------------- section
 def _cmd_section(args):
     import io
 
     import numpy as np
 
+    from cases.cli import load_table
     from forward.poincare import poincare_section
 
     _positive("--orbits", args.orbits)
     _positive("--collisions", args.collisions)
     _seed(args.seed)
     check_paths(args.output, (".png", ".csv", ".json"))
-    _, table = _table(args)
+    _, table = load_table(args)
     bar = _bar(args, args.orbits, "orbit")
     try:
         result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
@@ -153,6 +148,7 @@ def _cmd_section(args):
 
 # ---------------------------------------------------------------------------------------------------- correlation
 def _cmd_correlation(args):
+    from cases.cli import load_table
     from forward.correlation import correlation
     from forward.errors import InvalidArgument
 
@@ -163,7 +159,7 @@ def _cmd_correlation(args):
     if args.max_lag >= args.bounces:
         raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, (".png", ".json"))
-    _, table = _table(args)
+    _, table = load_table(args)
     bar = _bar(args, args.bounces, "bounce")
     try:
         result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,

@@ -513,20 +513,13 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     fine = 4 * samples
     w = (np.arange(fine) + 0.37) / fine
     pts_f = edges[:-1, None] + width[:, None] * w[None, :]
-    bf, _, d2f_all = wall.derivatives(pts_f.ravel())
-    _require_finite(wall, (pts_b, pts_2, pts_f, pts_f), (b, d2, bf.reshape(pts_f.shape), d2f_all.reshape(pts_f.shape)))
-    d2f_all = d2f_all.reshape(pts_f.shape)
-    bf, d2f = bf.reshape(pts_f.shape).max(axis=1), d2f_all.max(axis=1)
-    for _ in range(60):
-        bad_b = bf > bmax + margin_b
-        bad_2 = d2f > cmax + margin_2
-        if not (bad_b.any() or bad_2.any()):
-            break
-        margin_b[bad_b] *= 2
-        margin_2[bad_2] *= 2
+    bf, _, d2f = (x.reshape(pts_f.shape) for x in wall.derivatives(pts_f.ravel()))
+    _require_finite(wall, (pts_b, pts_2, pts_f, pts_f), (b, d2, bf, d2f))
+    margin_b = _widen(margin_b, bmax, bf.max(axis=1))
+    margin_2 = _widen(margin_2, cmax, d2f.max(axis=1))
     bmax = bmax + margin_b
     cmax = cmax + margin_2
-    d3max = _third_derivative_bound(pts_2, d2, pts_f, d2f_all)
+    d3max = _third_derivative_bound(pts_2, d2, pts_f, d2f)
     bmin_global = float(np.min(b) - np.max(margin_b))
     slope_left = np.full(m + 1, np.nan)
     slope_right = np.full(m + 1, np.nan)
@@ -542,6 +535,21 @@ def _cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     return {"edges": edges, "bmax": bmax, "cmax": cmax, "slope_left": slope_left, "slope_right": slope_right,
             "lookup": lookup, "nunif": cells, "wmin": bmin_global, "wmax": float(bmax.max()),
             "proxy": proxy, "perr": perr, "p2max": p2max, "p2abs": p2abs, "d3max": d3max}
+
+
+def _widen(margin, base, check):
+    """Double ``margin`` per cell until ``base + margin`` covers ``check`` (at most 60 times).
+
+    The bounds are sampled maxima plus a margin; ``check`` is the same quantity sampled
+    on a finer, shifted grid, so a cell whose margin was too small cannot slip through.
+    """
+    margin = np.array(margin, dtype=float)
+    for _ in range(60):
+        bad = check > base + margin
+        if not bad.any():
+            break
+        margin[bad] *= 2
+    return margin
 
 
 def _require_finite(wall: Wall, points, values):
@@ -572,12 +580,7 @@ def _third_derivative_bound(pts, d2, pts_f, d2f):
     q = np.abs(np.diff(d2, axis=1) / np.diff(pts, axis=1))
     bound = 2.0 * q.max(axis=1) + np.abs(np.diff(q, axis=1)).max(axis=1) + 1e-9
     qf = np.abs(np.diff(d2f, axis=1) / np.diff(pts_f, axis=1)).max(axis=1)
-    for _ in range(60):
-        bad = qf > bound
-        if not bad.any():
-            break
-        bound[bad] *= 2
-    return bound
+    return _widen(bound, 0.0, qf)
 
 
 def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAMPLES):
@@ -638,17 +641,13 @@ def _cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAM
     floor = 1e-14 * max(1.0, wall.scale)
     perr = 2.0 * np.max(np.abs(err), axis=1) + np.max(np.abs(np.diff(err, axis=1)), axis=1) + floor
     fine = 8 * samples
-    check = np.max(np.abs(error((np.arange(fine) + 0.37) / fine)), axis=1)
-    for _ in range(60):
-        bad = check > perr
-        if not bad.any():
-            break
-        perr[bad] *= 2
+    perr = _widen(perr, 0.0, np.max(np.abs(error((np.arange(fine) + 0.37) / fine)), axis=1))
     grid = np.linspace(0.0, 1.0, 65)
-    p2 = polynomial(width[:, None] * grid[None, :], 2).max(axis=1)
+    p2 = polynomial(width[:, None] * grid[None, :], 2)
     p3 = 6 * np.abs(proxy[:, 3]) + 24 * np.abs(proxy[:, 4]) * width + 60 * np.abs(proxy[:, 5]) * width**2
-    p2abs = np.abs(polynomial(width[:, None] * grid[None, :], 2)).max(axis=1) + p3 * width / 128 * 1.01
-    p2max = p2 + p3 * width / 128 * 1.01
+    between = p3 * width / 128 * 1.01  # how far p'' can rise between grid points
+    p2max = p2.max(axis=1) + between
+    p2abs = np.abs(p2).max(axis=1) + between
     return np.ascontiguousarray(proxy), perr, p2max, p2abs
 
 
