@@ -14,7 +14,7 @@ the body axis, i.e. clockwise from the downward wall normal to the axis).
 
 import numpy as np
 
-from forward import Outline, Wall
+from coinwall.forward import Outline, Wall
 
 from .catalog import Case, Reference
 

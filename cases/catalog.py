@@ -11,7 +11,7 @@ import importlib
 from dataclasses import dataclass, field
 from typing import Callable
 
-from forward.errors import InvalidArgument
+from coinwall.forward.errors import InvalidArgument
 
 __all__ = ["Case", "Reference", "all_cases", "get_case", "CASE_MODULES"]
 
@@ -75,7 +75,7 @@ class Case:
         """The case's body outline: closed form if known, else solved from the wall at ``b0``."""
         if self.make_outline is not None:
             return self.make_outline()
-        from inverse import solve_body
+        from coinwall.inverse import solve_body
 
         return solve_body(self.wall(), self.b0).outline
 
@@ -97,7 +97,7 @@ def all_cases() -> dict:
     """Every case, by name, in catalog order."""
     found = {}
     for module_name in CASE_MODULES:
-        module = importlib.import_module(f"cases.{module_name}")
+        module = importlib.import_module(f"{__package__}.{module_name}")
         for case in module.CASES:
             found[case.name] = case
     return found

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from forward import Outline, Wall
+from coinwall.forward import Outline, Wall
 
 from .catalog import Case, Reference
 

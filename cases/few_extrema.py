@@ -12,7 +12,7 @@ remedy is problematic too: ``b(θ/2)`` of a 2π-periodic b is 4π-periodic, not 
 wall; ``b(2θ)`` (π-periodic, twice the extrema) is presumably what is meant.
 """
 
-from forward import Wall
+from coinwall.forward import Wall
 
 from .catalog import Case, Reference
 

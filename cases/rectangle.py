@@ -10,7 +10,7 @@ for ``b0 > 0`` a rounded rectangle.  Uniform density: ``κ² = (a² + c²)/3``.
 
 import math
 
-from forward import Outline, Wall
+from coinwall.forward import Outline, Wall
 
 from .catalog import Case, Reference
 

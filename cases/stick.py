@@ -15,7 +15,7 @@ of κ; the paper keeps ``L/κ`` general.
 
 import math
 
-from forward import Outline, Wall
+from coinwall.forward import Outline, Wall
 
 from .catalog import Case, Reference
 

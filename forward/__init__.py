@@ -3,17 +3,17 @@ billiard and the rigid body it is equivalent to, and the analyses of the motion.
 
 from .errors import (CoinwallError, InvalidArgument, InvalidExpression, InvalidOutline, InvalidParameter,
                      InvalidWall, OutputError)
-from .bodyfile import load_outline, outline_from_polar, wall_functions
+from .formats.bodyfile import load_outline, outline_from_polar, wall_functions
 from .outline import Outline, support_function
 from .wall import Kink, Wall
 from .massprops import MassProperties, mass_properties, outline_moments, parse_density
-from .billiard import Billiard, Trajectory, ensemble, random_states, simulate
-from .rigidbody import (EllipseShape, PolygonShape, RigidBody, RigidBodyTrajectory, billiard_to_body,
+from .dynamics.billiard import Billiard, Trajectory, ensemble, random_states, simulate
+from .dynamics.rigidbody import (EllipseShape, PolygonShape, RigidBody, RigidBodyTrajectory, billiard_to_body,
                         body_to_billiard, simulate_rigid_body)
-from .poincare import PoincareSection, incidence_angle, poincare_section
-from .lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
-from .correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
-from .kam import KamBoundary, kam_boundary, paper_boundary
+from .dynamics.poincare import PoincareSection, incidence_angle, poincare_section
+from .dynamics.lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
+from .dynamics.correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
+from .dynamics.kam import KamBoundary, kam_boundary, paper_boundary
 
 __all__ = [
     "CoinwallError", "InvalidArgument", "InvalidExpression", "InvalidOutline", "InvalidParameter",

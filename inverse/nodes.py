@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forward.outline import Outline
+from coinwall.forward.outline import Outline
 
 __all__ = ["Nodes"]
 

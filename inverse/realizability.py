@@ -54,8 +54,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forward.errors import InvalidArgument
-from forward.massprops import outline_moments
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.massprops import outline_moments
 
 __all__ = ["Realizability", "SelfConsistency", "realizability", "kappa_max", "self_consistent_offset"]
 

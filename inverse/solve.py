@@ -7,8 +7,8 @@ import time
 
 import numpy as np
 
-from forward.errors import InvalidArgument
-from forward.outline import support_function
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.outline import support_function
 
 from .body import Body
 from .corners import Corner, corner_deficit

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forward.errors import InvalidArgument, InvalidParameter, InvalidWall
+from coinwall.forward.errors import InvalidArgument, InvalidParameter, InvalidWall
 
 __all__ = ["SupportSamples", "sample_support", "check_offset", "envelope_point"]
 

@@ -8,12 +8,12 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from cases.cli import main
-from forward import Wall
-from forward.bodyfile import load_outline, outline_from_polar
-from forward.errors import InvalidArgument, InvalidOutline, OutputError
-from inverse import solve_body
-from inverse.export import export_body
+from coinwall.cases.cli.main import main
+from coinwall.forward import Wall
+from coinwall.forward.formats.bodyfile import load_outline, outline_from_polar
+from coinwall.forward.errors import InvalidArgument, InvalidOutline, OutputError
+from coinwall.inverse import solve_body
+from coinwall.inverse.export import export_body
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"  # paper eq. 18; b0 = 0: x² + (1+eps) y² = 1
 THETA = np.linspace(0, 2 * np.pi, 997, endpoint=False)

@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from forward import Wall
-from forward.errors import InvalidArgument, InvalidExpression, InvalidParameter, InvalidWall
-from inverse import solve_body
+from coinwall.forward import Wall
+from coinwall.forward.errors import InvalidArgument, InvalidExpression, InvalidParameter, InvalidWall
+from coinwall.inverse import solve_body
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 

@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from forward import Wall
-from forward.billiard import Billiard, ensemble, random_states, simulate
-from forward.errors import CoinwallError, InvalidArgument, InvalidWall
-from forward.wallcode import python_wall
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import Billiard, ensemble, random_states, simulate
+from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidWall
+from coinwall.forward.dynamics.wallcode import python_wall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 ASYMMETRIC = "max(cos(t), max(cos(t-2.2)*0.8, cos(t+2.0)*0.9))"
@@ -309,7 +309,7 @@ def test_free_flight_is_reported_not_looped():
 
 
 def test_cli_simulate_json(capsys):
-    from cases.cli import main
+    from coinwall.cases.cli.main import main
 
     args = ["simulate", ELLIPSE, "--param", "eps=99", "--H", "3", "--collisions", "20000", "--seed", "1", "--json"]
     assert main(args) == 0
@@ -329,7 +329,7 @@ def test_cli_kappa_means_physical_lengths(capsys):
     (wall 2·b, H = 2·2.4, b0 = 2·0.01) with κ = 2 is the same billiard as the dimensionless one, so
     the orbit from the same seed is the same up to the rounding of (2·b)·(1/2) against b, which a
     chaotic orbit amplifies slowly over 30 collisions."""
-    from cases.cli import main
+    from coinwall.cases.cli.main import main
 
     common = ["--collisions", "30", "--seed", "4", "--json"]
     assert main(["simulate", ELLIPSE, "--param", "eps=99", "--H", "2.4", "--b0", "0.01", *common]) == 0
@@ -368,7 +368,7 @@ def test_wall_scaled_is_exact_and_keeps_kinks():
     (["simulate", "1+0*t", "--H", "1.5", "--kappa", "2"], "no room"),  # b = 0.5 κ, H = 0.75 κ < 2 b
 ])
 def test_cli_simulate_errors(capsys, argv, match):
-    from cases.cli import main
+    from coinwall.cases.cli.main import main
 
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -382,7 +382,7 @@ def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
     """The kernel skips time intervals using b ≤ p_j + e_j (quintic proxy per cell) and b ≤ bmax_j.
     Check both on a grid the bounds were not built from (random points, 200 per cell), with the
     wall evaluated by Wall.__call__ (casadi / Fourier backend), not by the kernel's code."""
-    from forward.billiard import _cell_bounds
+    from coinwall.forward.dynamics.billiard import _cell_bounds
 
     wall = WALLS[name][0]
     bd = _cell_bounds(wall)

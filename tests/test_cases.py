@@ -5,10 +5,10 @@ import json
 import numpy as np
 import pytest
 
-from cases import all_cases, get_case
-from cases.cli import main
-from cases.verify import CLAIMS, run_verify
-from inverse import solve_body
+from coinwall.cases import all_cases, get_case
+from coinwall.cases.cli.main import main
+from coinwall.cases.paper.verify import CLAIMS, run_verify
+from coinwall.inverse import solve_body
 
 CASES = all_cases()
 THETA = np.linspace(0, 2 * np.pi, 1441)

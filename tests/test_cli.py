@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from cases.cli import main
+from coinwall.cases.cli.main import main
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
@@ -107,7 +107,7 @@ def test_argparse_error_is_exit_2(capsys):
 
 def test_failure_mid_write_leaves_nothing(tmp_path, capsys, monkeypatch):
     """All or nothing: when the second exporter fails, the first file is not left behind either."""
-    from inverse.export import svg
+    from coinwall.inverse.export import svg
 
     def broken(body, stream):
         raise OSError(28, "No space left on device")
@@ -123,7 +123,7 @@ def test_outputs_get_the_usual_file_mode(tmp_path, capsys):
     import os
     import stat
 
-    from forward.files import default_file_mode
+    from coinwall.forward.formats.output import default_file_mode
 
     out = tmp_path / "body.svg"
     assert main(["solve", "-o", str(out), "--no-cross-check"]) == 0

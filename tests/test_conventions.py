@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from forward import Outline, Wall
-from forward.outline import _GL3
-from inverse import critical_offset, solve_body
+from coinwall.forward import Outline, Wall
+from coinwall.forward.outline import _GL3
+from coinwall.inverse import critical_offset, solve_body
 
 # an obtuse, scalene triangle with its centroid at the origin: no symmetry axis at all
 _RAW = np.array([[1.3, 0.2], [-0.7, 0.9], [-0.4, -0.8]])

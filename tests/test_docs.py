@@ -103,7 +103,7 @@ def _run_block(lang, text, namespace, capsys, name="<doc block>"):
         linecache.cache[name] = (len(text), None, text.splitlines(True), name)
         exec(compile(text, name, "exec"), namespace)
         return
-    from cases.cli import main
+    from coinwall.cases.cli.main import main
 
     for argv, expected, status in _console_commands(text):
         capsys.readouterr()

@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from forward.errors import CoinwallError, InvalidExpression, InvalidParameter
-from forward.expression import ParsedExpression, parse_expression, parse_param
+from coinwall.forward.errors import CoinwallError, InvalidExpression, InvalidParameter
+from coinwall.forward.expression import ParsedExpression, parse_expression, parse_param
 
 THETAS = np.array([0.0, 0.3, 1.0, math.pi / 2, 2.0, math.pi, 4.5, 6.0])
 
@@ -203,7 +203,7 @@ def test_pathological_sizes():
 
 
 def test_node_limit(monkeypatch):
-    import forward.expression as module
+    import coinwall.forward.expression as module
 
     monkeypatch.setattr(module, "MAX_NODES", 10)
     with pytest.raises(InvalidExpression, match="more than 10 nodes"):

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from cases import ellipse_wall, stick_wall
-from forward import Wall
-from inverse import critical_offset, solve_body
+from coinwall.cases import ellipse_wall, stick_wall
+from coinwall.forward import Wall
+from coinwall.inverse import critical_offset, solve_body
 
 
 @pytest.mark.parametrize("eps", [0.5, 1.0, 3.0])

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from cases.cli import main
-from forward import Outline, Wall
-from forward.errors import InvalidArgument, InvalidExpression, InvalidOutline
-from forward.massprops import mass_properties, outline_moments
-from inverse import solve_body
-from inverse.realizability import kappa_max, realizability, self_consistent_offset
+from coinwall.cases.cli.main import main
+from coinwall.forward import Outline, Wall
+from coinwall.forward.errors import InvalidArgument, InvalidExpression, InvalidOutline
+from coinwall.forward.massprops import mass_properties, outline_moments
+from coinwall.inverse import solve_body
+from coinwall.inverse.realizability import kappa_max, realizability, self_consistent_offset
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 

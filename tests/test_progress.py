@@ -54,7 +54,7 @@ def _run(argv, stderr_tty=True, stdout_tty=False, size=(24, 100), timeout=180):
     env = dict(os.environ)
     env["PYTHONPATH"] = ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env.pop("COLUMNS", None), env.pop("LINES", None)  # the terminal's own size must decide
-    command = [sys.executable, "-c", "import sys; from cases.cli import main; sys.exit(main())", *argv]
+    command = [sys.executable, "-c", "import sys; from coinwall.cases.cli import main; sys.exit(main())", *argv]
     if not stderr_tty:
         done = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, env=env, timeout=timeout)
         return done.returncode, done.stdout.decode(), done.stderr.decode(), ""

@@ -1,8 +1,8 @@
-"""The direct rigid-body simulation (forward/rigidbody.py) and its cross-check against the billiard.
+"""The direct rigid-body simulation (forward/dynamics/rigidbody.py) and its cross-check against the billiard.
 
 Part A tests the rigid-body simulator on its own (invariants, the paper's
 closed-form impulse, units, input checks).  Part B holds it to the billiard of
-forward/billiard.py: the paper's theorem (sections II A–B, eq. 2–8 and 13),
+forward/dynamics/billiard.py: the paper's theorem (sections II A–B, eq. 2–8 and 13),
 derived for this project's conventions in docs/equivalence.md.
 """
 
@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from forward.errors import CoinwallError, InvalidArgument, InvalidOutline
-from forward.rigidbody import (EllipseShape, PolygonShape, RigidBody, billiard_to_body, body_to_billiard,
+from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidOutline
+from coinwall.forward.dynamics.rigidbody import (EllipseShape, PolygonShape, RigidBody, billiard_to_body, body_to_billiard,
                                simulate_rigid_body)
 
 # Bodies in units of κ (κ = 1).  The triangle and the off-centre ellipse have no symmetry axis
@@ -26,7 +26,7 @@ EGG = EllipseShape(1.0, 0.9, centre=(0.05, -0.03))                # off-centre: 
 SHAPES = {"stick": STICK, "ellipse": ELLIPSE, "triangle": PolygonShape(TRIANGLE), "egg": EGG}
 
 # Billiard walls written from the closed-form support functions of the same bodies
-# (not from forward/rigidbody.py): b(θ) = max_i p_i·(cos θ, sin θ) for a vertex list (the stick:
+# (not from forward/dynamics/rigidbody.py): b(θ) = max_i p_i·(cos θ, sin θ) for a vertex list (the stick:
 # |cos θ|, paper eq. 5), the paper's eq. 18 for the ellipse, and for an ellipse with centre c:
 # sqrt(a² cos²θ + b² sin²θ) + c·(cos θ, sin θ).
 WALLS = {
@@ -210,9 +210,9 @@ def test_bad_input_raises(make):
 
 # ====================================================================== Part B: against the billiard
 def _billiard_module():
-    """forward.billiard if it exposes the contract's Billiard and simulate, else None."""
+    """coinwall.forward.dynamics.billiard if it exposes the contract's Billiard and simulate, else None."""
     try:
-        module = importlib.import_module("forward.billiard")
+        module = importlib.import_module("coinwall.forward.dynamics.billiard")
     except ImportError:
         return None
     if not (hasattr(module, "Billiard") and hasattr(module, "simulate")):
@@ -222,7 +222,7 @@ def _billiard_module():
 
 billiard = _billiard_module()
 needs_billiard = pytest.mark.skipif(
-    billiard is None, reason="forward/billiard.py does not (yet) expose Billiard and simulate")
+    billiard is None, reason="forward/dynamics/billiard.py does not (yet) expose Billiard and simulate")
 
 
 def _compare(name, H, start, collisions, restart, method):
@@ -230,7 +230,7 @@ def _compare(name, H, start, collisions, restart, method):
 
     Returns the largest differences (state, time) and checks the wall sequence on the way.
     """
-    from forward import Wall
+    from coinwall.forward import Wall
 
     text, params = WALLS[name]
     table = billiard.Billiard(Wall.from_expression(text, params), H)
@@ -309,7 +309,7 @@ def test_mirror_image_wall_disagrees(name):
     wall would be the one that matches; for a body with no symmetry axis it is a different
     billiard, and within 20 collisions the two runs differ macroscopically.
     """
-    from forward import Wall
+    from coinwall.forward import Wall
 
     start = _unit_state(1.5, 0.3, 0.9) if name == "triangle" else _unit_state(1.5, 3.243, 0.728)
     text, params = MIRRORED[name]

@@ -17,8 +17,8 @@ import os
 import pkgutil
 from dataclasses import dataclass, field
 
-from forward.errors import OutputError
-from forward.files import write_all
+from coinwall.forward.errors import OutputError
+from coinwall.forward.formats.output import write_all
 
 from .options import UNITS, ExportOptions
 

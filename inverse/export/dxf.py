@@ -62,7 +62,7 @@ def build_document(body, options: ExportOptions | None = None):
     diameter = largest_diameter(outline)[0] * scale
     tolerance = options.tolerance_for(diameter)
     if tolerance < 1e-12 * diameter:  # below double-precision rounding of the coordinates
-        from forward.errors import OutputError
+        from coinwall.forward.errors import OutputError
 
         raise OutputError(f"--tolerance {tolerance:.3g} {options.unit_name} is below the rounding of the "
                           f"coordinates ({1e-12 * diameter:.1g}); give a larger tolerance")

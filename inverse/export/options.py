@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from forward.errors import InvalidArgument
+from coinwall.forward.errors import InvalidArgument
 
 __all__ = ["ExportOptions", "UNITS", "DEFAULT_RELATIVE_TOLERANCE"]
 

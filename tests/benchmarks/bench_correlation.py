@@ -4,12 +4,12 @@ Run:  PYTHONPATH=. python tests/benchmarks/bench_correlation.py [--quick] [--orb
 
 The table.  The paper's coin wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` with ε = 99 (an expression
 wall), diameter D = b(0) + b(π) = 2 (units of κ), H = 1.2 D = 2.4; n counts bottom collisions
-(the default of :func:`forward.correlation.correlation`), ``max_lag = 40``, ``orbits = 100``.
+(the default of :func:`coinwall.forward.dynamics.correlation.correlation`), ``max_lag = 40``, ``orbits = 100``.
 
 What is timed.  Every timed run is a fresh Python process (this file re-runs itself with
 ``--child``) that imports coinwall, builds the wall and the table, compiles the kernel, then calls
 ``correlation(table, bounces=N, max_lag=40, orbits=100, seed=1)`` on all cores (``workers=None``).
-"compile/load" is ``forward.billiard.compile_kernel`` plus one tiny ``ensemble`` call:
+"compile/load" is ``coinwall.forward.dynamics.billiard.compile_kernel`` plus one tiny ``ensemble`` call:
 compile_kernel warms only the serial kernel, the parallel one compiles on its first call; numba's
 disk cache makes both a load after the very first run.  "user pays" is the process's whole
 wall-clock time as measured by this parent process (interpreter start, imports, table, the
@@ -31,7 +31,7 @@ by about 1/√(2(k−1)) (0.24 for k = 10), and the lags share orbits, so poolin
 much less than √40.  Nothing is asserted: the ratio is reported.
 
 Baselines in the same run (in this process, warm, median of ``--repeat``, at each answer N):
-the kernel alone (``forward.billiard.ensemble`` over the same orbits and collisions, no analysis)
+the kernel alone (``coinwall.forward.dynamics.billiard.ensemble`` over the same orbits and collisions, no analysis)
 gives the cost of the analysis; ``correlation(..., workers=1)`` gives the parallel speed-up.
 """
 
@@ -54,8 +54,8 @@ LIMIT = 64_000_000  # give up doubling beyond this (would take minutes)
 
 
 def _table():
-    from forward import Wall
-    from forward.billiard import Billiard
+    from coinwall.forward import Wall
+    from coinwall.forward.dynamics.billiard import Billiard
 
     wall = Wall.from_expression(COIN, {"eps": EPS})
     diameter = float(wall(0.0)) + float(wall(math.pi))
@@ -65,8 +65,8 @@ def _table():
 def _child(bounces, orbits, seed):
     """Run in a fresh process: print one JSON line with the timings of the stages."""
     start = time.perf_counter()
-    from forward.billiard import compile_kernel, ensemble, random_states
-    from forward.correlation import correlation
+    from coinwall.forward.dynamics.billiard import compile_kernel, ensemble, random_states
+    from coinwall.forward.dynamics.correlation import correlation
 
     imported = time.perf_counter()
     table, diameter = _table()
@@ -111,7 +111,7 @@ def fresh_run(bounces, orbits, seed=1):
 
 def fresh_cli(bounces, H, orbits, seed=1):
     """Wall-clock seconds of ``coinwall correlation ... --json`` in a fresh process, and its max P_stderr."""
-    code = "import sys; from cases.cli import main; sys.exit(main())"
+    code = "import sys; from coinwall.cases.cli import main; sys.exit(main())"
     argv = [sys.executable, "-c", code, "correlation", COIN, "--param", f"eps={EPS:g}", "--H", repr(H),
             "--bounces", str(bounces), "--max-lag", str(MAX_LAG), "--orbits", str(orbits), "--seed", str(seed),
             "--json"]
@@ -140,7 +140,7 @@ def seed_check(bounces, orbits, seeds):
     """Spread of P(n) between seeds against the reported P_stderr (module docstring)."""
     import numpy as np
 
-    from forward.correlation import correlation
+    from coinwall.forward.dynamics.correlation import correlation
 
     table, _ = _table()
     runs = [correlation(table, bounces=bounces, max_lag=MAX_LAG, orbits=orbits, seed=s) for s in range(1, seeds + 1)]
@@ -159,8 +159,8 @@ def baselines(bounces, orbits, repeat):
     """Medians (s) of: the kernel alone, correlation on all cores, correlation on one core (warm, in process)."""
     import numpy as np
 
-    from forward.billiard import compile_kernel, ensemble, random_states
-    from forward.correlation import _CHUNK_COLLISIONS, correlation
+    from coinwall.forward.dynamics.billiard import compile_kernel, ensemble, random_states
+    from coinwall.forward.dynamics.correlation import _CHUNK_COLLISIONS, correlation
 
     table, _ = _table()
     compile_kernel(table)

@@ -11,8 +11,8 @@ import time
 
 import numpy as np
 
-from forward import Wall
-from inverse import solve_body
+from coinwall.forward import Wall
+from coinwall.inverse import solve_body
 
 N = 10_000
 REPEATS = 15

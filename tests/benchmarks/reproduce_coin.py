@@ -19,9 +19,9 @@ import argparse
 import math
 import time
 
-from forward import Wall
-from forward.billiard import Billiard
-from forward.correlation import correlation, fit_tau_law
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import Billiard
+from coinwall.forward.dynamics.correlation import correlation, fit_tau_law
 
 EPS = 99.0
 WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))/k"

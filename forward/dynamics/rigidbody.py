@@ -63,7 +63,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InvalidArgument, InvalidOutline
+from ..errors import InvalidArgument, InvalidOutline
 
 __all__ = [
     "PolygonShape",

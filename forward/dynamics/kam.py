@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .billiard import Billiard
-from .errors import InvalidArgument
+from ..errors import InvalidArgument
 from .lyapunov import chaotic_fraction
-from .wall import Wall
+from ..wall import Wall
 
 __all__ = ["KamBoundary", "kam_boundary", "paper_boundary", "ELLIPSE_WALL"]
 

@@ -3,7 +3,7 @@
 import os
 import tempfile
 
-from .errors import OutputError
+from ..errors import OutputError
 
 __all__ = ["check_paths", "default_file_mode", "write_all"]
 

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .billiard import Billiard, ensemble, random_states, simulate
-from .errors import InvalidArgument
+from ..errors import InvalidArgument
 
 __all__ = ["heads", "Correlation", "correlation", "fit_decay", "TauLaw", "fit_tau_law", "COUNTS"]
 

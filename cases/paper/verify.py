@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from forward.files import write_all
+from coinwall.forward.formats.output import write_all
 
 __all__ = ["Row", "Report", "run_verify", "CLAIMS"]
 
@@ -154,8 +154,8 @@ def _stick_impulse(rng, samples):
 def _general_impulse(rng, samples):
     """Eq. 13–14: impulse from the actual contact point of the body vs specular reflection, for an
     ellipse (contact point in closed form) and an asymmetric egg (contact point from the envelope)."""
-    from cases.asymmetric import egg_wall
-    from cases.ellipse import ellipse_wall
+    from ..asymmetric import egg_wall
+    from ..ellipse import ellipse_wall
 
     worst = 0.0
     bodies = []
@@ -199,7 +199,7 @@ def _general_impulse(rng, samples):
 
 
 def _ellipse_wall_vs_body(eps_values):
-    from cases.ellipse import ellipse_outline, ellipse_wall
+    from ..ellipse import ellipse_outline, ellipse_wall
 
     theta = np.linspace(0, TWO_PI, 997)
     return max(float(np.max(np.abs(ellipse_outline(e).support(theta) - ellipse_wall(e)(theta))))
@@ -226,7 +226,7 @@ def _eq16_17(eps_values):
 
 
 def _limits():
-    from cases.ellipse import ellipse_wall
+    from ..ellipse import ellipse_wall
 
     theta = np.linspace(0, TWO_PI, 721)
     small = np.array([1e-2, 3e-3, 1e-3, 3e-4])
@@ -258,7 +258,7 @@ def _quadratic_22(eps_values):
 
 def _eq23_sign(eps_values):
     """Residual of eq. 23 with either sign of atan(R'/R), on the exact ellipse R(α) of eq. 15."""
-    from cases.ellipse import ellipse_wall
+    from ..ellipse import ellipse_wall
 
     worst = {+1: 0.0, -1: 0.0}
     for eps in eps_values:
@@ -273,16 +273,16 @@ def _eq23_sign(eps_values):
 
 
 def _critical_offsets(eps_values):
-    from inverse import critical_offset
-    from cases.ellipse import ellipse_wall
+    from coinwall.inverse import critical_offset
+    from ..ellipse import ellipse_wall
 
     return max(abs(critical_offset(ellipse_wall(e)).b_c + 1 / (1 + e)) for e in eps_values)
 
 
 def _extremum_estimate():
     """A wall whose minimum of b + b'' is not at an extremum of b: the paper's estimate vs exact b_c."""
-    from forward import Wall
-    from inverse import critical_offset
+    from coinwall.forward import Wall
+    from coinwall.inverse import critical_offset
 
     wall = Wall.from_expression("1 + 0.05*cos(2*t) + 0.03*sin(5*t)", {})
     exact = critical_offset(wall)
@@ -296,9 +296,9 @@ def _extremum_estimate():
 
 
 def _curvature_at_zero(cases, points):
-    from cases.appendix import appendix_curvature_at_zero
-    from cases.ellipse import ellipse_wall
-    from inverse import solve_body
+    from ..appendix import appendix_curvature_at_zero
+    from ..ellipse import ellipse_wall
+    from coinwall.inverse import solve_body
 
     worst = 0.0
     for eps, b0 in cases:
@@ -310,8 +310,8 @@ def _curvature_at_zero(cases, points):
 
 def _near_zero(b0, eps, points):
     """R(α) − R0 and R'(α) on the solved body near α = 0⁺ (R' = R tan(α − φ) at the nodes)."""
-    from cases.ellipse import ellipse_wall
-    from inverse import solve_body
+    from ..ellipse import ellipse_wall
+    from coinwall.inverse import solve_body
 
     body = solve_body(ellipse_wall(eps), b0, points=points)
     alpha = np.angle(np.exp(1j * body.alpha))
@@ -335,8 +335,8 @@ def _coefficient_27(b0, eps, points):
 
 
 def _case_three(points):
-    from cases.ellipse import ellipse_wall
-    from inverse import solve_body
+    from ..ellipse import ellipse_wall
+    from coinwall.inverse import solve_body
 
     b0, eps = -0.6, 1.0
     body = solve_body(ellipse_wall(eps), b0, points=points)
@@ -352,8 +352,8 @@ def _case_three(points):
 
 
 def _large_offset(offsets):
-    from cases.ellipse import ellipse_wall
-    from inverse import solve_body
+    from ..ellipse import ellipse_wall
+    from coinwall.inverse import solve_body
 
     wall = ellipse_wall(1.0)
     errors = []
@@ -364,8 +364,8 @@ def _large_offset(offsets):
 
 
 def _extrema_coincide(points):
-    from cases.asymmetric import egg_wall
-    from inverse import solve_body
+    from ..asymmetric import egg_wall
+    from coinwall.inverse import solve_body
 
     wall = egg_wall()
     b0 = 0.0
@@ -393,10 +393,10 @@ def _extrema_coincide(points):
 
 
 def _four_extrema():
-    from forward.errors import InvalidWall
-    from cases.few_extrema import few_extrema_wall
-    from inverse import solve_body
-    from forward import Wall
+    from coinwall.forward.errors import InvalidWall
+    from ..few_extrema import few_extrema_wall
+    from coinwall.inverse import solve_body
+    from coinwall.forward import Wall
 
     body = solve_body(few_extrema_wall(0.3), 0.0, points=512)
     centre = np.array([np.mean(body.x), np.mean(body.y)])
@@ -417,8 +417,8 @@ def _figures(out_dir, points):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cases.ellipse import ellipse_wall
-    from inverse import solve_body
+    from ..ellipse import ellipse_wall
+    from coinwall.inverse import solve_body
 
     os.makedirs(out_dir, exist_ok=True)
     paths = []
@@ -621,8 +621,8 @@ def _rows(fast):
 def _dynamics_rows(fast):
     """The theorem demonstrated by simulation: rigid body (forward/rigidbody.py, collisions from the
     rotated outline) against the billiard kernel (forward/billiard.py), same starts."""
-    from forward import Billiard, EllipseShape, PolygonShape, RigidBody, Wall, simulate, simulate_rigid_body
-    from forward.rigidbody import billiard_to_body, body_to_billiard
+    from coinwall.forward import Billiard, EllipseShape, PolygonShape, RigidBody, Wall, simulate, simulate_rigid_body
+    from coinwall.forward.dynamics.rigidbody import billiard_to_body, body_to_billiard
 
     H = 3.0
     worst, count = 0.0, 0
@@ -662,7 +662,7 @@ def run_verify(fast: bool = False, out: str | None = None, progress: bool = Fals
     rows = tuple(_rows(fast))
     figures, md_path = (), None
     if out:
-        from forward.errors import OutputError
+        from coinwall.forward.errors import OutputError
 
         if not os.path.isdir(out):
             raise OutputError(f"--out {out!r}: folder does not exist")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from .common import describe_written, parse_com
 
 __all__ = ["register"]
 
@@ -18,8 +19,8 @@ class _StoredBody:
 
 
 def _stored_body(path):
-    from forward.bodyfile import load_outline
-    from forward.errors import InvalidOutline
+    from coinwall.forward.formats.bodyfile import load_outline
+    from coinwall.forward.errors import InvalidOutline
 
     if not path.lower().endswith(".json"):
         raise InvalidOutline(f"body file {path!r}: export reads the .json written by 'coinwall solve -o BODY.json'")
@@ -37,7 +38,7 @@ def _stored_body(path):
 def _check_drawing_outputs(paths):
     import os
 
-    from forward.errors import OutputError
+    from coinwall.forward.errors import OutputError
 
     if not paths:
         raise OutputError("export needs at least one -o FILE (.svg or .dxf)")
@@ -49,7 +50,7 @@ def _check_drawing_outputs(paths):
 
 
 def _cmd_export(args):
-    from inverse.export import check_outputs, export_body
+    from coinwall.inverse.export import check_outputs, export_body
 
     _check_drawing_outputs(args.output)
     check_outputs(args.output)
@@ -66,46 +67,14 @@ def _cmd_export(args):
     return 0
 
 
-def describe_written(result):
-    """One line per written file, with the deviation the exporter achieved (used by solve and export)."""
-    lines = []
-    for path in result.paths:
-        report = result.reports.get(path, {})
-        if "polyline" in report:
-            lines.append(f"wrote      {path}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
-                         f"{report['polyline_vertices']} vertices, deviation {report['polyline']:.3g} "
-                         f"<= tolerance {report['tolerance']:.3g} {report['units']}")
-        elif "path" in report:
-            lines.append(f"wrote      {path}: exact Bézier path (rounding {report['path']:.1e} {report['units']}), "
-                         f"largest diameter {report['diameter']:.6g} {report['units']}")
-        else:
-            lines.append(f"wrote      {path}")
-    return lines
-
-
-def _parse_com(text):
-    from forward.errors import InvalidArgument
-
-    if text is None:
-        return None
-    parts = text.split(",")
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        values = []
-    if len(values) != 2 or not all(math.isfinite(v) for v in values):
-        raise InvalidArgument(f"--com must be two numbers X,Y, got {text!r}")
-    return tuple(values)
-
-
 def _cmd_mass(args):
-    from forward.bodyfile import load_outline
-    from forward.expression import parse_param
-    from forward.massprops import mass_properties, outline_moments
-    from inverse.realizability import kappa_max
+    from coinwall.forward.formats.bodyfile import load_outline
+    from coinwall.forward.expression import parse_param
+    from coinwall.forward.massprops import mass_properties, outline_moments
+    from coinwall.inverse.realizability import kappa_max
 
     params = dict(parse_param(p) for p in args.param)
-    outline, note = load_outline(args.body, layer=args.layer, com=_parse_com(args.com), kappa=args.kappa)
+    outline, note = load_outline(args.body, layer=args.layer, com=parse_com(args.com), kappa=args.kappa)
     exact = outline_moments(outline)
     props = mass_properties(outline, args.density, params) if args.density else None
     kmax, support = kappa_max(outline)

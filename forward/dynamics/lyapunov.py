@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .billiard import Billiard, ensemble, random_states
-from .errors import InvalidArgument
+from ..errors import InvalidArgument
 
 __all__ = ["LyapunovResult", "lyapunov", "lyapunov_many", "ChaoticFraction", "chaotic_fraction",
            "default_threshold"]

@@ -33,7 +33,7 @@ import tempfile
 
 import numpy as np
 
-from .errors import InvalidWall
+from ..errors import InvalidWall
 
 __all__ = ["wall_source", "python_wall", "load_module", "cache_dir"]
 

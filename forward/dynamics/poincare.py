@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .billiard import Billiard, ensemble, random_states
-from .errors import InvalidArgument
+from ..errors import InvalidArgument
 
 __all__ = ["PoincareSection", "poincare_section", "incidence_angle"]
 

@@ -116,8 +116,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InvalidArgument, InvalidWall
-from .wall import Wall
+from ..errors import InvalidArgument, InvalidWall
+from ..wall import Wall
 
 __all__ = ["Billiard", "Trajectory", "simulate", "random_states", "ensemble", "compile_kernel", "METHODS"]
 

@@ -7,105 +7,13 @@ exit status 2; outputs are written all-or-nothing.
 from __future__ import annotations
 
 import argparse
+
+from .common import describe_written, load_wall, wall_arguments
 import json
 import math
 import sys
 
-__all__ = ["main", "wall_arguments", "table_arguments", "load_table", "load_wall"]
-
-
-def wall_arguments(parser, optional=False):
-    """Add the positional WALL argument and ``--param`` to a subcommand parser."""
-    parser.add_argument("wall", nargs="?" if optional else None,
-                        help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
-                             "or a file: .csv (theta,b samples) or .json (Fourier: {\"a0\", \"cos\", \"sin\"})")
-    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                        help="value of a parameter of the expression (repeatable)")
-
-
-def table_arguments(parser):
-    """Add WALL, ``--param``, ``--H``, ``--b0`` and ``--kappa``: the billiard table of the dynamics subcommands."""
-    wall_arguments(parser)
-    parser.add_argument("--H", type=float, required=True,
-                        help="distance between the walls (units of κ, or of --kappa's length unit)")
-    parser.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
-    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
-                        help="radius of gyration of a physical body, in the length unit of the wall, --H and --b0 "
-                             "(all three are divided by it; results are in units of κ). Default: they already are "
-                             "in units of κ")
-
-
-def load_table(args):
-    """The wall and the :class:`forward.billiard.Billiard` of a dynamics subcommand (``table_arguments``).
-
-    With ``--kappa`` the wall, ``--H`` and ``--b0`` are lengths in the unit of κ's value and are
-    divided by it: the billiard is always in units of κ (η = y/κ, paper eq. 8).
-    """
-    from forward.billiard import Billiard
-    from forward.errors import InvalidArgument
-
-    for name, value in (("--H", args.H), ("--b0", args.b0)):
-        if not math.isfinite(value):
-            raise InvalidArgument(f"{name} must be a finite number, got {value}")
-    kappa = args.kappa
-    if kappa is not None and not (math.isfinite(kappa) and kappa > 0):
-        raise InvalidArgument(f"--kappa must be a positive length, got {kappa}")
-    wall = load_wall(args.wall, args.param)
-    if kappa is None:
-        return wall, Billiard(wall, args.H, args.b0)
-    return wall, Billiard(wall.scaled(1.0 / kappa), args.H / kappa, args.b0 / kappa)
-
-
-def load_wall(text, params):
-    """The :class:`forward.Wall` named on the command line (expression, .csv samples, .json Fourier)."""
-    from forward import Wall
-    from forward.errors import InvalidWall
-    from forward.expression import parse_param
-
-    values = dict(parse_param(p) for p in params)
-    if text.startswith("case:"):
-        from cases.catalog import get_case
-
-        if values:
-            raise InvalidWall(f"--param does not apply to {text!r}: a case fixes its own parameters")
-        return get_case(text).wall()
-    lower = text.lower()
-    if lower.endswith(".csv") or lower.endswith(".json"):
-        if values:
-            raise InvalidWall(f"--param applies to expressions, not to the wall file {text!r}")
-        return _load_wall_file(text)
-    return Wall.from_expression(text, values)
-
-
-def _load_wall_file(path):
-    import numpy as np
-
-    from forward import Wall
-    from forward.errors import InvalidWall
-
-    try:
-        if path.lower().endswith(".csv"):
-            data = np.genfromtxt(path, delimiter=",", comments="#", names=None, invalid_raise=True)
-            if data.ndim != 2 or data.shape[1] < 2:
-                raise InvalidWall(f"wall file {path!r}: need two columns theta,b")
-            data = data[~np.all(np.isnan(data), axis=1)] if np.isnan(data[0]).all() else data
-            if np.isnan(data[0]).any():  # a header row
-                data = data[1:]
-            return Wall.from_samples(data[:, 0], data[:, 1])
-        with open(path, encoding="utf-8") as fh:
-            doc = json.load(fh)
-        if not isinstance(doc, dict):
-            raise InvalidWall(f"wall file {path!r}: expected an object with a0, cos, sin")
-        unknown = set(doc) - {"a0", "cos", "sin"}
-        if unknown:
-            raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected a0, cos, sin")
-        return Wall.from_fourier(doc.get("a0", 0.0), doc.get("cos", []), doc.get("sin", []))
-    except OSError as exc:
-        raise InvalidWall(f"wall file {path!r} is not readable: {exc.strerror}") from None
-    except (ValueError, TypeError) as exc:
-        if isinstance(exc, InvalidWall):
-            raise
-        raise InvalidWall(f"wall file {path!r} is not readable: {exc}") from None
+__all__ = ["main"]
 
 
 def _fmt_angles(angles):
@@ -113,10 +21,9 @@ def _fmt_angles(angles):
 
 
 def _cmd_solve(args):
-    from cases import EXAMPLE
-    from inverse import solve_body
-    from cases.cli_export import describe_written
-    from inverse.export import ExportOptions, check_outputs, export_body
+    from .. import EXAMPLE
+    from coinwall.inverse import solve_body
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     if args.wall is None:
         wall_text, params = EXAMPLE["wall"], [f"{k}={v}" for k, v in EXAMPLE["params"].items()]
@@ -127,7 +34,7 @@ def _cmd_solve(args):
     else:
         wall_text, params, b0 = args.wall, args.param, (0.0 if args.b0 is None else args.b0)
         if wall_text.startswith("case:") and args.b0 is None:
-            from cases.catalog import get_case
+            from ..catalog import get_case
 
             b0 = get_case(wall_text).b0  # a case comes with the offset it is meant for
     check_outputs(args.output)  # fail on a bad output before any work
@@ -164,7 +71,7 @@ def _cmd_solve(args):
 
 
 def _cmd_critical(args):
-    from inverse import critical_offset
+    from coinwall.inverse import critical_offset
 
     wall = load_wall(args.wall, args.param)
     result = critical_offset(wall)
@@ -187,11 +94,11 @@ def _cmd_wall(args):
 
     import numpy as np
 
-    from forward import load_outline, wall_functions
-    from forward.files import check_paths, write_all
-    from forward.bodyfile import outline_from_polar
-    from forward.errors import InvalidArgument
-    from forward.expression import parse_param
+    from coinwall.forward import load_outline, wall_functions
+    from coinwall.forward.formats.output import check_paths, write_all
+    from coinwall.forward.formats.bodyfile import outline_from_polar
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.expression import parse_param
 
     if args.H is not None and not (math.isfinite(args.H) and args.H > 0):
         raise InvalidArgument(f"--H must be a positive number, got {args.H}")
@@ -280,7 +187,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser():
-    from inverse.solve import DEFAULT_POINTS
+    from coinwall.inverse.solve import DEFAULT_POINTS
 
     parser = _Parser(prog="coinwall", description="Rigid bodies between parallel walls as billiards "
                      "(Balazs, Chatterjee, Jackson): wall function -> body outline, and back.")
@@ -328,21 +235,17 @@ def _parser():
     wall.add_argument("--json", action="store_true", help="print JSON")
     wall.set_defaults(run=_cmd_wall)
 
-    # Further subcommands live in their own modules ``cases/cli_*.py``, each with
-    # ``register(subparsers)``; they are found here, so adding one touches no other file.
-    import importlib
-    import pkgutil
+    # The other subcommands live in their own modules, each with ``register(subparsers)``.
+    from . import analysis, catalog, export, simulate
 
-    import cases
-    for info in sorted(pkgutil.iter_modules(cases.__path__), key=lambda i: i.name):
-        if info.name.startswith("cli_"):
-            importlib.import_module(f"cases.{info.name}").register(sub)
+    for module in (export, simulate, analysis, catalog):
+        module.register(sub)
     return parser
 
 
 def main(argv=None) -> int:
     """Entry point of the ``coinwall`` command; returns the exit status."""
-    from forward.errors import CoinwallError
+    from coinwall.forward.errors import CoinwallError
 
     args = _parser().parse_args(argv)
     try:

@@ -8,7 +8,7 @@ __all__ = ["register"]
 
 
 def _cmd_cases(args):
-    from cases.catalog import all_cases
+    from ..catalog import all_cases
 
     cases = all_cases()
     if args.json:
@@ -27,7 +27,7 @@ def _cmd_cases(args):
 
 
 def _cmd_verify(args):
-    from cases.verify import run_verify
+    from ..paper.verify import run_verify
 
     report = run_verify(fast=args.fast, out=args.out, progress=not args.json)
     if args.json:

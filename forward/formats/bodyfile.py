@@ -30,8 +30,8 @@ import re
 
 import numpy as np
 
-from .errors import InvalidArgument, InvalidOutline
-from .outline import Outline
+from ..errors import InvalidArgument, InvalidOutline
+from ..outline import Outline
 
 __all__ = ["load_outline", "outline_from_polar", "wall_functions", "FLATNESS", "OUTLINE_FORMATS",
            "DXF_ENTITIES"]
@@ -626,7 +626,7 @@ def outline_from_polar(text: str, params=None, *, samples: int = 4096, com=None)
     -------
     (Outline, str)
     """
-    from .wall import Wall
+    from ..wall import Wall
 
     if not isinstance(samples, int) or samples < 16:
         raise InvalidArgument(f"samples must be an integer >= 16, got {samples!r}")

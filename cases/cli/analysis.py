@@ -5,16 +5,15 @@ from __future__ import annotations
 import json
 import math
 import os
-import sys
 
-from forward.files import check_paths, write_all
+from coinwall.forward.formats.output import check_paths, write_all
+from .common import check_positive_count, check_seed, load_table, progress_bar, table_arguments
 
 __all__ = ["register"]
 
 
 def register(subparsers):
     """Add the ``section``, ``correlation`` and ``kam`` subcommands."""
-    from cases.cli import table_arguments
 
     section = subparsers.add_parser("section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits")
     table_arguments(section)
@@ -69,51 +68,20 @@ def _png(draw):
     return buffer.getvalue()
 
 
-def _bar(args, total, unit):
-    """A tqdm progress bar on stderr when stderr is a terminal and the output is not JSON, else None."""
-    if args.json or not sys.stderr.isatty():
-        return None
-    from tqdm import tqdm
-
-    try:
-        columns, lines = os.get_terminal_size(sys.stderr.fileno())
-    except OSError:
-        columns = lines = 0
-    # a terminal that reports no size (0 × 0: some containers, CI and editor pseudo-terminals) makes
-    # tqdm take −1 rows and silently hide the bar; give it a standard size instead
-    size = {} if columns > 0 and lines > 0 else {"ncols": 80, "nrows": 24}
-    return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False, **size)
-
-
-def _positive(name, value):
-    from forward.errors import InvalidArgument
-
-    if value is None or value <= 0:
-        raise InvalidArgument(f"{name} must be a positive integer, got {value}")
-
-
-def _seed(value):
-    from forward.errors import InvalidArgument
-
-    if value is not None and value < 0:
-        raise InvalidArgument(f"--seed must be a non-negative integer, got {value}")
-
-
 # ---------------------------------------------------------------------------------------------------- section
 def _cmd_section(args):
     import io
 
     import numpy as np
 
-    from cases.cli import load_table
-    from forward.poincare import poincare_section
+    from coinwall.forward.dynamics.poincare import poincare_section
 
-    _positive("--orbits", args.orbits)
-    _positive("--collisions", args.collisions)
-    _seed(args.seed)
+    check_positive_count("--orbits", args.orbits)
+    check_positive_count("--collisions", args.collisions)
+    check_seed(args.seed)
     check_paths(args.output, (".png", ".csv", ".json"))
     _, table = load_table(args)
-    bar = _bar(args, args.orbits, "orbit")
+    bar = progress_bar(args, args.orbits, "orbit")
     try:
         result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
                                   progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
@@ -148,19 +116,18 @@ def _cmd_section(args):
 
 # ---------------------------------------------------------------------------------------------------- correlation
 def _cmd_correlation(args):
-    from cases.cli import load_table
-    from forward.correlation import correlation
-    from forward.errors import InvalidArgument
+    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.errors import InvalidArgument
 
-    _positive("--bounces", args.bounces)
-    _positive("--max-lag", args.max_lag)
-    _positive("--orbits", args.orbits)
-    _seed(args.seed)
+    check_positive_count("--bounces", args.bounces)
+    check_positive_count("--max-lag", args.max_lag)
+    check_positive_count("--orbits", args.orbits)
+    check_seed(args.seed)
     if args.max_lag >= args.bounces:
         raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, (".png", ".json"))
     _, table = load_table(args)
-    bar = _bar(args, args.bounces, "bounce")
+    bar = progress_bar(args, args.bounces, "bounce")
     try:
         result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
                              progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
@@ -193,7 +160,7 @@ def _cmd_correlation(args):
 
 # ---------------------------------------------------------------------------------------------------- kam
 def _floats(text, name):
-    from forward.errors import InvalidArgument
+    from coinwall.forward.errors import InvalidArgument
 
     try:
         values = [float(v) for v in text.split(",") if v.strip()]
@@ -205,20 +172,20 @@ def _floats(text, name):
 
 
 def _cmd_kam(args):
-    from forward.errors import InvalidArgument
-    from forward.kam import kam_boundary
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.dynamics.kam import kam_boundary
 
     H = _floats(args.H, "--H")
     bracket = _floats(args.bracket, "--bracket")
     if len(bracket) != 2:
         raise InvalidArgument(f"--bracket must be two numbers LOW,HIGH, got {args.bracket!r}")
-    _positive("--orbits", args.orbits)
-    _positive("--collisions", args.collisions)
+    check_positive_count("--orbits", args.orbits)
+    check_positive_count("--collisions", args.collisions)
     if args.steps < 0:
         raise InvalidArgument(f"--steps must be a non-negative integer, got {args.steps}")
-    _seed(args.seed)
+    check_seed(args.seed)
     check_paths(args.output, (".png", ".json"))
-    bar = _bar(args, len(H) * (args.steps + 2), "eval")
+    bar = progress_bar(args, len(H) * (args.steps + 2), "eval")
     try:
         result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
                               collisions=args.collisions, regular_max=args.regular_max, seed=args.seed,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import time
+from .common import load_table, progress_bar, table_arguments
 
 __all__ = ["register"]
 
@@ -13,7 +14,6 @@ _CHUNK = 200_000  # collisions per kernel call: progress updates and bounded mem
 
 def register(subparsers):
     """Add the ``simulate`` subcommand."""
-    from cases.cli import table_arguments
 
     parser = subparsers.add_parser("simulate", help="run the equivalent billiard (numba kernel) for one orbit")
     table_arguments(parser)
@@ -28,10 +28,8 @@ def register(subparsers):
 def _cmd_simulate(args):
     import numpy as np
 
-    from cases.cli import load_table
-    from cases.cli_analysis import _bar
-    from forward.billiard import compile_kernel, random_states, simulate
-    from forward.errors import InvalidArgument
+    from coinwall.forward.dynamics.billiard import compile_kernel, random_states, simulate
+    from coinwall.forward.errors import InvalidArgument
 
     if args.collisions <= 0:
         raise InvalidArgument(f"--collisions must be a positive integer, got {args.collisions}")
@@ -40,7 +38,7 @@ def _cmd_simulate(args):
     wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
-    bar = _bar(args, args.collisions, "coll") if args.collisions > _CHUNK else None
+    bar = progress_bar(args, args.collisions, "coll") if args.collisions > _CHUNK else None
     done, total_time, bottom, note = 0, 0.0, 0, ""
     start = time.perf_counter()
     current = state

@@ -1,0 +1,41 @@
+"""Figures as files: the format follows the output's extension (PNG for screens, SVG or PDF for papers)."""
+
+from __future__ import annotations
+
+import io
+import os
+
+from ..errors import OutputError
+
+__all__ = ["FIGURE_FORMATS", "figure_bytes", "new_figure"]
+
+FIGURE_FORMATS = (".png", ".svg", ".pdf")
+_DPI = 110
+
+
+def new_figure(*args, **kwargs):
+    """``matplotlib.pyplot.subplots`` on the non-interactive Agg backend (no display needed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(*args, **kwargs)
+
+
+def figure_bytes(fig, path: str, *, close: bool = True) -> bytes:
+    """The content of ``fig`` in the format named by the extension of ``path`` (.png, .svg or .pdf).
+
+    SVG and PDF output carry no creation date, so the same figure gives the same bytes.
+    """
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in FIGURE_FORMATS:
+        raise OutputError(f"figure {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(FIGURE_FORMATS)}")
+    import matplotlib.pyplot as plt
+
+    buffer = io.BytesIO()
+    metadata = {"svg": {"Date": None}, "pdf": {"CreationDate": None, "ModDate": None}}.get(ext[1:])
+    fig.savefig(buffer, format=ext[1:], dpi=_DPI, metadata=metadata)
+    if close:
+        plt.close(fig)
+    return buffer.getvalue()
