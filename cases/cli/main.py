@@ -236,9 +236,9 @@ def _parser():
     wall.set_defaults(run=_cmd_wall)
 
     # The other subcommands live in their own modules, each with ``register(subparsers)``.
-    from . import analysis, catalog, export, simulate
+    from . import catalog, correlation, export, kam, section, simulate
 
-    for module in (export, simulate, analysis, catalog):
+    for module in (export, simulate, section, correlation, kam, catalog):
         module.register(sub)
     return parser
 

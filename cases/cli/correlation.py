@@ -1,0 +1,86 @@
+"""``coinwall correlation``: the heads/tails correlation P(n) and its decay time."""
+
+from __future__ import annotations
+
+import json
+
+from coinwall.forward.formats.output import check_paths, write_all
+
+from .common import check_positive_count, check_seed, load_table, progress_bar, table_arguments
+
+__all__ = ["register"]
+
+
+def register(subparsers):
+    """Add the ``correlation`` subcommand."""
+    corr = subparsers.add_parser("correlation", help="heads/tails correlation P(n), decay time τ, bounces needed")
+    table_arguments(corr)
+    corr.add_argument("--bounces", type=int, default=1_000_000, help="counted collisions in total (default 1e6)")
+    corr.add_argument("--max-lag", type=int, default=40, help="largest n (default 40)")
+    corr.add_argument("--orbits", type=int, default=100, help="independent orbits (default 100)")
+    corr.add_argument("--count", choices=["bottom", "all"], default="bottom",
+                      help="n counts bottom collisions (default) or collisions with either wall")
+    corr.add_argument("--seed", type=int, default=None, help="seed of the random start states")
+    corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".png or .json (repeatable)")
+    corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    corr.set_defaults(run=_cmd_correlation)
+
+
+def _png(draw):
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    draw(ax)
+    fig.tight_layout()
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def _cmd_correlation(args):
+    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.errors import InvalidArgument
+
+    check_positive_count("--bounces", args.bounces)
+    check_positive_count("--max-lag", args.max_lag)
+    check_positive_count("--orbits", args.orbits)
+    check_seed(args.seed)
+    if args.max_lag >= args.bounces:
+        raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
+    check_paths(args.output, (".png", ".json"))
+    _, table = load_table(args)
+    bar = progress_bar(args, args.bounces, "bounce")
+    try:
+        result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
+                             progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    doc = dict(result.to_dict(), wall=args.wall, params=args.param, kappa=args.kappa)
+    files = {}
+    for path in args.output:
+        if path.lower().endswith(".png"):
+            files[path] = _png(lambda ax: result.plot(ax=ax))
+        else:
+            files[path] = json.dumps(doc).encode()
+    write_all(files)
+    if args.json:
+        print(json.dumps(doc, indent=1, allow_nan=False))
+        return 0
+    print(f"table      {table!r}")
+    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}")
+    print(f"heads      {result.heads_fraction:.4f} ± {result.heads_stderr:.4f}")
+    print("n   P(n)      ±")
+    for n, (p, e) in enumerate(zip(result.P, result.P_stderr)):
+        print(f"{n:<3d} {p:.5f}  {e:.5f}")
+    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} (fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
+    print(f"n_needed   {result.n_needed} (first n with |P(n) − ½| < 0.01; fit: {result.n_needed_fit:.3g})")
+    for note in result.notes:
+        print(f"note       {note}")
+    return 0
