@@ -11,6 +11,7 @@ import importlib
 from dataclasses import dataclass, field
 from typing import Callable
 
+from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument
 
 __all__ = ["Case", "Reference", "all_cases", "get_case", "CASE_MODULES"]
@@ -86,11 +87,9 @@ class Case:
                 return ref.value
         raise KeyError(name)
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return f"Case({self.name!r}: {self.title}; {self.source})"
-        except Exception:
-            return "Case(<unprintable>)"
+        return f"Case({self.name!r}: {self.title}; {self.source})"
 
 
 def all_cases() -> dict:

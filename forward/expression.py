@@ -22,6 +22,7 @@ from .errors import InvalidExpression, InvalidParameter
 
 if TYPE_CHECKING:
     import casadi
+from .display import safe_repr
 
 __all__ = ["ParsedExpression", "parse_expression", "parse_param"]
 
@@ -85,12 +86,10 @@ class ParsedExpression:
     expr: "casadi.SX"
     switching: tuple
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            extra = "".join(f", {k}={v:g}" for k, v in self.params)
-            return f"ParsedExpression({_show(self.text, 60)}{extra}, switching={len(self.switching)})"
-        except Exception:  # a repr must never raise
-            return "ParsedExpression(<unprintable>)"
+        extra = "".join(f", {k}={v:g}" for k, v in self.params)
+        return f"ParsedExpression({_show(self.text, 60)}{extra}, switching={len(self.switching)})"
 
 
 def _check_name(name) -> str:

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .display import safe_repr
 from .errors import InvalidArgument, InvalidExpression, InvalidOutline, InvalidParameter
 
 __all__ = ["MassProperties", "mass_properties", "outline_moments", "parse_density", "DENSITY_VARIABLES"]
@@ -80,17 +81,15 @@ class MassProperties:
         """Distance of the centre of mass from the origin."""
         return float(math.hypot(*self.centre))
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"mass": self.mass, "area": self.area, "centre": list(self.centre), "kappa": self.kappa,
                 "kappa_origin": self.kappa_origin, "polar_moment": self.polar_moment, "density": self.density,
                 "method": self.method, "elements": self.elements, "min_density": self.min_density}
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"MassProperties(mass={self.mass:.6g}, centre=({self.centre[0]:.3g}, {self.centre[1]:.3g}), "
-                    f"kappa={self.kappa:.6g}, density={self.density!r}, method={self.method!r})")
-        except Exception:  # a repr must never raise
-            return "MassProperties(<unprintable>)"
+        return (f"MassProperties(mass={self.mass:.6g}, centre=({self.centre[0]:.3g}, {self.centre[1]:.3g}), "
+                f"kappa={self.kappa:.6g}, density={self.density!r}, method={self.method!r})")
 
 
 def _from_moments(mass, area, first, second, density, method, elements=0, min_density=1.0):

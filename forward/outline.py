@@ -16,16 +16,16 @@ centre of mass at the origin.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .angles import TWO_PI
+from .display import safe_repr
 from .errors import InvalidOutline
 
 __all__ = ["Outline", "support_function"]
 
-TWO_PI = 2.0 * math.pi
 # Gauss–Legendre nodes on [0, 1]: 3 points integrate the degree-5 area integrand exactly
 _GL3 = np.polynomial.legendre.leggauss(3)
 _GL8 = np.polynomial.legendre.leggauss(8)
@@ -159,11 +159,9 @@ class Outline:
     def __len__(self) -> int:
         return len(self.nodes)
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return f"Outline({len(self.nodes)} segments, area={self.area:.6g}, perimeter={self.perimeter:.6g})"
-        except Exception:  # a repr must never raise
-            return "Outline(<unprintable>)"
+        return f"Outline({len(self.nodes)} segments, area={self.area:.6g}, perimeter={self.perimeter:.6g})"
 
 
 def _signed_area(pts):

@@ -16,17 +16,18 @@ a negative jump cannot belong to any convex body.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Mapping, Sequence
 
 import numpy as np
 
+from .angles import TWO_PI
+from .display import safe_repr
 from .errors import InvalidWall
 
 __all__ = ["Wall", "Kink"]
 
-TWO_PI = 2.0 * math.pi
 _MIN_SAMPLES = 8
 _CHECK_POINTS = 4096
 _BLOCK = 2048  # casadi evaluates point by point; a mapped block amortises the call overhead
@@ -149,18 +150,43 @@ class Wall:
     ----------
     description : str
         What the wall was made from (the expression, "samples (n=…)", …).
+    kind : str
+        ``"expression"``, ``"fourier"`` or ``"samples"``.
+    params : Mapping[str, float]
+        The named parameters of an expression (read-only).
     kinks : tuple of Kink
         Corners of the wall, sorted by angle in [0, 2π).
+    samples : tuple of ndarray or None
+        For a wall made from samples: the distinct angles in [0, 2π), sorted, and their values.
+
+    A wall is immutable, like every result: it is shared by the forward and the inverse side, and
+    caches (its scale, its check grid) are only valid for the function it was made with.
     """
 
-    def __init__(self, backend, description: str, kind: str, params: Mapping[str, float] | None = None):
-        self._backend = backend
-        self.description = description
-        self.kind = kind
-        self.params = dict(params or {})
-        self.kinks: tuple[Kink, ...] = ()
+    def __init__(self, backend, description: str, kind: str, params: Mapping[str, float] | None = None,
+                 samples=None):
+        init = object.__setattr__  # the instance is frozen: set each field once, here
+        init(self, "_backend", backend)
+        init(self, "description", description)
+        init(self, "kind", kind)
+        init(self, "params", MappingProxyType(dict(params or {})))
+        init(self, "samples", samples)
+        init(self, "kinks", ())
         self._validate()
-        self.kinks = self._find_kinks()
+        init(self, "kinks", self._find_kinks())
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"a Wall is immutable: cannot set {name!r}; make a new one (Wall.from_…, .scaled)")
+
+    def __delattr__(self, name):
+        raise AttributeError(f"a Wall is immutable: cannot delete {name!r}")
+
+    def __getstate__(self):
+        return {**self.__dict__, "params": dict(self.params)}  # a mappingproxy does not pickle
+
+    def __setstate__(self, state):
+        for name, value in state.items():
+            object.__setattr__(self, name, MappingProxyType(value) if name == "params" else value)
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -258,9 +284,9 @@ class Wall:
             coef, *_ = np.linalg.lstsq(design, values, rcond=None)
             a0, cos, sin = coef[0], coef[1:harmonics + 1], coef[harmonics + 1:]
             desc = f"non-uniform samples (n={n}, {harmonics} harmonics, least squares)"
-        wall = cls(_FourierBackend(a0, cos, sin), desc, "samples")
-        wall.samples = (reduced, values)
-        return wall
+        reduced.setflags(write=False)
+        values.setflags(write=False)
+        return cls(_FourierBackend(a0, cos, sin), desc, "samples", samples=(reduced, values))
 
     # ------------------------------------------------------------------ evaluation
     def __call__(self, theta):
@@ -293,31 +319,29 @@ class Wall:
         """
         from dataclasses import replace
 
-        if isinstance(factor, bool) or not isinstance(factor, (int, float, np.floating)) \
-                or not (math.isfinite(factor) and factor > 0):
-            raise InvalidWall(f"the scale factor must be a positive finite number, got {factor!r}")
-        factor = float(factor)
+        from .validation import check_positive
+
+        factor = check_positive("factor", factor, error=InvalidWall)
         backend = self._backend
         description = f"{factor:.12g}·({self.description})"
         if isinstance(backend, _ExpressionBackend):
             parsed = replace(backend.parsed, expr=backend.parsed.expr * factor)
             return Wall(_ExpressionBackend(parsed), description, self.kind, self.params)
+        samples = None if self.samples is None else (self.samples[0], self.samples[1] * factor)
         return Wall(_FourierBackend(backend.a0 * factor, backend.cos * factor, backend.sin * factor), description,
-                    self.kind, self.params)
+                    self.kind, self.params, samples=samples)
 
     @property
     def scale(self) -> float:
         """A typical magnitude of the wall (max |b|, at least 1), used for relative tolerances."""
         return self._scale
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            params = ", ".join(f"{k}={v:g}" for k, v in sorted(self.params.items()))
-            extra = f" [{params}]" if params else ""
-            kinks = f", {len(self.kinks)} kinks" if self.kinks else ""
-            return f"Wall({self.description!r}{extra}{kinks})"
-        except Exception:  # a repr must never raise
-            return "Wall(<unprintable>)"
+        params = ", ".join(f"{k}={v:g}" for k, v in sorted(self.params.items()))
+        extra = f" [{params}]" if params else ""
+        kinks = f", {len(self.kinks)} kinks" if self.kinks else ""
+        return f"Wall({self.description!r}{extra}{kinks})"
 
     # ------------------------------------------------------------------ checks
     def _validate(self):
@@ -338,7 +362,7 @@ class Wall:
             raise InvalidWall(
                 f"wall {self.description!r}: b(θ) is not finite at θ = {special[bad[0]]:.6g} "
                 f"(b = {values[bad[0]]}); the wall must be finite everywhere")
-        self._scale = max(1.0, float(np.max(np.abs(b))))
+        object.__setattr__(self, "_scale", max(1.0, float(np.max(np.abs(b)))))
         shifted = self._backend.values(theta + TWO_PI)
         diff = np.abs(shifted - b)
         worst = int(np.argmax(diff))
@@ -346,7 +370,7 @@ class Wall:
             raise InvalidWall(
                 f"wall {self.description!r} is not 2π-periodic: b(θ + 2π) − b(θ) = {shifted[worst] - b[worst]:.3g} "
                 f"at θ = {theta[worst]:.6g}")
-        self._check = (theta, b, d1, d2)
+        object.__setattr__(self, "_check", (theta, b, d1, d2))
 
     def _find_kinks(self):
         from scipy.optimize import brentq

@@ -7,6 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from coinwall.forward.angles import TWO_PI
+from coinwall.forward.display import safe_repr
+
 __all__ = ["Body"]
 
 
@@ -34,9 +37,9 @@ class Body:
         The solver that produced the outline (``"envelope"`` or ``"polar"``).
     outline : forward.Outline
         Closed piecewise-cubic outline (exact support function, O(Δ⁴) shape).
-    x, y, alpha, R, K : ndarray
-        Outline nodes: Cartesian and polar coordinates and curvature
-        (``inf`` at a corner).
+    x, y, K : ndarray
+        Outline nodes (Cartesian coordinates) and the curvature there (``inf`` at a corner).
+        Their polar coordinates are the properties ``alpha`` and ``R``.
     phi_in, phi_out : ndarray
         Normal angles at every node (equal except at corners).
     corners : tuple of inverse.corners.Corner
@@ -56,8 +59,6 @@ class Body:
         Convexity and validity of the outline polygon, checked with shapely.
     com_inside : bool
         Whether ``b0 + b > 0`` everywhere (centre of mass strictly inside).
-    area, perimeter : float
-        Of the outline (exact for the Bézier curve).
     seconds : float
         Wall-clock time of the solve (including verification).
     """
@@ -71,8 +72,6 @@ class Body:
     outline: object
     x: np.ndarray
     y: np.ndarray
-    alpha: np.ndarray
-    R: np.ndarray
     K: np.ndarray
     phi_in: np.ndarray
     phi_out: np.ndarray
@@ -84,10 +83,29 @@ class Body:
     convex: bool
     valid: bool
     com_inside: bool
-    area: float
-    perimeter: float
     seconds: float = 0.0
     notes: tuple = field(default=())
+
+    # What follows from the fields is derived, not stored: a Body keeps only what it cannot derive.
+    @property
+    def alpha(self) -> np.ndarray:
+        """Polar angle of every node in [0, 2π)."""
+        return np.mod(np.arctan2(self.y, self.x), TWO_PI)
+
+    @property
+    def R(self) -> np.ndarray:
+        """Distance of every node from the centre of mass."""
+        return np.hypot(self.x, self.y)
+
+    @property
+    def area(self) -> float:
+        """Area of the outline (exact for the Bézier curve)."""
+        return self.outline.area
+
+    @property
+    def perimeter(self) -> float:
+        """Perimeter of the outline (exact for the Bézier curve)."""
+        return self.outline.perimeter
 
     @property
     def points(self) -> np.ndarray:
@@ -98,7 +116,7 @@ class Body:
         """The forward wall of this body, ``h(θ) − b0`` (support function minus the offset)."""
         return self.outline.support(theta) - self.b0
 
-    def summary(self) -> dict:
+    def to_dict(self) -> dict:
         """JSON-ready summary (without the outline)."""
 
         def num(v):
@@ -125,8 +143,8 @@ class Body:
             "com_inside": self.com_inside,
             "area": self.area,
             "perimeter": self.perimeter,
-            "corners": [c.as_dict() for c in self.corners],
-            "folds": [f.as_dict() for f in self.folds],
+            "corners": [c.to_dict() for c in self.corners],
+            "folds": [f.to_dict() for f in self.folds],
             "kinks": [{"angle": k.angle, "jump": k.jump} for k in self.wall.kinks],
             "notes": list(self.notes),
             "seconds": self.seconds,
@@ -156,10 +174,8 @@ class Body:
 
         return svg_text(self)
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"Body(regime={self.regime!r}, b0={self.b0:g}, b_c={self.b_c:.6g}, method={self.method!r}, "
-                    f"points={self.x.size}, corners={len(self.corners)}, area={self.area:.6g}, "
-                    f"max_wall_error={self.max_wall_error:.2e})")
-        except Exception:  # a repr must never raise
-            return "Body(<unprintable>)"
+        return (f"Body(regime={self.regime!r}, b0={self.b0:g}, b_c={self.b_c:.6g}, method={self.method!r}, "
+                f"points={self.x.size}, corners={len(self.corners)}, area={self.area:.6g}, "
+                f"max_wall_error={self.max_wall_error:.2e})")

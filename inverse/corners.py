@@ -19,16 +19,16 @@ the sampling.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from coinwall.forward.angles import TWO_PI
 
 from .support import envelope_point
 
 __all__ = ["Corner", "Window", "find_windows", "corner_deficit"]
 
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class Corner:
     deficit_angle: float
     exact: bool = True
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"direction": self.direction, "half_width": self.half_width, "distance": self.distance,
                 "max_deficit": self.max_deficit, "window": list(self.window),
                 "deficit_angle": self.deficit_angle, "exact": self.exact}

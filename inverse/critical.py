@@ -15,10 +15,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coinwall.forward.angles import TWO_PI
+from coinwall.forward.display import format_number, safe_repr
+
 __all__ = ["CriticalOffset", "critical_offset", "regime_of"]
 
-TWO_PI = 2.0 * math.pi
 _GRID = 8192
+# The location of a smooth minimum is only known to ~sqrt(machine eps) (the function is flat to rounding
+# there), whatever xatol the Brent polish below is given: each result measures its own (see
+# _location_uncertainty); this is the fallback.
+ANGLE_TOLERANCE = 1e-7
 
 
 @dataclass(frozen=True)
@@ -36,18 +42,30 @@ class CriticalOffset:
     intervals : tuple of (float, float)
         Intervals on which ``b + b''`` stays at its minimum (e.g. the stick,
         where ``b + b'' = 0`` away from the kinks); empty for isolated minima.
+    angle_tolerance : float
+        How well the angles are known (rad): the largest half-width over the minima within which
+        ``b + b''`` changes less than its rounding error.  An angle within it of
+        0 (or of 2π) *is* 0 for a reader; :meth:`format_angle` prints it so.
+    b_c_tolerance : float
+        The rounding level of ``b + b''`` (a b_c within it of 0 prints as 0).
     """
 
     b_c: float
     angles: tuple[float, ...]
     intervals: tuple[tuple[float, float], ...] = ()
+    angle_tolerance: float = ANGLE_TOLERANCE
+    b_c_tolerance: float = 0.0
 
+    def format_angle(self, angle: float, digits: int = 6) -> str:
+        """``angle`` as a reader should see it: 0 when it is 0 or 2π within :attr:`angle_tolerance`."""
+        if abs(angle - TWO_PI) <= self.angle_tolerance:
+            angle = 0.0
+        return format_number(angle, self.angle_tolerance, digits)
+
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            angles = ", ".join(f"{a:.6g}" for a in self.angles)
-            return f"CriticalOffset(b_c={self.b_c:.12g}, angles=[{angles}])"
-        except Exception:
-            return "CriticalOffset(<unprintable>)"
+        angles = ", ".join(self.format_angle(a) for a in self.angles)
+        return f"CriticalOffset(b_c={format_number(self.b_c, self.b_c_tolerance, 12)}, angles=[{angles}])"
 
 
 def _smooth_curvature(wall, theta):
@@ -98,6 +116,7 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
     n = theta.size
     angles, intervals = [], []
     best = low
+    uncertainty = 1e-12
     for start, length in _cyclic_runs(near):
         if length > 3:
             lo = theta[start]
@@ -124,8 +143,23 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
             value, where = float(rho[i % n]), float(theta[i % n])
         best = min(best, value)
         angles.append(float(np.mod(where, TWO_PI)))
+        uncertainty = max(uncertainty, _location_uncertainty(wall, where, value))
     order = np.argsort(angles)
-    return CriticalOffset(-best, tuple(angles[i] for i in order), tuple(intervals))
+    rounding = 64.0 * np.finfo(float).eps * max(wall.scale, spread)
+    return CriticalOffset(-best, tuple(angles[i] for i in order), tuple(intervals), uncertainty, rounding)
+
+
+def _location_uncertainty(wall, where: float, value: float) -> float:
+    """How far from ``where`` the minimum of ``b + b''`` may be: the half-width of the dip in which
+    ``b + b''`` rises less than its own rounding.  Near a smooth minimum f ≈ f0 + c·δ²/2, so the
+    minimiser cannot tell apart points within δ = sqrt(2·noise/c) (≈ 5e-8 rad for c ~ 1)."""
+    step = 1e-3
+    f = _smooth_curvature(wall, np.array([where - step, where + step]))
+    curvature = (f[0] + f[1] - 2.0 * value) / step**2
+    noise = 16.0 * np.finfo(float).eps * max(1.0, wall.scale, abs(value))
+    if not curvature > 0:  # flat to the eye of this check (a quartic minimum): keep the default
+        return ANGLE_TOLERANCE
+    return float(math.sqrt(2.0 * noise / curvature))
 
 
 def _split_at_kinks(lo, hi, kinks):

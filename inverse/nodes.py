@@ -10,16 +10,15 @@ two nodes on either side of a kink of the wall are joined by a straight edge.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from coinwall.forward.angles import TWO_PI
 from coinwall.forward.outline import Outline
 
 __all__ = ["Nodes"]
 
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True, repr=False)

@@ -35,12 +35,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coinwall.forward.angles import TWO_PI
+
 from .nodes import Nodes
 from .support import sample_support
 
 __all__ = ["Fold", "PolarSolution", "polar_nodes"]
 
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -51,7 +52,7 @@ class Fold:
     alpha: float
     radius: float
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"phi": self.phi, "alpha": self.alpha, "R": self.radius}
 
 

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.massprops import outline_moments
 
@@ -120,20 +121,18 @@ class Realizability:
     uniform_consistent: bool
     tol: float
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"b0": self.b0, "kappa_uniform": self.kappa_uniform, "centroid": list(self.centroid),
                 "centroid_offset": self.centroid_offset,
                 "kappa_max": self.kappa_max if math.isfinite(self.kappa_max) else None,
                 "kappa_range": [0.0, self.kappa_max] if math.isfinite(self.kappa_max) else None,
                 "realizable": self.realizable, "uniform_consistent": self.uniform_consistent}
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"Realizability(kappa_uniform={self.kappa_uniform:.6g}, centroid_offset={self.centroid_offset:.3g}, "
-                    f"kappa_max={self.kappa_max:.6g}, realizable={self.realizable}, "
-                    f"uniform_consistent={self.uniform_consistent})")
-        except Exception:  # a repr must never raise
-            return "Realizability(<unprintable>)"
+        return (f"Realizability(kappa_uniform={self.kappa_uniform:.6g}, centroid_offset={self.centroid_offset:.3g}, "
+                f"kappa_max={self.kappa_max:.6g}, realizable={self.realizable}, "
+                f"uniform_consistent={self.uniform_consistent})")
 
 
 def realizability(body, tol: float = 1e-6) -> Realizability:
@@ -179,15 +178,13 @@ class SelfConsistency:
                 return b0
         return None
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {"offsets": list(self.offsets), "centroid_offsets": list(self.centroid_offsets),
                 "consistent": list(self.consistent), "searched": list(self.searched), "b0": self.b0}
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return f"SelfConsistency(b0={self.b0}, offsets={[round(b, 6) for b in self.offsets]})"
-        except Exception:  # a repr must never raise
-            return "SelfConsistency(<unprintable>)"
+        return f"SelfConsistency(b0={self.b0}, offsets={[round(b, 6) for b in self.offsets]})"
 
 
 def self_consistent_offset(wall, *, points: int = 512, grid: int = 24, tol: float = 1e-6,

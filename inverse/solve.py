@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.outline import support_function
 
@@ -19,7 +20,6 @@ from .support import check_offset, check_points, sample_support
 
 __all__ = ["solve_body", "METHODS", "DEFAULT_POINTS"]
 
-TWO_PI = 2.0 * math.pi
 DEFAULT_POINTS = 1024
 
 
@@ -143,9 +143,9 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         notes.append("the centre of mass lies on the boundary (b0 + b = 0 somewhere)")
     return Body(
         wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles, regime=regime, method=method,
-        outline=outline, x=x, y=y, alpha=np.mod(np.arctan2(y, x), TWO_PI), R=np.hypot(x, y), K=curvature,
+        outline=outline, x=x, y=y, K=curvature,
         phi_in=np.mod(nodes.phi_in, TWO_PI), phi_out=np.mod(nodes.phi_in, TWO_PI) + widths,
         corners=tuple(corners), folds=tuple(extras.get("folds", ())), max_wall_error=max_wall_error,
         cross_check=cross, polar_residual=extras.get("polar_residual"), convex=convex, valid=valid,
-        com_inside=com_inside, area=area, perimeter=outline.perimeter,
+        com_inside=com_inside,
         seconds=time.perf_counter() - started, notes=tuple(notes))

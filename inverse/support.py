@@ -13,11 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from coinwall.forward.errors import InvalidArgument, InvalidParameter, InvalidWall
+from coinwall.forward.angles import TWO_PI
+from coinwall.forward.errors import InvalidParameter, InvalidWall
+from coinwall.forward.validation import check_count
 
 __all__ = ["SupportSamples", "sample_support", "check_offset", "envelope_point"]
 
-TWO_PI = 2.0 * math.pi
 
 
 def check_offset(b0) -> float:
@@ -33,9 +34,7 @@ def check_offset(b0) -> float:
 
 def check_points(points) -> int:
     """Validate an outline resolution."""
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 16 or points > 5_000_000:
-        raise InvalidArgument(f"`points` must be an integer between 16 and 5000000, got {points!r}")
-    return int(points)
+    return check_count("points", points, minimum=16, maximum=5_000_000)
 
 
 @dataclass(frozen=True, repr=False)
