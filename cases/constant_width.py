@@ -10,9 +10,9 @@ translates of each other: ``H − b(θ + π) = b(θ) + (H − w)``.
 * Reuleaux polygon with n (odd) vertices on the circle of radius
   ``r = w / (2 cos(π/(2n)))``: arcs of radius w centred on the opposite
   vertices.  Its support function is C¹ but ``h + h''`` jumps between 0 (at a
-  vertex) and w (on an arc), so no finite Fourier series represents it; the
-  case provides the exact *body* (arcs as cubic Béziers, error < 2e-12) and
-  its wall is sampled from the body's exact support function.
+  vertex) and w (on an arc), so no finite Fourier series represents it: the
+  wall is exact piece by piece (``Wall.from_arcs``); the case also provides the
+  exact *body* (arcs as cubic Béziers, error < 2e-12).
   Area of the Reuleaux triangle: ``(π − √3) w²/2``.
 """
 
@@ -24,7 +24,8 @@ from coinwall.forward import Outline, Wall
 
 from .catalog import Case, Reference
 
-__all__ = ["SMOOTH_WIDTH_WALL", "smooth_constant_width_wall", "reuleaux_outline", "reuleaux_wall", "CASES"]
+__all__ = ["SMOOTH_WIDTH_WALL", "smooth_constant_width_wall", "reuleaux_outline", "reuleaux_wall",
+           "sampled_reuleaux_wall", "CASES"]
 
 SMOOTH_WIDTH_WALL = "w/2 + a*cos(3*t)"
 
@@ -64,15 +65,36 @@ def reuleaux_outline(n: int = 3, width: float = 2.0, pieces: int = 16) -> Outlin
     return Outline(np.array(nodes), np.array(controls))
 
 
-def reuleaux_wall(n: int = 3, width: float = 2.0, samples: int = 4096) -> Wall:
-    """The Reuleaux body's wall, sampled from its exact support function (uniform samples).
+def reuleaux_wall(n: int = 3, width: float = 2.0) -> Wall:
+    """The Reuleaux n-gon's wall, exact: ``Wall.from_arcs`` with 2n pieces.
 
-    The interpolant keeps constant width exactly (samples at θ and θ + π add up to w, so
-    only odd harmonics and the mean survive) but rings near the vertices, where
-    ``h + h''`` jumps: solve the body from :func:`reuleaux_outline`, not from this wall.
+    Vertex k (at angle 2πk/n on the circle of radius ``r = w / (2 cos(π/(2n)))``) governs the wall
+    angles within π/(2n) of its direction, where ``h = v_k·n(θ)``; between two vertex windows the arc
+    of radius w centred on the opposite vertex, ``h = v_opp·n(θ) + w``.  The pieces meet with equal
+    slopes (h is C¹) and ``h + h''`` jumps between 0 and w at the 2n breaks.  Constant width:
+    ``h(θ) + h(θ + π) = w`` holds exactly (the vertex window at θ faces the arc centred on that vertex).
+    """
+    if n < 3 or n % 2 == 0:
+        raise ValueError(f"`n` must be an odd integer ≥ 3, got {n}")
+    r = width / (2 * math.cos(math.pi / (2 * n)))
+    vertex_angle = 2 * math.pi * np.arange(n) / n
+    vertices = r * np.stack([np.cos(vertex_angle), np.sin(vertex_angle)], axis=1)
+    angles, centres, radii = [], [], []
+    for k in range(n):
+        angles += [vertex_angle[k] - math.pi / (2 * n), vertex_angle[k] + math.pi / (2 * n)]
+        centres += [vertices[k], vertices[(k + (n + 1) // 2) % n]]
+        radii += [0.0, width]
+    return Wall.from_arcs(angles, centres, radii, description=f"Reuleaux {n}-gon of width {width:g} (exact arcs)")
+
+
+def sampled_reuleaux_wall(n: int = 3, width: float = 2.0, samples: int = 4096) -> Wall:
+    """The Reuleaux body's wall as data: uniform samples of the exact support function.
+
+    Solved as data (vertex windows, half-plane intersection): exact at the samples; between them the
+    arcs are the polygon of their sampled tangent lines (support error ≤ w(1/cos(Δ/2) − 1)).
     """
     theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
-    return Wall.from_samples(theta, reuleaux_outline(n, width).support(theta))
+    return Wall.from_samples(theta, reuleaux_wall(n, width)(theta))
 
 
 CASES = (

@@ -30,6 +30,9 @@ __all__ = ["Wall", "Kink"]
 
 _MIN_SAMPLES = 8
 _CHECK_POINTS = 4096
+# least squares costs n·k²: beyond a few hundred harmonics a smooth wall gains nothing and a large
+# non-uniform data set would take minutes (the data themselves are solved exactly: inverse/discrete.py)
+_MAX_LSQ_HARMONICS = 256
 _BLOCK = 2048  # casadi evaluates point by point; a mapped block amortises the call overhead
 
 
@@ -140,6 +143,40 @@ class _FourierBackend:
         return []
 
 
+class _ArcsBackend:
+    """``h(θ) = c_k·n(θ) + r_k`` for θ in ``[a_k, a_{k+1})``: the support function of a convex body
+    bounded by circle arcs (radius ``r_k`` about ``c_k``; ``r_k = 0`` is a vertex, whose window of
+    normals is ``[a_k, a_{k+1})``) and straight edges (where two pieces meet with different slopes).
+    Exact, piece by piece; b'' jumps at every break, which no finite Fourier series can represent."""
+
+    def __init__(self, angles, centres, radii):
+        self.angles = angles
+        self.centres = centres
+        self.radii = radii
+
+    def _piece(self, theta):
+        reduced = np.mod(theta, TWO_PI)
+        return np.searchsorted(self.angles, reduced, side="right") - 1  # -1 is the last piece (wraps)
+
+    def _eval(self, theta):
+        theta = np.asarray(theta, dtype=float).ravel()
+        k = self._piece(theta)
+        c, s = np.cos(theta), np.sin(theta)
+        cx, cy = self.centres[k, 0], self.centres[k, 1]
+        return cx * c + cy * s + self.radii[k], -cx * s + cy * c, -cx * c - cy * s
+
+    def values(self, theta):
+        return self._eval(theta)[0]
+
+    def derivatives(self, theta):
+        return self._eval(theta)
+
+    def switching(self, theta):
+        # one function per break, changing sign there only (on [0, 2π])
+        theta = np.asarray(theta, dtype=float).ravel()
+        return [np.sin(0.5 * (theta - a)) for a in self.angles]
+
+
 class Wall:
     """A 2π-periodic wall function b(θ) with exact first and second derivatives.
 
@@ -156,6 +193,9 @@ class Wall:
         The named parameters of an expression (read-only).
     kinks : tuple of Kink
         Corners of the wall, sorted by angle in [0, 2π).
+    breaks : tuple of float
+        Angles where b' is continuous but b'' jumps (the end of a vertex window on an arc: the radius of
+        curvature of the body jumps there); solvers put a node on each, as on a kink.
     samples : tuple of ndarray or None
         For a wall made from samples: the distinct angles in [0, 2π), sorted, and their values.
 
@@ -172,8 +212,16 @@ class Wall:
         init(self, "params", MappingProxyType(dict(params or {})))
         init(self, "samples", samples)
         init(self, "kinks", ())
+        init(self, "breaks", ())
+        if samples is not None:
+            # an interpolant of finite samples is finite and periodic by construction, and has no kinks
+            # (data's kinks are found from the samples themselves: inverse/discrete.py)
+            init(self, "_scale", max(1.0, float(np.max(np.abs(samples[1])))))
+            return
         self._validate()
-        init(self, "kinks", self._find_kinks())
+        kinks, breaks = self._find_kinks()
+        init(self, "kinks", kinks)
+        init(self, "breaks", breaks)
 
     def __setattr__(self, name, value):
         raise AttributeError(f"a Wall is immutable: cannot set {name!r}; make a new one (Wall.from_…, .scaled)")
@@ -218,12 +266,51 @@ class Wall:
                    f"Fourier series ({n} harmonics)", "fourier")
 
     @classmethod
+    def from_arcs(cls, angles: Sequence[float], centres, radii: Sequence[float], *,
+                  description: str | None = None) -> "Wall":
+        """The exact wall of a convex body bounded by circle arcs, vertices and straight edges.
+
+        Piece k, for wall angles from ``angles[k]`` to the next one, is ``centres[k]·n(θ) + radii[k]``:
+        the arc of radius ``radii[k]`` about ``centres[k]``, or the vertex ``centres[k]`` when the
+        radius is 0.  Pieces must meet continuously (a straight edge joins two pieces that meet with
+        different slopes, a kink of the wall).  Reuleaux polygons, polygons and rounded polygons are
+        represented exactly, which no sampled or Fourier wall can do.
+        """
+        angles = np.asarray(angles, dtype=float).ravel()
+        centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+        radii = np.asarray(radii, dtype=float).ravel()
+        if not (angles.size == len(centres) == radii.size) or angles.size < 1:
+            raise InvalidWall(f"arcs: {angles.size} angles, {len(centres)} centres and {radii.size} radii; "
+                              "give one of each per piece")
+        for name, arr in (("angles", angles), ("centres", centres), ("radii", radii)):
+            if not np.all(np.isfinite(arr)):
+                raise InvalidWall(f"arcs: `{name}` must be finite")
+        if np.any(radii < 0):
+            raise InvalidWall(f"arcs: `radii` must be ≥ 0, got {radii.min():g}")
+        order = np.argsort(np.mod(angles, TWO_PI), kind="stable")
+        angles, centres, radii = np.mod(angles, TWO_PI)[order], centres[order], radii[order]
+        if np.any(np.diff(angles) <= 0):
+            raise InvalidWall("arcs: two pieces start at the same angle")
+        # continuity at every break: the pieces on either side give the same support value
+        before = np.roll(np.arange(angles.size), 1)
+        n = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        left = np.sum(centres[before] * n, axis=1) + radii[before]
+        right = np.sum(centres * n, axis=1) + radii
+        scale = max(1.0, float(np.max(np.abs(right))))
+        worst = int(np.argmax(np.abs(left - right)))
+        if abs(left[worst] - right[worst]) > 1e-9 * scale:
+            raise InvalidWall(f"arcs: the pieces do not meet at θ = {angles[worst]:.6g} "
+                              f"({left[worst]:.9g} from the left, {right[worst]:.9g} from the right)")
+        backend = _ArcsBackend(angles, centres, radii)
+        return cls(backend, description or f"arcs ({angles.size} pieces)", "arcs")
+
+    @classmethod
     def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None) -> "Wall":
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
 
         The samples are replaced by a trigonometric polynomial: the interpolant
         (FFT) for uniform samples, a least-squares fit with at most a third as
-        many harmonics as samples for non-uniform ones.  Derivatives are those
+        many harmonics as samples (at most 256) for non-uniform ones.  Derivatives are those
         of the trigonometric polynomial, hence spectrally accurate for smooth
         walls.  Samples at θ and θ + 2π must agree; the samples must cover the
         whole period.
@@ -275,9 +362,14 @@ class Wall:
             if n % 2 == 0:  # the Nyquist mode is shared by ±n/2: halve it, and drop its sine part
                 cos[-1] /= 2
                 sin[-1] = 0.0
+            # harmonics below rounding change no value: drop the tail, so that smooth data (whose
+            # coefficients decay fast) evaluate as fast as a short series
+            size = np.hypot(cos, sin)
+            significant = np.flatnonzero(size > 4 * np.finfo(float).eps * scale)
+            cos, sin = cos[: significant[-1] + 1 if significant.size else 0], sin[: significant[-1] + 1 if significant.size else 0]
             desc = f"uniform samples (n={n})"
         else:
-            harmonics = max_harmonics or max(1, n // 3)
+            harmonics = max_harmonics or max(1, min(n // 3, _MAX_LSQ_HARMONICS))
             kk = np.arange(1, harmonics + 1)
             arg = np.outer(reduced, kk)
             design = np.hstack([np.ones((n, 1)), np.cos(arg), np.sin(arg)])
@@ -327,6 +419,9 @@ class Wall:
         if isinstance(backend, _ExpressionBackend):
             parsed = replace(backend.parsed, expr=backend.parsed.expr * factor)
             return Wall(_ExpressionBackend(parsed), description, self.kind, self.params)
+        if isinstance(backend, _ArcsBackend):
+            return Wall(_ArcsBackend(backend.angles, backend.centres * factor, backend.radii * factor), description,
+                        self.kind, self.params)
         samples = None if self.samples is None else (self.samples[0], self.samples[1] * factor)
         return Wall(_FourierBackend(backend.a0 * factor, backend.cos * factor, backend.sin * factor), description,
                     self.kind, self.params, samples=samples)
@@ -370,7 +465,6 @@ class Wall:
             raise InvalidWall(
                 f"wall {self.description!r} is not 2π-periodic: b(θ + 2π) − b(θ) = {shifted[worst] - b[worst]:.3g} "
                 f"at θ = {theta[worst]:.6g}")
-        object.__setattr__(self, "_check", (theta, b, d1, d2))
 
     def _find_kinks(self):
         from scipy.optimize import brentq
@@ -385,18 +479,24 @@ class Wall:
             for i in np.flatnonzero(sign[:-1] * sign[1:] < 0):
                 func = self._switching_scalar(k)
                 candidates.append(brentq(func, theta[i], theta[i + 1], xtol=1e-15, rtol=1e-15, maxiter=200))
-        kinks = []
-        for angle in sorted({round(float(np.mod(c, TWO_PI)), 13) for c in candidates}):
-            if kinks and abs(angle - kinks[-1].angle) < 1e-11:
+        kinks, breaks = [], []
+        # several switching functions may find one kink: keep the first of any within 1e-11 (no
+        # rounding of the angles themselves: a break's angle places the solvers' nodes)
+        for angle in sorted(float(np.mod(c, TWO_PI)) for c in candidates):
+            if (kinks and abs(angle - kinks[-1].angle) < 1e-11) or (breaks and abs(angle - breaks[-1]) < 1e-11):
                 continue
             b, left, c_left = self.one_sided(angle, -1)
             _, right, c_right = self.one_sided(angle, +1)
             jump = right - left
             if abs(jump) > 1e-8 * self._scale:
                 kinks.append(Kink(angle, jump, left, right, c_left, c_right))
+            elif abs(c_right - c_left) > 1e-6 * self._scale:
+                breaks.append(angle)
         if len(kinks) > 1 and abs(kinks[-1].angle - TWO_PI) < 1e-11:
             kinks.pop()
-        return tuple(kinks)
+        if len(breaks) > 1 and abs(breaks[-1] - TWO_PI) < 1e-11:
+            breaks.pop()
+        return tuple(kinks), tuple(breaks)
 
     def _switching_scalar(self, k):
         backend = self._backend

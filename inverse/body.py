@@ -61,6 +61,17 @@ class Body:
         Whether ``b0 + b > 0`` everywhere (centre of mass strictly inside).
     seconds : float
         Wall-clock time of the solve (including verification).
+    notes : tuple of str
+        What the solver did that a reader should know (a sampled wall, edges between vertex windows …).
+    b_c_tolerance : float
+        How well ``b_c`` is known: rounding for a formula wall; for samples, what their rounding and
+        spacing allow.  The regime is ``critical`` when ``|b0 − b_c|`` is within it.
+    accuracy : float
+        The largest wall error and solver disagreement this body may have and still be the answer.
+    warnings : tuple of str
+        Everything that makes this body *not* the answer as asked: a wall error or a solver
+        disagreement above :attr:`accuracy`, an outline that is not simple and convex.  Empty when
+        all is well; the command line prints each as a ``warning:`` line and exits with status 1.
     """
 
     wall: object
@@ -85,6 +96,9 @@ class Body:
     com_inside: bool
     seconds: float = 0.0
     notes: tuple = field(default=())
+    b_c_tolerance: float = 0.0
+    accuracy: float = 0.0
+    warnings: tuple = field(default=())
 
     # What follows from the fields is derived, not stored: a Body keeps only what it cannot derive.
     @property
@@ -131,6 +145,7 @@ class Body:
             "b0": self.b0,
             "b_c": num(self.b_c),
             "b_c_infinite": bool(math.isinf(self.b_c)),
+            "b_c_tolerance": num(self.b_c_tolerance),
             "critical_angles": list(self.critical_angles),
             "regime": self.regime,
             "method": self.method,
@@ -147,6 +162,8 @@ class Body:
             "folds": [f.to_dict() for f in self.folds],
             "kinks": [{"angle": k.angle, "jump": k.jump} for k in self.wall.kinks],
             "notes": list(self.notes),
+            "accuracy": num(self.accuracy),
+            "warnings": list(self.warnings),
             "seconds": self.seconds,
         }
 

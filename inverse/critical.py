@@ -95,6 +95,10 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
     """
     from scipy.optimize import minimize_scalar
 
+    if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
+        from .discrete import discrete_support, sampled_critical_offset
+
+        return sampled_critical_offset(discrete_support(*wall.samples))
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
         return CriticalOffset(math.inf, tuple(k.angle for k in concave))
@@ -146,7 +150,8 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
         uncertainty = max(uncertainty, _location_uncertainty(wall, where, value))
     order = np.argsort(angles)
     rounding = 64.0 * np.finfo(float).eps * max(wall.scale, spread)
-    return CriticalOffset(-best, tuple(angles[i] for i in order), tuple(intervals), uncertainty, rounding)
+    # + 0.0: a minimum of exactly 0 is b_c = 0, not -0
+    return CriticalOffset(-best + 0.0, tuple(angles[i] for i in order), tuple(intervals), uncertainty, rounding)
 
 
 def _location_uncertainty(wall, where: float, value: float) -> float:
@@ -182,12 +187,13 @@ def _cyclic_runs(mask):
     return [(int((i + shift) % n), int(j - i)) for i, j in zip(starts, stops)]
 
 
-def regime_of(b0: float, b_c: float, scale: float = 1.0) -> str:
+def regime_of(b0: float, b_c: float, scale: float = 1.0, tolerance: float = 0.0) -> str:
     """``"convex"`` (Case I, b0 > b_c), ``"critical"`` (Case II) or ``"corner"`` (Case III, b0 < b_c).
 
-    ``b0`` counts as critical within ``1e-9·scale`` of ``b_c``.
+    ``b0`` counts as critical within ``max(1e-9·scale, tolerance)`` of ``b_c`` (``tolerance``: how
+    well b_c is known, e.g. what sampled data allow).
     """
-    tol = 1e-9 * max(1.0, scale)
+    tol = max(1e-9 * max(1.0, scale), tolerance)
     if math.isinf(b_c) or b0 < b_c - tol:
         return "corner"
     if abs(b0 - b_c) <= tol:

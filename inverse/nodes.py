@@ -47,14 +47,19 @@ class Nodes:
         """Merge runs of consecutive nodes at the same point into one corner node.
 
         Nodes merge when they are within ``tol`` of each other and the
-        envelope between them does not move (ρ ≤ tol on both sides): this is
-        a corner of the body whose support function is ``R cos(φ − φ_k)`` on
-        the merged window (the stick's ends, for example).
+        envelope between them does not move (ρ ≤ tol on both sides, or no
+        turn of the normal at all): this is a corner of the body whose support
+        function is ``R cos(φ − φ_k)`` on the merged window (the stick's ends,
+        for example), or one point on either side of a break of the wall.
         """
         n = len(self.x)
         nxt = np.roll(np.arange(n), -1)
-        same = (np.hypot(*(self.x[nxt] - self.x).T) <= tol) & (np.abs(self.rho_out) <= tol) \
-            & (np.abs(self.rho_in[nxt]) <= tol)
+        # two nodes at one point with no turn of the normal between them (either side of a break of
+        # the wall, where only the curvature jumps) are one node too: a zero-length segment has no
+        # direction, and the support function's search by segment normals needs one
+        step = np.abs(np.mod(self.phi_in[nxt] - self.phi_out + np.pi, TWO_PI) - np.pi)
+        still = ((np.abs(self.rho_out) <= tol) & (np.abs(self.rho_in[nxt]) <= tol)) | (step <= 1e-15)
+        same = (np.hypot(*(self.x[nxt] - self.x).T) <= tol) & still
         if not same.any():
             return self
         if same.all():  # a point body cannot be, but do not loop forever

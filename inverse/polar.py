@@ -99,17 +99,21 @@ def _locate_fold(wall, b0, a, b):
 def _branches(wall, b0, samples):
     """Split the sampled support function into monotone pieces of α(φ), locating folds."""
     phi, h, h1, rho, edge_after = samples.phi, samples.h, samples.h1, samples.rho, samples.edge_after
-    if not edge_after.any():
+    breaks = samples.break_after if samples.break_after is not None else np.zeros(phi.size, bool)
+    if not (edge_after | breaks).any():
         # close the ring: the last piece runs up to φ0 + 2π, so no α between the last and first sample is lost
         phi, h, h1, rho = (np.append(phi, phi[0] + TWO_PI), np.append(h, h[0]), np.append(h1, h1[0]),
                            np.append(rho, rho[0]))
         edge_after = np.append(edge_after, False)
+        breaks = np.append(breaks, False)
     alpha = phi + np.arctan2(h1, h)
     n = phi.size
     scale = max(1.0, float(np.max(np.abs(h))))
     branches, folds = [], []
-    # pieces between kinks (edge_after marks the left side of a kink)
-    cuts = list(np.flatnonzero(edge_after))
+    # pieces between kinks and breaks (edge_after / breaks mark the left side of one): on either
+    # side of a break α(φ) changes its rate (a vertex window, where α stands still, becomes its own
+    # "point" branch)
+    cuts = list(np.flatnonzero(edge_after | breaks))
     starts = [0] + [c + 1 for c in cuts if c + 1 < n]
     stops = [c + 1 for c in cuts] + ([n] if not cuts or cuts[-1] + 1 < n else [])
     for lo, hi in zip(starts, stops):
@@ -255,7 +259,12 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
             _, h, d1, _ = _g(wall, b0, br.phi[[0, -1]])
             x = np.array([h[0] * np.cos(br.phi[0]) - d1[0] * np.sin(br.phi[0]),
                           h[0] * np.sin(br.phi[0]) + d1[0] * np.cos(br.phi[0])])
-            special.append((float(np.mod(br.alpha[0], TWO_PI)), x, br.phi[0], br.phi[-1], 0.0, 0.0, False))
+            # the arcs that meet the corner arrive and leave with their own (one-sided) radius of
+            # curvature: a break of the wall at either end of the window (0 for a kink-free corner)
+            b_in, _, d2_in = wall.one_sided(float(np.mod(br.phi[0], TWO_PI)), -1)
+            b_out, _, d2_out = wall.one_sided(float(np.mod(br.phi[-1], TWO_PI)), +1)
+            special.append((float(np.mod(br.alpha[0], TWO_PI)), x, br.phi[0], br.phi[-1],
+                            max(b0 + b_in + d2_in, 0.0), max(b0 + b_out + d2_out, 0.0), False))
         elif br.kind == "line":
             k = br.phi[0]
             # the edge's ends join the arcs on either side of the kink: their one-sided radius of

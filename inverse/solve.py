@@ -18,9 +18,12 @@ from .envelope import envelope_nodes
 from .polar import polar_nodes
 from .support import check_offset, check_points, sample_support
 
-__all__ = ["solve_body", "METHODS", "DEFAULT_POINTS"]
+__all__ = ["solve_body", "solve_smooth", "body_warnings", "outline_support", "METHODS", "DEFAULT_POINTS", "WALL_ACCURACY"]
 
 DEFAULT_POINTS = 1024
+#: Largest wall error and solver disagreement (relative to the wall's scale) of a formula wall's body
+#: that still counts as the answer; above it the body carries a warning.
+WALL_ACCURACY = 1e-6
 
 
 def _envelope(wall, b0, points, regime, samples=None):
@@ -82,17 +85,28 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         For an unknown method, a bad resolution, a non-finite offset, or an
         offset for which the centre of mass would lie outside the body.
     """
-    from shapely.geometry import Polygon
-
     started = time.perf_counter()
     if method not in METHODS:
         raise InvalidArgument(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
     b0 = check_offset(b0)
     points = check_points(points)
+    if wall.samples is not None:
+        from .sampled import solve_samples
+
+        return solve_samples(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
+    return solve_smooth(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
+
+
+def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float,
+                 accuracy: float | None = None) -> Body:
+    """The body of a wall known everywhere (a formula, or data shown to be smooth): the envelope or
+    polar construction on a grid of ``points`` normal angles, checked against the wall on a second grid."""
+    from shapely.geometry import Polygon
+
     # the envelope grid doubles as the bracketing grid of the critical offset
     samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
     critical = critical_offset(wall, samples=samples)
-    regime = regime_of(b0, critical.b_c, wall.scale)
+    regime = regime_of(b0, critical.b_c, wall.scale, critical.b_c_tolerance)
     nodes, extras = METHODS[method](wall, b0, points, regime, samples)
     scale = max(1.0, float(np.max(np.hypot(*nodes.x.T))))
     nodes = nodes.collapse(1e-12 * scale)
@@ -106,16 +120,23 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         deficit, where = corner_deficit(wall, b0, nodes.x[i], lo, hi)
         direction = float(np.mod(math.atan2(py, px), TWO_PI))
         direction = 0.0 if direction >= TWO_PI else direction  # np.mod(-1e-17, 2π) rounds to 2π
+        # a deficit at the rounding level of the wall is none: the corner is the wall's own
+        deficit = deficit if deficit > 64 * np.finfo(float).eps * wall.scale else 0.0
         corners.append(Corner(direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
-                              max(deficit, 0.0), (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
+                              deficit, (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
                               where))
     deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]
 
     theta, keep = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
     prescribed = b0 + wall(theta)
     lowest = float(np.min(prescribed)) if samples is None else min(float(np.min(prescribed)), float(np.min(samples.h)))
-    theta, prescribed = theta[keep], prescribed[keep]
-    max_wall_error = float(np.max(np.abs(support_function(outline, theta) - prescribed))) if theta.size else 0.0
+    body_wall = outline_support(outline, theta)
+    # the loop is closed on the whole outline: outside the corner windows the body's wall is the
+    # prescribed one; inside them it may only be lower (a corner cuts the wall, never exceeds it)
+    error = np.abs(body_wall - prescribed)[keep]
+    excess = (body_wall - prescribed)[~keep]
+    max_wall_error = max(float(np.max(error)) if error.size else 0.0, float(np.max(excess)) if excess.size else 0.0)
+    theta = theta[keep]
 
     cross = None
     if cross_check:
@@ -135,12 +156,14 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         valid, convex = True, True
         notes.append("the body is a segment (zero area)")
     else:
-        polygon = Polygon(outline.polygon(1 if len(outline) >= 8 else 4))
+        polygon = Polygon(outline.polygon(4))  # every piece, not only the nodes
         valid = bool(polygon.is_valid)
         convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
     com_inside = lowest > 0  # on the check grid and the construction grid
     if not com_inside:
         notes.append("the centre of mass lies on the boundary (b0 + b = 0 somewhere)")
+    if accuracy is None:
+        accuracy = WALL_ACCURACY * max(1.0, wall.scale)
     return Body(
         wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles, regime=regime, method=method,
         outline=outline, x=x, y=y, K=curvature,
@@ -148,4 +171,37 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
         corners=tuple(corners), folds=tuple(extras.get("folds", ())), max_wall_error=max_wall_error,
         cross_check=cross, polar_residual=extras.get("polar_residual"), convex=convex, valid=valid,
         com_inside=com_inside,
-        seconds=time.perf_counter() - started, notes=tuple(notes))
+        seconds=time.perf_counter() - started, notes=tuple(notes), b_c_tolerance=critical.b_c_tolerance,
+        accuracy=accuracy, warnings=body_warnings(max_wall_error, cross, convex, valid, accuracy))
+
+
+def outline_support(outline, theta, per_segment: int = 8):
+    """The support function of ``outline`` at ``theta``, seen from every piece of it.
+
+    :func:`~coinwall.forward.outline.support_function` is exact for a convex outline but only looks
+    near where a convex outline would touch; a spike or a loop elsewhere would pass unseen.  The
+    largest projection of points along every segment catches those; for a convex outline it never
+    exceeds the exact value, so the larger of the two is exact there and honest everywhere.
+    """
+    points = outline.polygon(per_segment)
+    directions = np.stack([np.cos(theta), np.sin(theta)])
+    dense = np.empty(np.size(theta))
+    block = max(1, 4_000_000 // max(1, len(points)))  # bounded memory: points × angles per block
+    for start in range(0, dense.size, block):
+        dense[start:start + block] = np.max(points @ directions[:, start:start + block], axis=0)
+    return np.maximum(support_function(outline, theta), dense)
+
+
+def body_warnings(max_wall_error, cross, convex, valid, accuracy) -> tuple:
+    """What makes a solved body not the answer: the checks of the whole result, as sentences."""
+    warnings = []
+    if not valid:
+        warnings.append("the outline is not a simple closed curve (it crosses itself)")
+    elif not convex:
+        warnings.append("the outline is not convex")
+    if not max_wall_error <= accuracy:  # also catches nan
+        warnings.append(f"the body's wall differs from the prescribed one by {max_wall_error:.3g} "
+                        f"(accuracy {accuracy:.3g})")
+    if cross is not None and not cross <= accuracy:
+        warnings.append(f"the two solvers disagree by {cross:.3g} (accuracy {accuracy:.3g})")
+    return tuple(warnings)

@@ -42,7 +42,8 @@ class SupportSamples:
     """``h, h', h''`` of ``b0 + b`` on sorted normal angles in [φ_start, φ_start + 2π).
 
     ``edge_after[i]`` is True where node i and i+1 are the two sides of a kink
-    (same angle, a straight edge between them).
+    (same angle, a straight edge between them); ``break_after[i]`` where they are the two sides of
+    a break (same angle, same point, only the curvature differs).
     """
 
     phi: np.ndarray
@@ -51,6 +52,7 @@ class SupportSamples:
     h2: np.ndarray
     edge_after: np.ndarray
     b0: float = 0.0
+    break_after: np.ndarray | None = None
 
     @property
     def rho(self) -> np.ndarray:
@@ -69,7 +71,10 @@ def envelope_point(phi, h, h1):
 
 
 def sample_support(wall, b0: float, points: int) -> SupportSamples:
-    """Sample ``h = b0 + b`` on ``points`` normal angles (plus one extra per kink).
+    """Sample ``h = b0 + b`` on ``points`` normal angles (plus one extra per kink and per break).
+
+    Kinks and breaks (where only b'' jumps) get a node on each side, with one-sided values; the two
+    nodes of a kink are joined by a straight edge, those of a break coincide.
 
     Raises
     ------
@@ -77,13 +82,19 @@ def sample_support(wall, b0: float, points: int) -> SupportSamples:
         If ``b0 + b(θ) < 0`` somewhere: the centre of mass would lie outside the body.
     """
     kinks = wall.kinks
-    if not kinks:
+    breaks = getattr(wall, "breaks", ())
+    if not kinks and not breaks:
         phi = np.linspace(0.0, TWO_PI, points, endpoint=False)
         b, d1, d2 = wall.derivatives(phi)
         edge_after = np.zeros(points, bool)
+        break_after = edge_after
     else:
-        angles = np.array([k.angle for k in kinks])
+        angles = np.array([k.angle for k in kinks] + list(breaks))
+        is_kink = np.array([True] * len(kinks) + [False] * len(breaks))
+        order = np.argsort(angles)
+        angles, is_kink = angles[order], is_kink[order]
         ends = np.append(angles[1:], angles[0] + TWO_PI)
+        kink_at_end = np.roll(is_kink, -1)
         phis, sides = [], []
         for start, stop in zip(angles, ends):
             m = max(2, int(round(points * (stop - start) / TWO_PI)) + 1)
@@ -97,12 +108,14 @@ def sample_support(wall, b0: float, points: int) -> SupportSamples:
         b, d1, d2 = (np.array(v) for v in wall.derivatives(phi))
         for i in np.flatnonzero(side):
             b[i], d1[i], d2[i] = wall.one_sided(float(phi[i]), int(side[i]))
-        # rotate so that the grid starts with the right-hand side of the first kink
-        edge_after = side == -1
+        # the last node of a piece and the first of the next are an edge when a kink separates them
+        at_end = np.repeat(kink_at_end, [len(g) for g in phis])
+        edge_after = (side == -1) & at_end
+        break_after = (side == -1) & ~at_end
     h = b0 + b
     worst = int(np.argmin(h))
     if h[worst] < -1e-12 * wall.scale:
         raise InvalidWall(
             f"b0 + b(θ) = {h[worst]:.6g} < 0 at θ = {np.mod(phi[worst], TWO_PI):.6g}: the centre of mass would lie "
             f"outside the body; choose b0 ≥ {-(h[worst] - b0):.6g}")
-    return SupportSamples(phi, h, d1, d2, edge_after, float(b0))
+    return SupportSamples(phi, h, d1, d2, edge_after, float(b0), break_after)

@@ -87,8 +87,8 @@ def test_incidence_angle_evaluates_only_the_wall_hit(text, monkeypatch):
     expected = np.arctan2(v_theta + slope * v_eta, sign * (v_eta - slope * v_theta))
 
     calls = []
-    derivatives = table.wall.derivatives
-    monkeypatch.setattr(table.wall, "derivatives", lambda t: calls.append(np.size(t)) or derivatives(t))
+    derivatives = type(table.wall).derivatives  # a Wall is immutable: spy on its class
+    monkeypatch.setattr(type(table.wall), "derivatives", lambda self, t: calls.append(np.size(t)) or derivatives(self, t))
     phi = incidence_angle(table, theta, v_theta, v_eta, side)
     assert calls == [theta.size]
     np.testing.assert_allclose(phi, expected, rtol=0, atol=1e-15)

@@ -7,7 +7,7 @@ import pytest
 
 from coinwall.cases import all_cases, get_case
 from coinwall.cases.cli.main import main
-from coinwall.cases.paper.verify import CLAIMS, run_verify
+from coinwall.cases.paper import CLAIMS, run_verify
 from coinwall.inverse import solve_body
 
 CASES = all_cases()
@@ -27,8 +27,6 @@ def test_case_references(name):
     """Solve every case at its offset and compare with its reference values (each carries its source)."""
     case = CASES[name]
     wall = case.wall()
-    if name.startswith("reuleaux"):
-        pytest.skip("band-limited sampled wall: checked through the exact body below")
     body = solve_body(wall, case.b0, points=2048)
     refs = {r.name: r.value for r in case.references}
     assert all(r.source for r in case.references)
@@ -58,7 +56,8 @@ def test_closed_form_bodies_have_their_walls(name):
     case = CASES[name]
     outline = case.outline()
     wall = case.wall()
-    tol = 1e-6 if name.startswith("reuleaux") else 1e-12  # the Reuleaux wall is a 4096-sample interpolant
+    # the Reuleaux outline's arcs are cubic Béziers (radial error ~1.4e-12), its wall exact arcs
+    tol = 1e-11 if name.startswith("reuleaux") else 1e-12
     assert np.max(np.abs(outline.support(THETA) - (case.b0 + wall(THETA)))) < tol
 
 
@@ -74,17 +73,48 @@ def test_reuleaux_constant_width_and_barbier(n):
         assert outline.area == pytest.approx((np.pi - np.sqrt(3)) * 2.0, rel=1e-11)
 
 
-def test_reuleaux_sampled_wall_solves_close_to_the_body():
-    """Solving the sampled (ringing) Reuleaux wall still gives the body to the sampling accuracy: the
-    three vertices come out as Case III corners with tiny deficits (regression: a corner window on the
-    φ = 0 seam was once missed, and straight or tiny segments once confused the support function)."""
-    case = get_case("reuleaux-3")
-    for points in (1000, 1024, 4096):
-        body = solve_body(case.wall(), 0.0, points=points)
-        assert body.max_wall_error < 1e-5
-    # on the sample grid itself (4096) the interpolant is exact, so the body is close to the true one;
-    # between samples the interpolant rings by ~5e-4 near the vertices, which no solver can undo
-    assert np.max(np.abs(body.wall_of_body(THETA) - case.outline().support(THETA))) < 1e-5
+@pytest.mark.parametrize("n", [3, 5])
+def test_reuleaux_exact_wall_gives_the_body(n):
+    """The exact (piecewise arcs) Reuleaux wall: critical at b0 = 0 (ρ = 0 on the vertex windows),
+    one corner per vertex at distance r = w / (2 cos(π/(2n))) with window half-width π/(2n) and no
+    deficit, a valid convex body, and both solvers at the level of the formula cases."""
+    case = get_case(f"reuleaux-{n}")
+    for method in ("envelope", "polar"):
+        body = solve_body(case.wall(), 0.0, method=method, cross_check=True)
+        assert body.regime == "critical" and body.b_c == 0.0
+        assert len(body.corners) == n
+        for corner in body.corners:
+            assert corner.distance == pytest.approx(2.0 / (2 * np.cos(np.pi / (2 * n))), abs=1e-12)
+            assert corner.half_width == pytest.approx(np.pi / (2 * n), abs=1e-12)
+            assert corner.max_deficit == 0.0
+        assert body.convex and body.valid and not body.warnings
+        assert body.max_wall_error < 1e-8 and body.cross_check < 1e-8
+        # the body's wall between every check angle: against the exact outline of the case
+        assert np.max(np.abs(body.wall_of_body(THETA) - case.outline().support(THETA))) < 1e-8
+
+
+def test_reuleaux_samples_are_solved_exactly_at_the_samples():
+    """The Reuleaux triangle given as 4096 samples: vertex windows found in the data, three exact
+    corners, regime critical within the data's tolerance, exact at every sample; between samples
+    the arcs are the polygon of their tangent lines, above the arc by at most w(1/cos(Δ/2) − 1)."""
+    from coinwall.cases.constant_width import sampled_reuleaux_wall
+
+    wall = sampled_reuleaux_wall(3, 2.0, 4096)
+    body = solve_body(wall, 0.0, cross_check=True)
+    assert body.regime == "critical" and abs(body.b_c) <= body.b_c_tolerance
+    assert body.method == "halfplanes" and len(body.corners) == 3
+    vertices = 2.0 / (2 * np.cos(np.pi / 6)) * np.stack([np.cos(2 * np.pi * np.arange(3) / 3),
+                                                        np.sin(2 * np.pi * np.arange(3) / 3)], axis=1)
+    found = np.array([[c.distance * np.cos(c.direction), c.distance * np.sin(c.direction)] for c in body.corners])
+    assert np.max(np.min(np.hypot(*(found[:, None, :] - vertices[None]).transpose(2, 0, 1)), axis=1)) < 1e-9
+    assert body.max_wall_error < 1e-12 and body.cross_check < 1e-12 and not body.warnings
+    delta = 2 * np.pi / 4096
+    excess = body.wall_of_body(THETA) - case_support(THETA)
+    assert excess.min() > -1e-12 and excess.max() <= 2.0 * (1 / np.cos(delta / 2) - 1) + 1e-12
+
+
+def case_support(theta):
+    return get_case("reuleaux-3").outline().support(theta)
 
 
 def test_unknown_case_is_a_clear_error():

@@ -1,0 +1,397 @@
+"""Walls given as samples: the exact geometry of their support lines.
+
+A sample ``h_i = b0 + b(θ_i)`` says that the line ``x·n(θ_i) = h_i`` supports the body.  Nothing
+more: between the samples the data are silent.  So for data the body is built from the lines
+themselves, with no interpolant and no derivative (docs/theory.md, "Walls as data"):
+
+* the **discrete radius of curvature** ``ρ_i`` (:func:`discrete_curvature`) is the length of the
+  piece of line i between its neighbours, divided by ``tan(Δ₋/2) + tan(Δ₊/2)``.  It is what
+  ``b + b''`` is for a smooth wall (the difference is ``Δ²(ρ'' )/12``) and adding ``b0`` to every
+  ``h_i`` adds exactly ``b0`` to every ``ρ_i``: the data's critical offset is ``−min ρ_i``;
+* the **largest body under the samples** is the intersection of the half-planes
+  ``{x : x·n(θ_i) ≤ h_i}`` (:func:`support_polygon`), exact;
+* a **vertex window** is a run of lines through one point (``ρ_i = 0``): a corner of the body, its
+  point found by least squares over the lines; between two vertex windows with nothing in
+  between, the body is the edge joining them (the wall has a kink at the edge's normal).
+
+Every comparison with zero uses the tolerance that the data imply: the rounding of the values
+(:func:`rounding_of`, from the decimal digits they carry) propagated through the formulas.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from coinwall.forward.angles import TWO_PI
+from coinwall.forward.errors import InvalidWall
+
+__all__ = ["rounding_of", "discrete_curvature", "DiscreteSupport", "discrete_support", "SampledBody",
+           "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
+
+_EPS = np.finfo(float).eps
+
+
+def rounding_of(values) -> np.ndarray:
+    """Half the last decimal place of each value: how far it may be from the number it stands for.
+
+    Data come rounded to a number of decimals (``%.6f``) or of significant digits (``%.6g``); a
+    value that needs no more than k decimals may have been rounded at the k-th.  The digits are read
+    off the whole data set (a value that happens to be short, such as ``1.0``, is not taken as
+    coarser than the rest): ``max(½·10^−K, ½·10^(m_i + 1 − S))`` with K the most decimals and S the
+    most significant digits any value needs, m_i the decimal exponent of value i.  Values at full
+    double precision give a few ulps.
+    """
+    v = np.asarray(values, dtype=float)
+    a = np.abs(v)
+    floor = 2.0 * _EPS * np.maximum(a, np.finfo(float).tiny)
+    nonzero = a > 0
+    if not nonzero.any():
+        return floor
+    decimals = np.full(v.size, 0)
+    pending = nonzero.copy()
+    for k in range(0, 25):
+        fits = pending & (np.abs(np.round(v, k) - v) <= 2.0 * _EPS * a)
+        decimals[fits] = k
+        pending &= ~fits
+        if not pending.any():
+            break
+    decimals[pending] = 25
+    exponent = np.floor(np.log10(np.where(nonzero, a, 1.0))).astype(int)
+    significant = np.where(nonzero, decimals + exponent + 1, 0)
+    most_decimals = int(decimals[nonzero].max())
+    most_significant = int(significant[nonzero].max())
+    fixed = 0.5 * 10.0 ** (-most_decimals)
+    relative = 0.5 * 10.0 ** (exponent + 1 - most_significant)
+    return np.maximum(floor, np.where(nonzero, np.maximum(fixed, relative), fixed))
+
+
+def _gaps(theta):
+    after = np.diff(np.append(theta, theta[0] + TWO_PI))
+    return np.roll(after, 1), after
+
+
+def discrete_curvature(theta, h, rounding=None):
+    """The discrete radius of curvature of support samples, and its rounding tolerance.
+
+    With ``Δ₋ = θ_i − θ_{i−1}`` and ``Δ₊ = θ_{i+1} − θ_i`` (cyclically), the lines i−1 and i+1 cut
+    line i at distances ``(h_{i∓1} − h_i cos Δ∓)/sin Δ∓`` from its foot point, so the piece of
+    line i between them has length ``ℓ_i`` and ``ρ_i = ℓ_i / (tan(Δ₋/2) + tan(Δ₊/2))``.  For a
+    uniform step Δ this is ``(h_{i−1} + h_{i+1} − 2 cos Δ · h_i) / (2 (1 − cos Δ))`` (DESIGN.md).
+
+    Parameters
+    ----------
+    theta : ndarray
+        Sorted distinct angles in [0, 2π), every gap (cyclically) below π.
+    h : ndarray
+        Support values.
+    rounding : ndarray, optional
+        How far each ``h_i`` may be off (default: :func:`rounding_of`).
+
+    Returns
+    -------
+    rho, tolerance : ndarray
+        ``ρ_i`` and the largest change of ``ρ_i`` the rounding of the three values can cause.
+    """
+    theta = np.asarray(theta, dtype=float)
+    h = np.asarray(h, dtype=float)
+    before, after = _gaps(theta)
+    if np.max(np.maximum(before, after)) >= math.pi * (1 - 1e-9):
+        raise InvalidWall("samples: two consecutive angles are π or more apart; the lines do not bound a body")
+    delta = rounding_of(h) if rounding is None else np.asarray(rounding, dtype=float)
+    sb, cb, sa, ca = np.sin(before), np.cos(before), np.sin(after), np.cos(after)
+    norm = np.tan(before / 2) + np.tan(after / 2)
+    prev, nxt = np.roll(h, 1), np.roll(h, -1)
+    length = (prev - h * cb) / sb + (nxt - h * ca) / sa
+    rho = length / norm
+    tolerance = (np.roll(delta, 1) / sb + delta * (np.abs(cb) / sb + np.abs(ca) / sa)
+                 + np.roll(delta, -1) / sa) / norm
+    return rho, tolerance
+
+
+@dataclass(frozen=True, repr=False)
+class DiscreteSupport:
+    """Support samples of a wall (without the offset) and what they say about curvature.
+
+    Attributes
+    ----------
+    theta, b : ndarray
+        The samples, sorted, angles in [0, 2π).
+    rounding : ndarray
+        How far each ``b_i`` may be off (:func:`rounding_of`).
+    rho, rho_tolerance : ndarray
+        Discrete radius of curvature of ``b`` (offset 0) and its rounding tolerance.
+    spacing_error : ndarray
+        ``|ρ_{i−1} − 2ρ_i + ρ_{i+1}|/12``: how far ``ρ_i`` may stand from the radius of curvature of
+        a smooth wall through the samples (``Δ²ρ''/12``, the leading error of the formula).
+    """
+
+    theta: np.ndarray
+    b: np.ndarray
+    rounding: np.ndarray
+    rho: np.ndarray
+    rho_tolerance: np.ndarray
+    spacing_error: np.ndarray
+
+    @property
+    def critical_index(self) -> int:
+        """The sample where ρ is smallest; among samples tied within rounding, the one where ρ is
+        best determined (smallest spacing error: inside a vertex window rather than at its end)."""
+        low = float(np.min(self.rho))
+        tied = np.flatnonzero(self.rho <= low + 2 * self.rho_tolerance)
+        return int(tied[np.argmin(self.spacing_error[tied] + self.rho[tied] - low)])
+
+    @property
+    def b_c(self) -> float:
+        """The data's critical offset ``−min ρ_i`` (exact for the lines)."""
+        return -float(np.min(self.rho))
+
+    @property
+    def tolerance(self) -> float:
+        """How well the data fix ``b_c``: rounding plus the spacing error where ρ is smallest."""
+        i = self.critical_index
+        return float(self.rho_tolerance[i] + self.spacing_error[i])
+
+    def vertex_windows(self, b0: float = 0.0) -> np.ndarray:
+        """Mask of the samples whose line passes through the same point as both neighbours
+        (``|ρ_i + b0| ≤`` its rounding tolerance)."""
+        return np.abs(self.rho + b0) <= self.rho_tolerance
+
+
+def discrete_support(theta, b) -> DiscreteSupport:
+    """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π))."""
+    theta = np.asarray(theta, dtype=float)
+    b = np.asarray(b, dtype=float)
+    rounding = rounding_of(b)
+    rho, tol = discrete_curvature(theta, b, rounding)
+    spacing = np.abs(np.roll(rho, 1) - 2 * rho + np.roll(rho, -1)) / 12.0
+    return DiscreteSupport(theta, b, rounding, rho, tol, spacing)
+
+
+@dataclass(frozen=True, repr=False)
+class SampledBody:
+    """The body under support samples: a convex polygon, its corners and what each one governs.
+
+    Attributes
+    ----------
+    vertices : ndarray (m, 2)
+        Counter-clockwise.
+    cone_start, cone_end : ndarray (m,)
+        The window of normal angles of each vertex (``cone_end ≥ cone_start``; unwrapped).
+    corner : ndarray (m,) of bool
+        Vertices that own at least one sample strictly inside their window: a vertex window of the
+        data (lines through one point) or a cut (lines that miss the body, Case III).
+    deficit, deficit_angle : ndarray (m,)
+        Largest ``h_i − v·n_i`` over the samples in the window (0 within rounding) and where.
+    rho : ndarray (m,)
+        Discrete radius of curvature at the vertex (0 at corners).
+    edges : int
+        Vertex windows joined by an edge where the largest body would have a sliver.
+    """
+
+    vertices: np.ndarray
+    cone_start: np.ndarray
+    cone_end: np.ndarray
+    corner: np.ndarray
+    deficit: np.ndarray
+    deficit_angle: np.ndarray
+    rho: np.ndarray
+    edges: int
+
+
+def _intersections(theta_a, h_a, theta_b, h_b):
+    det = np.sin(theta_b - theta_a)
+    x = (h_a * np.sin(theta_b) - h_b * np.sin(theta_a)) / det
+    y = (h_b * np.cos(theta_a) - h_a * np.cos(theta_b)) / det
+    return np.column_stack([x, y])
+
+
+def _least_squares_point(theta, h):
+    """The point closest (in least squares) to lying on every line ``x·n(θ_k) = h_k``."""
+    n = np.column_stack([np.cos(theta), np.sin(theta)])
+    point, *_ = np.linalg.lstsq(n, h, rcond=None)
+    return point
+
+
+def support_polygon(theta, h, rounding, rho) -> SampledBody:
+    """The body under the support lines ``x·n(θ_i) ≤ h_i`` (all ``h_i > 0``).
+
+    The active lines are the vertices of the convex hull of the dual points ``n_i / h_i`` (Qhull):
+    a line is active iff its dual point is extreme.  Consecutive active lines meet at the vertices.
+    Vertices closer than the rounding of their lines allows are one vertex; a vertex whose window
+    holds further samples is a corner, its point fitted to every line through it; a vertex between
+    two zero-deficit corners whose window holds no sample is an edge's sliver and is dropped.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    theta = np.asarray(theta, dtype=float)
+    h = np.asarray(h, dtype=float)
+    n = theta.size
+    normals = np.column_stack([np.cos(theta), np.sin(theta)])
+    scale = float(np.max(np.abs(h)))
+    try:
+        hull = ConvexHull(normals / h[:, None])
+    except QhullError as exc:  # pragma: no cover - all h > 0 and the angles cover the circle
+        raise InvalidWall(f"samples: the support lines do not bound a body ({str(exc).splitlines()[0]})") from None
+    active = np.sort(hull.vertices)
+    nxt = np.roll(active, -1)
+    points = _intersections(theta[active], h[active], theta[nxt], h[nxt])
+    start = theta[active]
+    end = theta[nxt] + np.where(nxt <= active, TWO_PI, 0.0)
+    # the rounding of two lines moves their intersection by about (δ_a + δ_b)/sin(gap)
+    gap = end - start
+    slack = (rounding[active] + rounding[nxt]) / np.maximum(np.sin(np.minimum(gap, np.pi / 2)), 1e-300)
+    slack = 4.0 * slack + 16.0 * _EPS * scale
+
+    # merge runs of vertices that are one point within rounding (a vertex window cut up by rounding)
+    m = len(points)
+    same_as_next = np.hypot(*(np.roll(points, -1, axis=0) - points).T) <= np.maximum(slack, np.roll(slack, -1))
+    if same_as_next.all():
+        raise InvalidWall("samples: every support line passes through one point; the body would be a point")
+    first = int(np.flatnonzero(~np.roll(same_as_next, 1))[0])  # a vertex that does not continue a run
+    groups, current = [], [first]
+    for k in range(1, m):
+        j = (first + k) % m
+        if same_as_next[(j - 1) % m]:
+            current.append(j)
+        else:
+            groups.append(current)
+            current = [j]
+    groups.append(current)
+
+    vertices, cone_start, cone_end, first_line, last_line = [], [], [], [], []
+    for group in groups:
+        lo = start[group[0]]
+        hi = lo + np.mod(end[group[-1]] - lo, TWO_PI)
+        if hi <= lo:
+            hi += TWO_PI
+        vertices.append(points[group[0]] if len(group) == 1 else points[group].mean(axis=0))
+        cone_start.append(lo)
+        cone_end.append(hi)
+        first_line.append(active[group[0]])
+        last_line.append(nxt[group[-1]])
+    vertices = np.array(vertices)
+    cone_start, cone_end = np.array(cone_start), np.array(cone_end)
+
+    # the samples in each window: deficits, lines through the vertex, the fitted point
+    count = len(vertices)
+    corner = np.zeros(count, bool)
+    deficit = np.zeros(count)
+    deficit_angle = np.mod(cone_start, TWO_PI)
+    rho_at = np.zeros(count)
+    for k in range(count):
+        i, j = first_line[k], last_line[k]
+        idx = np.arange(i, j + (n if j <= i else 0) + 1) % n  # the lines from one active line to the next
+        inside = idx[1:-1]
+        if inside.size == 0:
+            rho_at[k] = 0.5 * (rho[i] + rho[j])
+            continue
+        corner[k] = True
+        through_tol = 4.0 * rounding[idx] + 16.0 * _EPS * scale
+        # the lines that made this vertex (merged within rounding) pass through it: fit the point to
+        # them, then to every line of the window within rounding of it (a vertex window)
+        made = np.unique(np.concatenate([active[groups[k]], nxt[groups[k]]]))
+        if made.size >= 2:
+            vertices[k] = _least_squares_point(theta[made], h[made])
+        for _ in range(2):
+            standoff = h[idx] - normals[idx] @ vertices[k]
+            through = np.abs(standoff) <= through_tol
+            if through.sum() < 2:
+                break
+            vertices[k] = _least_squares_point(theta[idx[through]], h[idx[through]])
+        standoff = h[idx] - normals[idx] @ vertices[k]
+        standoff[np.abs(standoff) <= through_tol] = 0.0
+        worst = int(np.argmax(standoff))
+        deficit[k] = max(float(standoff[worst]), 0.0)
+        deficit_angle[k] = theta[idx[worst]]
+
+    # a sliver between two exact vertex windows is an edge of the body: drop it, and give each
+    # neighbouring corner the window up to the edge's normal
+    keep = np.ones(count, bool)
+    if count > 3:
+        for k in range(count):
+            before, after = (k - 1) % count, (k + 1) % count
+            if not corner[k] and corner[before] and corner[after] and deficit[before] == 0.0 \
+                    and deficit[after] == 0.0 and keep[before] and keep[after]:
+                keep[k] = False
+                dx, dy = vertices[after] - vertices[before]
+                normal = math.atan2(-dx, dy)
+                cone_end[before] = cone_start[before] + np.mod(normal - cone_start[before], TWO_PI)
+                cone_start[after] = cone_end[after] - np.mod(cone_end[after] - normal, TWO_PI)
+    edges = int(count - keep.sum())
+    return SampledBody(vertices[keep], cone_start[keep], cone_end[keep], corner[keep], deficit[keep],
+                       deficit_angle[keep], rho_at[keep], edges)
+
+
+def halfspace_polygon(theta, h) -> np.ndarray:
+    """The intersection of the half-planes ``x·n(θ_i) ≤ h_i`` by scipy's ``HalfspaceIntersection``
+    (Qhull): an independent construction, used to cross-check :func:`support_polygon`.  Returns the
+    vertices counter-clockwise."""
+    from scipy.spatial import ConvexHull, HalfspaceIntersection
+
+    normals = np.column_stack([np.cos(theta), np.sin(theta), -np.asarray(h, dtype=float)])
+    points = HalfspaceIntersection(normals, np.zeros(2)).intersections
+    hull = ConvexHull(points)
+    return points[hull.vertices]
+
+
+def sampled_critical_offset(support: DiscreteSupport):
+    """The critical offset of sampled data, with the tolerance the data allow.
+
+    ``b_c = −min ρ_i`` is exact for the lines.  At the sample where ρ is smallest (and best
+    determined), the leading error of the discrete formula against a smooth wall through the samples,
+    ``Δ²ρ''/12``, is estimated from the second difference of ρ and removed; the tolerance is the
+    rounding of ρ there plus the size of that correction, so the band holds both the value exact for
+    the lines and the value of a smooth wall.  Inside a vertex window (a polygon's data) ρ is 0 and
+    the correction vanishes: the tolerance is the rounding alone.  Where the minimum falls between
+    samples, the parabola through the three values around it gives its value.  Runs of samples at the minimum
+    (vertex windows) are reported as intervals, an isolated minimum as an angle refined by a parabola.
+    """
+    from .critical import CriticalOffset
+
+    rho, theta = support.rho, support.theta
+    n = rho.size
+    i = support.critical_index
+    left, mid, right = rho[(i - 1) % n], rho[i], rho[(i + 1) % n]
+    correction = (left - 2.0 * mid + right) / 12.0
+    # the smallest value of the parabola through the three (the minimum falls between samples)
+    between = (left - right) ** 2 / (8.0 * (left - 2.0 * mid + right)) if left - 2.0 * mid + right > 0 else 0.0
+    value = float(mid - correction - min(between, abs(left - mid) + abs(right - mid)))
+    tolerance = float(support.rho_tolerance[i] + abs(correction) + between)
+    low = float(np.min(rho))
+    at_minimum = rho <= low + 2.0 * support.rho_tolerance + 1e-300
+    angles, intervals = [], []
+    before, after = _gaps(theta)
+    for start, length in _cyclic_runs(at_minimum):
+        if length >= 3:
+            lo = theta[start]
+            hi = lo + np.mod(theta[(start + length - 1) % n] - lo, TWO_PI)
+            intervals.append((float(lo), float(hi)))
+            angles.append(float(np.mod(0.5 * (lo + hi), TWO_PI)))
+            continue
+        k = start + int(np.argmin(rho[[(start + j) % n for j in range(length)]]))
+        k %= n
+        # a parabola through the three values around the smallest ρ (uniform-step formula)
+        left, mid, right = rho[(k - 1) % n], rho[k], rho[(k + 1) % n]
+        curvature = left - 2.0 * mid + right
+        shift = 0.5 * (left - right) / curvature if curvature > 0 else 0.0
+        step = 0.5 * (before[k] + after[k])
+        angles.append(float(np.mod(theta[k] + np.clip(shift, -0.5, 0.5) * step, TWO_PI)))
+    order = np.argsort(angles)
+    angle_tolerance = float(np.max(np.maximum(before, after)))
+    return CriticalOffset(-value + 0.0, tuple(angles[j] for j in order), tuple(sorted(intervals)), angle_tolerance,
+                          tolerance)
+
+
+def _cyclic_runs(mask):
+    """(start, length) of runs of True in a cyclic boolean array."""
+    n = mask.size
+    if mask.all():
+        return [(0, n)]
+    shift = int(np.argmin(mask))
+    rolled = np.roll(mask, -shift).astype(np.int8)
+    edges = np.diff(np.concatenate([[0], rolled, [0]]))
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(int((a + shift) % n), int(b - a)) for a, b in zip(starts, stops)]

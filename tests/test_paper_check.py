@@ -1,0 +1,130 @@
+"""The paper-check registry (cases/paper): every claim is complete, its thresholds name numbers its check
+measures, and the fast run's verdicts are the recorded ones; the report and figures it writes."""
+
+import math
+
+import pytest
+
+from coinwall.cases.paper import CLAIMS, REGISTRY, Report, Row, run_verify
+from coinwall.cases.paper.checks import Measured, Resolution
+from coinwall.cases.paper.claims import Above, Below, Claim, Equals, Within, judge, render
+from coinwall.cases.paper.report import VERDICTS
+from coinwall.cases.paper.verify import measure
+from coinwall.forward.errors import CoinwallError
+
+#: The claims as recorded when the report was written (a claim that disappears from the registry fails here).
+RECORDED = {
+    "stick-specular": "yes", "eq3-typo": "partly", "general-specular": "yes", "eq18": "yes", "eq16-17": "yes",
+    "limits": "yes", "eq19": "yes", "eq22": "yes", "eq23-sign": "partly", "bc": "yes", "bc-extremum": "partly",
+    "K0": "yes", "eq27": "yes", "case1": "yes", "case2": "yes", "case3-corner": "yes", "case3-R0": "no",
+    "case3-thetac": "partly", "case3-deficit": "yes", "case3-positive": "yes", "large-b0": "yes", "extrema": "yes",
+    "four-extrema": "no", "theta-half": "no", "equivalence-simulated": "yes",
+}
+CONDITIONS = (Below, Above, Within, Equals)
+
+
+@pytest.fixture(scope="module")
+def fast_report():
+    return run_verify(fast=True)
+
+
+@pytest.fixture(scope="module")
+def fast_measured():
+    return measure(REGISTRY.values(), Resolution.of(True))
+
+
+def test_registry_is_the_recorded_list():
+    assert CLAIMS == tuple(RECORDED)
+    assert {key: claim.expected for key, claim in REGISTRY.items()} == RECORDED
+
+
+@pytest.mark.parametrize("key", CLAIMS)
+def test_every_claim_is_complete(key):
+    """Key, source, the paper's statement, a check, named thresholds and an expected verdict."""
+    claim = REGISTRY[key]
+    assert isinstance(claim, Claim) and claim.key == key
+    assert claim.claim.strip() and claim.source.strip() and claim.paper.strip() and claim.computed.strip()
+    assert callable(claim.check)
+    assert claim.thresholds, f"{key}: no threshold"
+    for conditions in (claim.thresholds, claim.partly or {}):
+        for name, condition in conditions.items():
+            assert isinstance(name, str) and isinstance(condition, CONDITIONS)
+    assert claim.expected in VERDICTS
+
+
+@pytest.mark.parametrize("key", CLAIMS)
+def test_thresholds_name_measured_numbers(key, fast_measured):
+    """Every condition (also the ``partly`` ones a ``yes`` never reaches) refers to something the check
+    measures, and every template fills from the check's numbers and the claim's inputs."""
+    claim, measured = REGISTRY[key], fast_measured[key]
+    assert set(claim.thresholds) | set(claim.partly or {}) <= set(measured)
+    for template in (claim.paper, claim.computed, claim.detail):
+        render(template, claim, measured)
+
+
+def test_fast_run_keeps_every_verdict(fast_report):
+    assert tuple(r.key for r in fast_report.rows) == CLAIMS
+    assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
+    assert fast_report.ok
+    assert fast_report.counts() == {"yes": 18, "partly": 4, "no": 3}
+
+
+def test_report_to_dict_and_repr(fast_report):
+    doc = fast_report.to_dict()
+    assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == []
+    assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
+    assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
+    assert "25 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
+    assert repr(Report(rows=None)) == "Report(<unprintable>)"
+
+
+def test_changed_verdict_is_flagged():
+    row = Row("k", "a claim", "eq. 1", "p", "c", "no", "yes")
+    report = Report((row,))
+    assert not report.ok and "<-- was 'yes'" in report.table() and "SOME VERDICTS CHANGED" in report.table()
+
+
+def test_conditions_and_judge():
+    assert Below(1.0).holds(0.5) and not Below(1.0).holds(1.0)
+    assert Above(1.0).holds(2) and not Above(1.0).holds(1.0)
+    assert Within(2.0, 0.05).holds(2.04) and not Within(2.0, 0.05).holds(1.9)
+    assert Equals(2).holds(2) and not Equals(False).holds(True)
+    claim = Claim("k", "c", "s", "p", lambda resolution: {}, thresholds={"x": Below(1.0)}, expected="yes")
+    assert judge(claim, {"x": 0.5}) == "yes" and judge(claim, {"x": 2.0}) == "no"
+    partly = Claim("k", "c", "s", "p", lambda resolution: {}, thresholds={"x": Below(1.0)},
+                   partly={"y": Below(1.0)}, expected="partly")
+    assert judge(partly, {"x": 2.0, "y": 0.5}) == "partly" and judge(partly, {"x": 2.0, "y": 2.0}) == "no"
+    estimate = Claim("k", "c", "s", "p", lambda resolution: {}, thresholds={"x": Below(1.0)}, partly={})
+    assert judge(estimate, {"x": 2.0}) == "partly"
+
+
+def test_measured_prints_zero_at_its_tolerance():
+    """A minimiser's 1.7e-8 for an exact 0 prints as 0 (never -0); a value above its tolerance keeps its format."""
+    assert f"{Measured(1.69e-8, 1e-7):.3g}" == "0" and f"{Measured(-1e-9, 1e-7):.3g}" == "0"
+    assert f"{Measured(0.25, 1e-7):.3g}" == "0.25"
+    assert math.isclose(float(Measured(0.25, 1e-7)), 0.25)
+
+
+def test_run_verify_names_its_arguments(tmp_path):
+    with pytest.raises(CoinwallError, match="`fast`"):
+        run_verify(fast="yes")
+    with pytest.raises(CoinwallError, match="`figure_format`"):
+        run_verify(fast=True, figure_format=".jpg")
+    with pytest.raises(CoinwallError, match="`out`"):
+        run_verify(fast=True, out=3)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(CoinwallError, match="`out`"):
+        run_verify(fast=True, out=str(blocker / "sub"))
+
+
+def test_run_verify_creates_the_folder_and_writes_vector_figures(tmp_path):
+    out = tmp_path / "new" / "docs"
+    report = run_verify(fast=True, out=str(out), figure_format=".svg")
+    assert report.ok and report.markdown_path == str(out / "paper-check.md")
+    text = (out / "paper-check.md").read_text(encoding="utf-8")
+    assert "![fig4_critical.svg](figures/fig4_critical.svg)" in text
+    assert "| 25 | Rigid body and billiard" in text
+    for name in ("fig4_critical.svg", "appendix_gallery.svg"):
+        assert (out / "figures" / name).read_bytes().startswith(b"<?xml")
+    assert not [p.name for p in out.rglob(".coinwall-*")]
