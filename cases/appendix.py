@@ -7,7 +7,7 @@ radius of curvature is ``ρ = h + h''``, smallest at θ = 0 (and π), where
 * ``K(0) = 1/ρ(0) = (1 + ε)/(1 + b0(1 + ε))`` (eq. 29) and ``b_c = −1/(1 + ε)``;
 * near α = 0, with R'(0) = 0 and the polar curvature formula (eq. 28),
   ``R(α) = (b0 + 1) − ½ (1 + b0) ε/(1 + b0(1 + ε)) α² + …`` (eq. 27) — derived
-  in :mod:`cases.verify` from ``K = (R² − R R'')/R³`` at R' = 0;
+  in :mod:`coinwall.cases.paper.checks_appendix` from ``K = (R² − R R'')/R³`` at R' = 0;
 * Case I (b0 > b_c): convex, R − (b0+1) ~ α², R' ~ α;
 * Case II (b0 = b_c = −1/2 for ε = 1, the paper's Fig. 4): ρ(0) = 0; with
   ρ ≈ c φ² one finds R − (b0+1) ~ α^(4/3) and R' ~ α^(1/3) (the paper's claim,
@@ -15,7 +15,7 @@ radius of curvature is ``ρ = h + h''``, smallest at θ = 0 (and π), where
 * Case III (b0 < b_c): no body has this wall; the largest body under it has
   corners on the major axis.  The paper calls the same shape "putative" and
   says R approaches b0 + 1 there — it does not: the corner lies *inside* the
-  inactive support line x = b0 + 1 (see :mod:`cases.verify`).
+  inactive support line x = b0 + 1 (see :mod:`coinwall.cases.paper.checks_appendix`).
 """
 
 from .catalog import Case, Reference

@@ -16,6 +16,7 @@ a negative jump cannot belong to any convex body.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping, Sequence
@@ -198,6 +199,9 @@ class Wall:
         curvature of the body jumps there); solvers put a node on each, as on a kink.
     samples : tuple of ndarray or None
         For a wall made from samples: the distinct angles in [0, 2π), sorted, and their values.
+    sample_rounding : float or None
+        How far each sample may be off, when the maker knows (a measurement's accuracy, a solver's
+        tolerance); None: read from the digits the values carry.
 
     A wall is immutable, like every result: it is shared by the forward and the inverse side, and
     caches (its scale, its check grid) are only valid for the function it was made with.
@@ -211,6 +215,7 @@ class Wall:
         init(self, "kind", kind)
         init(self, "params", MappingProxyType(dict(params or {})))
         init(self, "samples", samples)
+        init(self, "sample_rounding", None)
         init(self, "kinks", ())
         init(self, "breaks", ())
         if samples is not None:
@@ -305,7 +310,8 @@ class Wall:
         return cls(backend, description or f"arcs ({angles.size} pieces)", "arcs")
 
     @classmethod
-    def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None) -> "Wall":
+    def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None,
+                     rounding: float | None = None) -> "Wall":
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
 
         The samples are replaced by a trigonometric polynomial: the interpolant
@@ -378,7 +384,12 @@ class Wall:
             desc = f"non-uniform samples (n={n}, {harmonics} harmonics, least squares)"
         reduced.setflags(write=False)
         values.setflags(write=False)
-        return cls(_FourierBackend(a0, cos, sin), desc, "samples", samples=(reduced, values))
+        wall = cls(_FourierBackend(a0, cos, sin), desc, "samples", samples=(reduced, values))
+        if rounding is not None:
+            from .validation import check_finite
+
+            object.__setattr__(wall, "sample_rounding", max(check_finite("rounding", rounding, error=InvalidWall), 0.0))
+        return wall
 
     # ------------------------------------------------------------------ evaluation
     def __call__(self, theta):
@@ -411,9 +422,10 @@ class Wall:
         """
         from dataclasses import replace
 
-        from .validation import check_positive
-
-        factor = check_positive("factor", factor, error=InvalidWall)
+        if isinstance(factor, bool) or not isinstance(factor, (int, float, np.floating)) \
+                or not (math.isfinite(factor) and factor > 0):
+            raise InvalidWall(f"the scale factor `factor` must be a positive finite number, got {factor!r}")
+        factor = float(factor)
         backend = self._backend
         description = f"{factor:.12g}·({self.description})"
         if isinstance(backend, _ExpressionBackend):

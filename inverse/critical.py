@@ -98,7 +98,7 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
     if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
         from .discrete import discrete_support, sampled_critical_offset
 
-        return sampled_critical_offset(discrete_support(*wall.samples))
+        return sampled_critical_offset(discrete_support(*wall.samples, wall.sample_rounding))
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
         return CriticalOffset(math.inf, tuple(k.angle for k in concave))

@@ -160,11 +160,12 @@ class DiscreteSupport:
         return np.abs(self.rho + b0) <= self.rho_tolerance
 
 
-def discrete_support(theta, b) -> DiscreteSupport:
-    """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π))."""
+def discrete_support(theta, b, rounding=None) -> DiscreteSupport:
+    """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π)); ``rounding``: how far
+    each value may be off, at least (default: only what the digits of the values say)."""
     theta = np.asarray(theta, dtype=float)
     b = np.asarray(b, dtype=float)
-    rounding = rounding_of(b)
+    rounding = rounding_of(b) if rounding is None else np.maximum(rounding_of(b), rounding)
     rho, tol = discrete_curvature(theta, b, rounding)
     spacing = np.abs(np.roll(rho, 1) - 2 * rho + np.roll(rho, -1)) / 12.0
     return DiscreteSupport(theta, b, rounding, rho, tol, spacing)

@@ -75,7 +75,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
 
     theta, b = wall.samples
     h = b0 + b
-    support = discrete_support(theta, b)
+    support = discrete_support(theta, b, wall.sample_rounding)
     scale = max(1.0, float(np.max(np.abs(h))))
     lowest = int(np.argmin(h))
     if h[lowest] < -4.0 * support.rounding[lowest]:

@@ -10,7 +10,7 @@ import pytest
 
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
-from coinwall.forward.formats.bodyfile import load_outline, outline_from_polar
+from coinwall.forward.formats import load_outline, outline_from_polar
 from coinwall.forward.errors import InvalidArgument, InvalidOutline, OutputError
 from coinwall.inverse import solve_body
 from coinwall.inverse.export import export_body
@@ -258,3 +258,42 @@ def test_wall_png_output(tmp_path, capsys):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     with pytest.raises(InvalidOutline):
         load_outline(str(tmp_path / "missing.svg"))
+
+
+def test_body_files_are_byte_for_byte_reproducible(tmp_path, skew_body):
+    """No dates, timings or random GUIDs inside a body file: solving the same wall again and writing
+    every format gives the same bytes (the solve's wall-clock time differs between the two solves;
+    ezdxf would stamp $TDCREATE/$TDUPDATE and GUIDs)."""
+    import ezdxf
+
+    from coinwall.inverse.export import EXPORTERS
+
+    again = solve_body(skew_body.wall, skew_body.b0)
+    option_before = ezdxf.options.write_fixed_meta_data_for_testing
+    for ext in EXPORTERS:
+        first, second = tmp_path / f"first{ext}", tmp_path / f"second{ext}"
+        export_body(skew_body, [str(first)], kappa=20.0, units="mm")
+        export_body(again, [str(second)], kappa=20.0, units="mm")
+        assert first.read_bytes() == second.read_bytes(), ext
+    assert "seconds" not in json.loads((tmp_path / "first.json").read_text())
+    assert ezdxf.options.write_fixed_meta_data_for_testing == option_before  # the global option is restored
+
+
+def test_figure_formats_and_library_load_wall(tmp_path, skew_body):
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.formats import load_wall
+
+    png, pdf = str(tmp_path / "b.png"), str(tmp_path / "b.pdf")
+    export_body(skew_body, [png, pdf])
+    assert open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n" and open(pdf, "rb").read(5) == b"%PDF-"
+    # the library's load_wall: an expression, .csv samples and .json Fourier coefficients give one wall
+    # (a trigonometric polynomial of order 2: 64 uniform samples determine it exactly)
+    expression = load_wall("1+0.2*cos(2*t)")
+    (tmp_path / "w.json").write_text('{"a0": 1, "cos": [0, 0.2], "sin": []}')
+    theta = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    rows = "".join(f"{t!r},{1 + 0.2 * math.cos(2 * t)!r}\n" for t in theta.tolist())
+    (tmp_path / "w.csv").write_text("theta,b\n" + rows)
+    for name in ("w.json", "w.csv"):
+        assert np.max(np.abs(load_wall(str(tmp_path / name))(THETA) - expression(THETA))) < 1e-12
+    with pytest.raises(InvalidWall, match="`params`"):
+        load_wall(str(tmp_path / "w.json"), {"eps": 1.0})

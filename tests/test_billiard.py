@@ -382,7 +382,7 @@ def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
     """The kernel skips time intervals using b ≤ p_j + e_j (quintic proxy per cell) and b ≤ bmax_j.
     Check both on a grid the bounds were not built from (random points, 200 per cell), with the
     wall evaluated by Wall.__call__ (casadi / Fourier backend), not by the kernel's code."""
-    from coinwall.forward.dynamics.billiard import _cell_bounds
+    from coinwall.forward.dynamics.cellbounds import cell_bounds as _cell_bounds
 
     wall = WALLS[name][0]
     bd = _cell_bounds(wall)

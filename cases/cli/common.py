@@ -1,23 +1,60 @@
-"""What several subcommands share: the WALL and table arguments, loading them, the progress bar,
-``--com``, and the lines that report written files."""
+"""What several subcommands share: the subcommand parser, the WALL and table arguments, loading them,
+the progress bar, ``--com``, numbers as a reader sees them, and the lines that report written files."""
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
 import sys
 
-__all__ = ["wall_arguments", "table_arguments", "load_table", "load_wall", "progress_bar", "parse_com",
-           "describe_written", "check_positive_count", "check_seed"]
+__all__ = ["add_command", "wall_arguments", "table_arguments", "load_table", "load_wall", "progress_bar",
+           "parse_com", "describe_written", "written_lines", "check_positive_count", "check_seed",
+           "ANGLE_TOLERANCE", "format_angles"]
+
+#: How far from the true angle ``critical_offset`` may report the minimum of b + b'': its docstring
+#: says ~1e-8 rad (the minimum is flat, so Brent's search stops within about sqrt(machine epsilon)
+#: of it; 1.12e-8 for the ellipse wall at θ = 0).  Ten times that is what a reader should read as 0.
+ANGLE_TOLERANCE = 1e-7
+
+
+def add_command(subparsers, name, *, help, description, example):
+    """A subcommand parser whose ``--help`` starts with what it computes and ends with an example.
+
+    Parameters
+    ----------
+    subparsers
+        The object ``add_subparsers`` returned.
+    name, help : str
+        The subcommand and its one line in ``coinwall --help``.
+    description : str
+        A paragraph (or a few): what the subcommand computes.
+    example : str
+        One or more command lines, without the ``$ `` prompt.
+    """
+    lines = "\n".join(f"  $ {line}" for line in example.strip().splitlines())
+    return subparsers.add_parser(name, help=help, description=description, epilog=f"example:\n{lines}",
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def format_angles(angles, tolerance=ANGLE_TOLERANCE):
+    """Angles in [0, 2π) for reading: within ``tolerance`` of 0 or of 2π (the same direction) they are 0."""
+    from coinwall.forward.angles import TWO_PI
+    from coinwall.forward.display import format_number
+
+    shown = [format_number(0.0 if abs(a - TWO_PI) <= tolerance else a, tolerance) for a in angles]
+    return ", ".join(shown) or "—"
 
 
 def wall_arguments(parser, optional=False):
     """Add the positional WALL argument and ``--param`` to a subcommand parser."""
     parser.add_argument("wall", nargs="?" if optional else None,
                         help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
-                             "or a file: .csv (theta,b samples) or .json (Fourier: {\"a0\", \"cos\", \"sin\"})")
+                             "or a file: .csv (theta,b samples; header theta_deg for degrees) or .json (Fourier: "
+                             "{\"a0\", \"cos\", \"sin\"}, or samples {\"theta\", \"b\"})")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="value of a parameter of the expression (repeatable)")
+    parser.add_argument("--degrees", action="store_true", help="the angles of a sample file are in degrees")
 
 
 def table_arguments(parser):
@@ -47,18 +84,18 @@ def load_table(args):
     kappa = args.kappa
     if kappa is not None and not (math.isfinite(kappa) and kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length, got {kappa}")
-    wall = load_wall(args.wall, args.param)
+    wall = load_wall(args.wall, args.param, degrees=args.degrees)
     if kappa is None:
         return wall, Billiard(wall, args.H, args.b0)
     return wall, Billiard(wall.scaled(1.0 / kappa), args.H / kappa, args.b0 / kappa)
 
 
-def load_wall(text, params):
-    """The :class:`forward.Wall` named on the command line (expression, .csv samples, .json Fourier)."""
-    from coinwall.forward import Wall
+def load_wall(text, params, degrees=False):
+    """The :class:`forward.Wall` named on the command line: ``case:NAME``, or what
+    :func:`coinwall.forward.formats.load_wall` reads (expression, .csv samples, .json Fourier)."""
     from coinwall.forward.errors import InvalidWall
     from coinwall.forward.expression import parse_param
-    from coinwall.forward.formats.wallfile import load_wall_file
+    from coinwall.forward.formats import load_wall as load_wall_text
 
     values = dict(parse_param(p) for p in params)
     if text.startswith("case:"):
@@ -67,12 +104,7 @@ def load_wall(text, params):
         if values:
             raise InvalidWall(f"--param does not apply to {text!r}: a case fixes its own parameters")
         return get_case(text).wall()
-    lower = text.lower()
-    if lower.endswith(".csv") or lower.endswith(".json"):
-        if values:
-            raise InvalidWall(f"--param applies to expressions, not to the wall file {text!r}")
-        return load_wall_file(text)
-    return Wall.from_expression(text, values)
+    return load_wall_text(text, values, degrees=degrees)
 
 
 def progress_bar(args, total, unit):
@@ -106,6 +138,7 @@ def check_seed(value):
 
 
 def parse_com(text):
+    """The ``--com X,Y`` option as a pair of floats (``None`` when not given); the one place it is parsed."""
     from coinwall.forward.errors import InvalidArgument
 
     if text is None:
@@ -120,18 +153,31 @@ def parse_com(text):
     return tuple(values)
 
 
-def describe_written(result):
-    """One line per written file, with the deviation the exporter achieved (used by solve and export)."""
+def _replaced(path, replaced):
+    return f"{path} (replaced)" if path in replaced else path
+
+
+def written_lines(paths, replaced=()):
+    """One ``wrote`` line per path, marking the files that replaced an existing one."""
+    return [f"wrote      {_replaced(path, replaced)}" for path in paths]
+
+
+def describe_written(result, replaced=()):
+    """One line per written file, with the deviation the exporter achieved (used by solve and export).
+
+    ``replaced`` names the paths that existed before (:func:`coinwall.forward.formats.output.existing_files`).
+    """
     lines = []
     for path in result.paths:
         report = result.reports.get(path, {})
+        name = _replaced(path, replaced)
         if "polyline" in report:
-            lines.append(f"wrote      {path}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
+            lines.append(f"wrote      {name}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
                          f"{report['polyline_vertices']} vertices, deviation {report['polyline']:.3g} "
                          f"<= tolerance {report['tolerance']:.3g} {report['units']}")
         elif "path" in report:
-            lines.append(f"wrote      {path}: exact Bézier path (rounding {report['path']:.1e} {report['units']}), "
+            lines.append(f"wrote      {name}: exact Bézier path (rounding {report['path']:.1e} {report['units']}), "
                          f"largest diameter {report['diameter']:.6g} {report['units']}")
         else:
-            lines.append(f"wrote      {path}")
+            lines.append(f"wrote      {name}")
     return lines

@@ -1,10 +1,11 @@
-"""``coinwall export`` (re-export a solved body to DXF/SVG at a physical scale) and ``coinwall mass``."""
+"""``coinwall export``: re-export a solved body (the .json of ``solve``) to DXF/SVG at a physical scale."""
 
 from __future__ import annotations
 
 import json
 import math
-from .common import describe_written, parse_com
+
+from .common import add_command, describe_written
 
 __all__ = ["register"]
 
@@ -19,8 +20,8 @@ class _StoredBody:
 
 
 def _stored_body(path):
-    from coinwall.forward.formats.bodyfile import load_outline
     from coinwall.forward.errors import InvalidOutline
+    from coinwall.forward.formats import load_outline
 
     if not path.lower().endswith(".json"):
         raise InvalidOutline(f"body file {path!r}: export reads the .json written by 'coinwall solve -o BODY.json'")
@@ -49,12 +50,17 @@ def _check_drawing_outputs(paths):
                               f"(for .json/.csv/.png use 'coinwall solve -o')")
 
 
-def _cmd_export(args):
-    from coinwall.inverse.export import check_outputs, export_body
+def run(args):
+    """Read the body, write the drawings, print what was written."""
+    from coinwall.forward.formats.output import check_paths, existing_files
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
-    check_outputs(args.output)
+    ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance, dimension=args.dimension)
     body = _stored_body(args.body)
+    check_paths(args.output, _REEXPORT)  # creates missing folders, now that the input is known to be good
+    check_outputs(args.output)
+    replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units, tolerance=args.tolerance,
                          dimension=args.dimension)
     if args.json:
@@ -62,71 +68,35 @@ def _cmd_export(args):
         return 0
     scale = f"kappa = {args.kappa:g} {args.units}" if args.kappa else "units of kappa (no physical scale)"
     print(f"body       {args.body} (b0 = {body.b0:g}, regime {body.regime}); {scale}")
-    for line in describe_written(result):
+    for line in describe_written(result, replaced):
         print(line)
     return 0
 
 
-def _cmd_mass(args):
-    from coinwall.forward.formats.bodyfile import load_outline
-    from coinwall.forward.expression import parse_param
-    from coinwall.forward.massprops import mass_properties, outline_moments
-    from coinwall.inverse.realizability import kappa_max
+_DESCRIPTION = """\
+Re-export a body solved by `coinwall solve -o BODY.json` (its exact Bézier outline) as a drawing:
+.svg (an exact Bézier path) or .dxf (an exact SPLINE and an LWPOLYLINE within --tolerance), at a
+physical scale: with --kappa VALUE --units mm|cm|in the body is drawn at real size, the radius of
+gyration being VALUE units.  Prints the deviation each file achieves."""
 
-    params = dict(parse_param(p) for p in args.param)
-    outline, note = load_outline(args.body, layer=args.layer, com=parse_com(args.com), kappa=args.kappa)
-    exact = outline_moments(outline)
-    props = mass_properties(outline, args.density, params) if args.density else None
-    kmax, support = kappa_max(outline)
-    doc = {"body": args.body, "note": note, "uniform": exact.as_dict(),
-           "density": props.as_dict() if props else None,
-           "kappa_max": kmax if math.isfinite(kmax) else None,
-           "kappa_max_support": support.tolist(),
-           "realizable": bool(math.isfinite(kmax) and kmax >= 1.0)}
-    if args.json:
-        print(json.dumps(doc, indent=1))
-        return 0
-    print(f"body       {args.body} ({note})")
-    print(f"uniform    area {exact.area:.10g}, centroid ({exact.centre[0]:.6g}, {exact.centre[1]:.6g}), "
-          f"kappa {exact.kappa:.10g} (about the centroid; 1 for a self-consistent uniform body)")
-    if props:
-        print(f"density    {args.density}: mass {props.mass:.10g}, centre of mass ({props.centre[0]:.6g}, "
-              f"{props.centre[1]:.6g}), kappa {props.kappa:.10g} ({props.elements} triangles, scikit-fem)")
-    if math.isfinite(kmax):
-        verdict = "some mass distribution gives this wall" if kmax >= 1 else "no mass distribution reaches kappa = 1"
-        print(f"range      kappa in (0, {kmax:.10g}] for mass inside the outline with centre of mass at the "
-              f"origin: {verdict}")
-    else:
-        print("range      the origin is not inside the body: no mass distribution has its centre of mass there")
-    return 0
+_EXAMPLE = """\
+coinwall solve "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=1 --b0 -0.4 -o body.json
+coinwall export body.json --kappa 10 --units mm -o drawings/body.dxf -o drawings/body.svg --dimension"""
 
 
 def register(subparsers):
-    """Add ``export`` and ``mass`` to the ``coinwall`` command line."""
-    export = subparsers.add_parser("export", help="re-export a solved body (.json from solve) to .dxf/.svg at a "
-                                                  "physical scale")
-    export.add_argument("body", help="BODY.json written by 'coinwall solve -o BODY.json'")
-    export.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                        help="output .dxf or .svg (repeatable)")
-    export.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+    """Add the ``export`` subcommand."""
+    parser = add_command(subparsers, "export", help="re-export a solved body (.json from solve) to .dxf/.svg at "
+                                                    "a physical scale", description=_DESCRIPTION, example=_EXAMPLE)
+    parser.add_argument("body", help="BODY.json written by 'coinwall solve -o BODY.json'")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help="output .dxf or .svg (repeatable; missing folders are created)")
+    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
                         help="radius of gyration in --units: draw at real size (default: units of kappa)")
-    export.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
-    export.add_argument("--tolerance", type=float, default=None, metavar="T",
+    parser.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
+    parser.add_argument("--tolerance", type=float, default=None, metavar="T",
                         help="largest deviation of the DXF polyline from the exact outline, in output units "
                              "(default 1e-4 x largest diameter)")
-    export.add_argument("--dimension", action="store_true", help="draw the largest diameter (SVG)")
-    export.add_argument("--json", action="store_true", help="print the report as JSON")
-    export.set_defaults(run=_cmd_export)
-
-    mass = subparsers.add_parser("mass", help="mass properties of a body (uniform or a density rho(x, y)) and "
-                                              "the range of kappa a mass distribution can reach")
-    mass.add_argument("body", help="body file: .json/.csv/.svg/.dxf (as for 'coinwall wall')")
-    mass.add_argument("--density", default=None, metavar="EXPR",
-                      help="density rho(x, y) in x, y, r (body units), e.g. \"1 + 4*r**8\"")
-    mass.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                      help="parameter of the density (repeatable)")
-    mass.add_argument("--layer", default=None, help="DXF layer to read")
-    mass.add_argument("--com", default=None, metavar="X,Y", help="centre of mass in drawing coordinates")
-    mass.add_argument("--kappa", type=float, default=None, help="radius of gyration in drawing units")
-    mass.add_argument("--json", action="store_true", help="print JSON")
-    mass.set_defaults(run=_cmd_mass)
+    parser.add_argument("--dimension", action="store_true", help="draw the largest diameter (SVG)")
+    parser.add_argument("--json", action="store_true", help="print the report as JSON")
+    parser.set_defaults(run=run)

@@ -4,17 +4,31 @@ from __future__ import annotations
 
 import json
 import math
+import os
 
-from coinwall.forward.formats.output import check_paths, write_all
-
-from .common import check_positive_count, check_seed, progress_bar
+from .common import add_command, check_positive_count, check_seed, progress_bar, written_lines
 
 __all__ = ["register"]
 
 
+DESCRIPTION = """\
+KAM boundary ε_c(H) of the elliptic billiard, against the paper's fit ε ≈ 1/H + 17/H² (eq. 20).
+
+The wall family is the paper's ellipse wall b(θ) = sqrt((1+eps*cos(t)**2)/(1+eps)), i.e.
+sqrt((1 + ε cos²θ)/(1 + ε)): the support function of the ellipse x² + (1+ε) y² = 1, in units of κ.
+For each wall distance H, ε is bisected in log ε inside --bracket: at each ε, ORBITS
+Liouville-random orbits are classified by their largest Lyapunov exponent (regular if λ per
+collision ≤ 3 ln N / N over N = --collisions), and the motion counts as fully chaotic when the
+regular fraction is below --regular-max.  Near the boundary the regular orbits are small islands,
+so ε_c moves with --seed and --orbits (docs/dynamics.md, "Criterion sensitivity")."""
+
+EXAMPLE = 'coinwall kam --H 2,3,4 --orbits 100 --collisions 1000 -o kam.svg'
+
+
 def register(subparsers):
     """Add the ``kam`` subcommand."""
-    kam = subparsers.add_parser("kam", help="KAM boundary ε_c(H) of the elliptic billiard vs the paper's 1/H + 17/H²")
+    kam = add_command(subparsers, "kam", help="KAM boundary ε_c(H) of the elliptic billiard vs the paper's 1/H + 17/H²",
+                      description=DESCRIPTION, example=EXAMPLE)
     kam.add_argument("--H", required=True, metavar="H1,H2,...", help="comma-separated wall distances (units of κ)")
     kam.add_argument("--orbits", type=int, default=100, help="orbits per (ε, H) (default 100)")
     kam.add_argument("--collisions", type=int, default=1000, help="collisions per orbit (default 1000)")
@@ -22,26 +36,10 @@ def register(subparsers):
     kam.add_argument("--regular-max", type=float, default=0.01, help="criterion: regular fraction below this (0.01)")
     kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
     kam.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE", help=".png or .json (repeatable)")
+    kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                     help="figure (.png, .svg, .pdf) or .json (repeatable)")
     kam.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
     kam.set_defaults(run=_cmd_kam)
-
-
-def _png(draw):
-    import io
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 5))
-    draw(ax)
-    fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    plt.close(fig)
-    return buffer.getvalue()
 
 
 def _floats(text, name):
@@ -59,6 +57,8 @@ def _floats(text, name):
 def _cmd_kam(args):
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.dynamics.kam import kam_boundary
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
+    from coinwall.forward.formats.output import check_paths, write_all
 
     H = _floats(args.H, "--H")
     bracket = _floats(args.bracket, "--bracket")
@@ -69,7 +69,7 @@ def _cmd_kam(args):
     if args.steps < 0:
         raise InvalidArgument(f"--steps must be a non-negative integer, got {args.steps}")
     check_seed(args.seed)
-    check_paths(args.output, (".png", ".json"))
+    check_paths(args.output, FIGURE_FORMATS + (".json",))
     bar = progress_bar(args, len(H) * (args.steps + 2), "eval")
     try:
         result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
@@ -80,11 +80,11 @@ def _cmd_kam(args):
             bar.close()
     files = {}
     for path in args.output:
-        if path.lower().endswith(".png"):
-            files[path] = _png(lambda ax: result.plot(ax=ax))
+        if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:
+            files[path] = figure_bytes(result.plot().figure, path)
         else:
             files[path] = json.dumps(result.to_dict()).encode()
-    write_all(files)
+    written = write_all(files)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
         return 0
@@ -94,5 +94,6 @@ def _cmd_kam(args):
     print("caveat     near the boundary the regular region is small islands (~1 %) and not monotonic in ε: "
           "ε_c moves with --seed and --orbits (docs/dynamics.md, 'Criterion sensitivity')")
     if args.output:
-        print(f"wrote      {', '.join(args.output)}")
+        for line in written_lines(written, written.replaced):
+            print(line)
     return 0

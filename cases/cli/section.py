@@ -5,54 +5,46 @@ from __future__ import annotations
 import json
 import os
 
-from coinwall.forward.formats.output import check_paths, write_all
-
-from .common import check_positive_count, check_seed, load_table, progress_bar, table_arguments
+from .common import (add_command, check_positive_count, check_seed, load_table, progress_bar, table_arguments,
+                     written_lines)
 
 __all__ = ["register"]
+
+DESCRIPTION = """\
+Poincaré section of the billiard at the bottom wall (the paper's figures 2 and 3).
+
+Follows ORBITS orbits from Liouville-random starts and records, at every collision with the
+bottom wall b0 + b(θ), the contact angle θ_c (mod 2π, radians) and the angle of incidence φ_c
+between the velocity after the reflection and the wall's inward normal (in [−π/2, π/2], positive
+when θ increases).  Islands in the picture are regular motion; a uniform scatter is chaos.
+Units: κ (radius of gyration)."""
+
+EXAMPLE = 'coinwall section "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.55 --H 1.9 --orbits 60 -o section.svg'
 
 
 def register(subparsers):
     """Add the ``section`` subcommand."""
-    section = subparsers.add_parser("section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits")
+    section = add_command(subparsers, "section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits",
+                          description=DESCRIPTION, example=EXAMPLE)
     table_arguments(section)
     section.add_argument("--orbits", type=int, default=60, help="number of orbits (default 60)")
     section.add_argument("--collisions", type=int, default=2000, help="collisions per orbit (default 2000)")
     section.add_argument("--seed", type=int, default=None, help="seed of the random start states")
     section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                         help=".png (figure), .csv (theta,phi,orbit) or .json (repeatable)")
+                         help="figure (.png, .svg, .pdf), .csv (theta_c,phi_c,orbit) or .json (repeatable)")
     section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
     section.set_defaults(run=_cmd_section)
 
 
-def _png(draw):
-    import io
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 5))
-    draw(ax)
-    fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    plt.close(fig)
-    return buffer.getvalue()
-
-
 def _cmd_section(args):
-    import io
-
-    import numpy as np
-
     from coinwall.forward.dynamics.poincare import poincare_section
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
+    from coinwall.forward.formats.output import check_paths, write_all
 
     check_positive_count("--orbits", args.orbits)
     check_positive_count("--collisions", args.collisions)
     check_seed(args.seed)
-    check_paths(args.output, (".png", ".csv", ".json"))
+    check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     _, table = load_table(args)
     bar = progress_bar(args, args.orbits, "orbit")
     try:
@@ -64,17 +56,14 @@ def _cmd_section(args):
     files = {}
     for path in args.output:
         ext = os.path.splitext(path)[1].lower()
-        if ext == ".png":
-            files[path] = _png(lambda ax: result.plot(ax=ax, title=f"{args.wall} {' '.join(args.param)}, H = {args.H:g}"))
+        if ext in FIGURE_FORMATS:
+            ax = result.plot(title=f"{args.wall} {' '.join(args.param)}, H = {args.H:g}")
+            files[path] = figure_bytes(ax.figure, path)
         elif ext == ".csv":
-            text = io.StringIO()
-            text.write("theta_c,phi_c,orbit\n")
-            np.savetxt(text, np.column_stack([result.theta, result.phi, result.orbit]), delimiter=",",
-                       fmt=["%.17g", "%.17g", "%d"])
-            files[path] = text.getvalue().encode()
+            files[path] = result.to_csv().encode()
         else:
             files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param)).encode()
-    write_all(files)
+    written = write_all(files)
     summary = {"wall": args.wall, "params": args.param, "kappa": args.kappa, "H": table.H, "orbits": result.orbits,
                "collisions": result.collisions, "points": int(result.theta.size), "notes": list(result.notes),
                "outputs": args.output}
@@ -83,5 +72,6 @@ def _cmd_section(args):
     else:
         print(f"section    {result!r}")
         if args.output:
-            print(f"wrote      {', '.join(args.output)}")
+            for line in written_lines(written, written.replaced):
+                print(line)
     return 0

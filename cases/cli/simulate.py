@@ -3,19 +3,29 @@
 from __future__ import annotations
 
 import json
-import math
 import time
-from .common import load_table, progress_bar, table_arguments
+
+from .common import add_command, check_positive_count, check_seed, load_table, progress_bar, table_arguments
 
 __all__ = ["register"]
 
-_CHUNK = 200_000  # collisions per kernel call: progress updates and bounded memory
+DESCRIPTION = """\
+Follow one orbit of the billiard equivalent to the body between the walls (the paper's eqs. 1–8).
+
+The particle moves at unit speed in the (θ, η) strip between the lower wall b0 + b(θ) and the
+upper wall H − b0 − b(θ + π), reflecting specularly, from a Liouville-random start.  Reports the
+collision rate of the numba kernel (compile time apart), the mean free time against Santaló's
+π·Area/Perimeter, and the share of collisions with the bottom wall.  Units: κ (radius of
+gyration); with --kappa the wall, --H and --b0 are lengths in κ's unit."""
+
+EXAMPLE = 'coinwall simulate "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 3 --collisions 1000000'
 
 
 def register(subparsers):
     """Add the ``simulate`` subcommand."""
 
-    parser = subparsers.add_parser("simulate", help="run the equivalent billiard (numba kernel) for one orbit")
+    parser = add_command(subparsers, "simulate", help="run the equivalent billiard (numba kernel) for one orbit",
+                         description=DESCRIPTION, example=EXAMPLE)
     table_arguments(parser)
     parser.add_argument("--collisions", type=int, default=100_000, help="number of collisions (default 100000)")
     parser.add_argument("--seed", type=int, default=None, help="seed of the random start state (Liouville measure)")
@@ -26,53 +36,35 @@ def register(subparsers):
 
 
 def _cmd_simulate(args):
-    import numpy as np
+    from coinwall.forward.dynamics.billiard import compile_kernel, random_states
+    from coinwall.forward.dynamics.orbitstats import CHUNK, orbit_statistics
 
-    from coinwall.forward.dynamics.billiard import compile_kernel, random_states, simulate
-    from coinwall.forward.errors import InvalidArgument
-
-    if args.collisions <= 0:
-        raise InvalidArgument(f"--collisions must be a positive integer, got {args.collisions}")
-    if args.seed is not None and args.seed < 0:
-        raise InvalidArgument(f"--seed must be a non-negative integer, got {args.seed}")
+    check_positive_count("--collisions", args.collisions)
+    check_seed(args.seed)
     wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
-    bar = progress_bar(args, args.collisions, "coll") if args.collisions > _CHUNK else None
-    done, total_time, bottom, note = 0, 0.0, 0, ""
+    bar = progress_bar(args, args.collisions, "coll") if args.collisions > CHUNK else None
     start = time.perf_counter()
-    current = state
     try:
-        while done < args.collisions:
-            n = min(_CHUNK, args.collisions - done)
-            traj = simulate(table, current, n, method=args.method)
-            got = len(traj)
-            if got:
-                total_time += float(traj.time[-1])
-                bottom += int(np.count_nonzero(traj.side == 0))
-                current = traj.final_state
-            done += got
-            if bar is not None:
-                bar.update(got)
-            if traj.note:
-                note = traj.note
-                break
+        stats = orbit_statistics(table, state, args.collisions, method=args.method,
+                                 progress=bar.update if bar is not None else None)
     finally:
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - start
-    area, perimeter = table.area_perimeter()
+    done = stats.collisions
     summary = {
         "wall": args.wall, "params": dict(wall.params), "kappa": args.kappa, "H": table.H, "b0": table.b0,
         "seed": args.seed,
         "method": args.method, "collisions": done, "seconds": seconds,
         "collisions_per_second": done / seconds if seconds > 0 else None,
         "compile_seconds": compile_seconds,
-        "mean_free_time": total_time / done if done else None,
-        "santalo_mean_free_time": math.pi * area / perimeter,
-        "bottom_fraction": bottom / done if done else None,
-        "start": [float(x) for x in state], "final_state": [float(x) for x in current],
-        "gap_min": table.gap_min, "gap_max": table.gap_max, "note": note,
+        "mean_free_time": stats.mean_free_time if done else None,
+        "santalo_mean_free_time": stats.santalo_mean_free_time,
+        "bottom_fraction": stats.bottom_fraction if done else None,
+        "start": [float(x) for x in state], "final_state": [float(x) for x in stats.final_state],
+        "gap_min": table.gap_min, "gap_max": table.gap_max, "note": stats.note,
     }
     if args.json:
         print(json.dumps(summary, indent=1, allow_nan=False))
@@ -84,6 +76,6 @@ def _cmd_simulate(args):
     if done:
         print(f"free time  mean {summary['mean_free_time']:.6g} (Santaló π·A/P = {summary['santalo_mean_free_time']:.6g})")
         print(f"bottom     fraction of collisions with the bottom wall {summary['bottom_fraction']:.4f}")
-    if note:
-        print(f"note       {note}")
+    if stats.note:
+        print(f"note       {stats.note}")
     return 0

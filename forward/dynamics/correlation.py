@@ -5,7 +5,7 @@ Heads and tails
 The paper (section III) puts an arrow along the coin's long axis and calls
 "heads" the arrow pointing to the right.  The project's angle θ is measured
 *clockwise from the downward wall normal to the body axis* (the arrow); the
-rigid-body map in :mod:`forward.rigidbody` makes the axis' lab angle
+rigid-body map in :mod:`coinwall.forward.dynamics.rigidbody` makes the axis' lab angle
 ``ψ = −θ − π/2``, so the arrow is the lab vector
 
     (cos ψ, sin ψ) = (−sin θ, −cos θ).
@@ -46,8 +46,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .billiard import Billiard, ensemble, random_states, simulate
+from ..display import safe_repr
 from ..errors import InvalidArgument
+from ..validation import check_choice, check_count, is_integer
+from .billiard import Billiard, ensemble, random_states, simulate
 
 __all__ = ["heads", "Correlation", "correlation", "fit_decay", "TauLaw", "fit_tau_law", "COUNTS"]
 
@@ -63,7 +65,8 @@ def heads(theta):
 
 
 def _positive_int(name, value):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
+    # not check_count: its message reads "an integer >= 1"; callers and tests read "positive integer"
+    if not is_integer(value) or value <= 0:
         raise InvalidArgument(f"`{name}` must be a positive integer, got {value!r}")
     return int(value)
 
@@ -169,29 +172,45 @@ class Correlation:
                 "threshold": THRESHOLD, "notes": list(self.notes)}
 
     def plot(self, ax=None):
-        """P(n) − ½ with error bars on a log scale and the fitted exponential; returns the Axes."""
-        import matplotlib.pyplot as plt
+        """|P(n) − ½| with error bars on a log scale, the fitted exponential and the 0.01 threshold.
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new figure (Agg backend, no display needed).
+
+        Returns
+        -------
+        matplotlib Axes
+            Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
+        """
+        own = ax is None
+        if own:
+            from ..formats.figure import new_figure
+
+            _, ax = new_figure(figsize=(6, 4))
         n = np.arange(self.P.size)
         ax.errorbar(n, np.abs(self.P - 0.5), yerr=self.P_stderr, fmt="o", ms=3, label="|P(n) − ½|")
         if math.isfinite(self.tau):
             ax.plot(n, np.abs(_exp_model(n, self.amplitude, self.tau)), "-",
                     label=f"A exp(−n/τ), τ = {self.tau:.3g} ± {self.tau_stderr:.2g}")
-        ax.axhline(THRESHOLD, color="grey", ls=":", label="0.01")
+        ax.axhline(THRESHOLD, color="grey", ls=":", label=f"threshold {THRESHOLD:g}")
         ax.set_yscale("log")
-        ax.set_xlabel(f"n ({self.count} collisions)")
-        ax.legend(fontsize=8)
+        which = "bottom-wall collisions" if self.count == "bottom" else "collisions with either wall"
+        ax.set_xlabel(f"lag n ({which})")
+        ax.set_ylabel("|P(n) − ½| (probability)")
+        ax.set_title(f"heads/tails correlation, H = {self.table.H:g} κ")
+        # below the axes: with a long decay time the points fill the whole top of the plot
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, fontsize=8, frameon=False)
+        if own:
+            ax.figure.tight_layout()
         return ax
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"Correlation(H={self.table.H:g}, count={self.count}, τ = {self.tau:.4g} ± {self.tau_stderr:.2g}, "
-                    f"n_needed={self.n_needed}, P(1)={self.P[1] if self.P.size > 1 else float('nan'):.4f}, "
-                    f"{self.bounces} bounces in {self.orbits} orbits)")
-        except Exception:  # a repr must never raise
-            return "Correlation(<unprintable>)"
+        return (f"Correlation(H={self.table.H:g}, count={self.count}, τ = {self.tau:.4g} ± {self.tau_stderr:.2g}, "
+                f"n_needed={self.n_needed}, P(1)={self.P[1] if self.P.size > 1 else float('nan'):.4f}, "
+                f"{self.bounces} bounces in {self.orbits} orbits)")
 
 
 def _orbit_agreement(traj, need, max_lag, count, burn):
@@ -243,7 +262,7 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     burn : int
         Collisions dropped at the start of each orbit.
     workers : int, optional
-        Threads for :func:`~forward.billiard.ensemble`.
+        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
     progress : callable, optional
         Called with the number of counted collisions finished so far.
 
@@ -254,10 +273,8 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     bounces = _positive_int("bounces", bounces)
     max_lag = _positive_int("max_lag", max_lag)
     orbits = _positive_int("orbits", orbits)
-    if count not in COUNTS:
-        raise InvalidArgument(f"`count` must be one of {', '.join(COUNTS)}, got {count!r}")
-    if isinstance(burn, bool) or not isinstance(burn, (int, np.integer)) or burn < 0:
-        raise InvalidArgument(f"`burn` must be a non-negative integer, got {burn!r}")
+    check_choice("count", count, COUNTS)
+    burn = check_count("burn", burn, minimum=0)
     if orbits < 2:
         raise InvalidArgument(f"`orbits` must be at least 2 (the error comes from the spread between orbits), got {orbits}")
     per_orbit = bounces // orbits
@@ -354,12 +371,16 @@ class TauLaw:
     power_stderr: float
     D: float
 
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (non-finite numbers become None)."""
+        return {name: (float(value) if math.isfinite(value) else None)
+                for name, value in (("c", self.c), ("c_stderr", self.c_stderr), ("chi2_dof", self.chi2_dof),
+                                    ("power", self.power), ("power_stderr", self.power_stderr), ("D", self.D))}
+
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"TauLaw(τ = {self.c:.4g}/(H − {self.D:g}) ± {self.c_stderr:.2g}, χ²/dof {self.chi2_dof:.3g}; "
-                    f"free power p = {self.power:.3f} ± {self.power_stderr:.3f})")
-        except Exception:  # a repr must never raise
-            return "TauLaw(<unprintable>)"
+        return (f"TauLaw(τ = {self.c:.4g}/(H − {self.D:g}) ± {self.c_stderr:.2g}, χ²/dof {self.chi2_dof:.3g}; "
+                f"free power p = {self.power:.3f} ± {self.power_stderr:.3f})")
 
 
 def fit_tau_law(H, tau, tau_stderr, D) -> TauLaw:

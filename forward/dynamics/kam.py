@@ -2,7 +2,7 @@
 
 Criterion (stated, adjustable): at a given (ε, H), ``orbits`` Liouville-random
 orbits are classified by their largest Lyapunov exponent
-(:func:`forward.lyapunov.chaotic_fraction`, threshold ``3·log(N)/N`` per
+(:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`, threshold ``3·log(N)/N`` per
 collision over N collisions).  The motion counts as *fully chaotic* when the
 regular fraction is below ``regular_max`` (default 1 %; with the default 100
 orbits that means no regular orbit at all).  ε_c(H) is found by bisection in
@@ -28,10 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .billiard import Billiard
+from ..display import safe_repr
 from ..errors import InvalidArgument
-from .lyapunov import chaotic_fraction
+from ..validation import check_count
 from ..wall import Wall
+from .billiard import Billiard
+from .lyapunov import chaotic_fraction
 
 __all__ = ["KamBoundary", "kam_boundary", "paper_boundary", "ELLIPSE_WALL"]
 
@@ -95,27 +97,48 @@ class KamBoundary:
         return "\n".join(lines)
 
     def plot(self, ax=None):
-        """ε_c(H) with its bracket against the paper's curve; returns the Axes."""
-        import matplotlib.pyplot as plt
+        """ε_c(H) with its bracket against the paper's curve ``1/H + 17/H²``.
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new figure (Agg backend, no display needed).
+
+        Returns
+        -------
+        matplotlib Axes
+            Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
+        """
+        own = ax is None
+        if own:
+            from ..formats.figure import new_figure
+
+            _, ax = new_figure(figsize=(6, 4))
         grid = np.linspace(min(self.H.min(), 1.5), self.H.max() * 1.1, 200)
         ax.plot(grid, paper_boundary(grid), "k-", label=r"paper: $1/H + 17/H^2$")
         ax.errorbar(self.H, self.eps, yerr=[self.eps - self.eps_low, self.eps_high - self.eps], fmt="o",
                     label=f"measured (regular < {self.regular_max:.0%}, {self.orbits} orbits)")
         ax.set_yscale("log")
-        ax.set_xlabel("H (units of κ)")
-        ax.set_ylabel(r"$\varepsilon_c$")
-        ax.legend(fontsize=8)
+        from matplotlib.ticker import ScalarFormatter
+
+        # plain numbers (0.5, 2, 40), not 4 × 10⁰; minor ticks labelled only when no decade is in view
+        ax.yaxis.set_major_formatter(ScalarFormatter())
+        low, high = ax.get_ylim()
+        if high < 10 * low:
+            ax.yaxis.set_minor_formatter(ScalarFormatter())
+        ax.set_xlabel("wall distance H (κ)")
+        ax.set_ylabel("critical ellipse parameter ε_c (dimensionless)")
+        ax.set_title("KAM boundary of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))")
+        # below the axes: the measured points may lie anywhere around the paper's curve
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, fontsize=8, frameon=False)
+        if own:
+            ax.figure.tight_layout()
         return ax
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            pairs = ", ".join(f"H={h:g}: {e:.3g}" for h, e in zip(self.H, self.eps))
-            return f"KamBoundary({pairs}; criterion regular < {self.regular_max:g}, {self.orbits} orbits)"
-        except Exception:  # a repr must never raise
-            return "KamBoundary(<unprintable>)"
+        pairs = ", ".join(f"H={h:g}: {e:.3g}" for h, e in zip(self.H, self.eps))
+        return f"KamBoundary({pairs}; criterion regular < {self.regular_max:g}, {self.orbits} orbits)"
 
 
 def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 100, collisions: int = 1000,
@@ -148,8 +171,7 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
         raise InvalidArgument(f"`bracket` must be two numbers 0 < low < high, got {bracket!r}")
     for H in H_values:  # the narrowest table is the one at the smallest ε: refuse before any work
         Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": lo0}), float(H))
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
-        raise InvalidArgument(f"`steps` must be a non-negative integer, got {steps!r}")
+    steps = check_count("steps", steps, minimum=0)
     if not (0 < regular_max < 1):
         raise InvalidArgument(f"`regular_max` must be in (0, 1), got {regular_max!r}")
 

@@ -3,7 +3,7 @@
 Method (Benettin's two-orbit renormalisation, using only the public kernel API).
 A reference orbit and a companion started a distance ``d0`` away in the 4-d
 state space (θ, η, v_θ, v_η) are followed with
-:func:`~forward.billiard.ensemble`.  Every ``every`` collisions of the
+:func:`~coinwall.forward.dynamics.billiard.ensemble`.  Every ``every`` collisions of the
 reference orbit the two are compared *at the same time* t*, chosen in the
 middle of the reference's next free flight (so neither orbit is at a wall and
 the states are smooth functions of the start; the companion's state at t* is
@@ -35,8 +35,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .billiard import Billiard, ensemble, random_states
+from ..display import safe_repr
 from ..errors import InvalidArgument
+from ..validation import check_count
+from .billiard import Billiard, ensemble, random_states
 
 __all__ = ["LyapunovResult", "lyapunov", "lyapunov_many", "ChaoticFraction", "chaotic_fraction",
            "default_threshold"]
@@ -47,10 +49,9 @@ def default_threshold(collisions: int) -> float:
     return 3.0 * math.log(collisions) / collisions
 
 
-def _positive_int(name, value):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
-        raise InvalidArgument(f"`{name}` must be a positive integer, got {value!r}")
-    return int(value)
+def _numbers(values) -> list:
+    """Floats for JSON: nan and ±inf become None."""
+    return [float(v) if math.isfinite(v) else None for v in np.asarray(values, dtype=float).ravel()]
 
 
 @dataclass(frozen=True, repr=False)
@@ -85,16 +86,21 @@ class LyapunovResult:
     d0: float
     notes: tuple = ()
 
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (lists of floats; non-finite numbers become None)."""
+        return {"per_collision": _numbers(self.per_collision), "per_time": _numbers(self.per_time),
+                "collisions": [int(n) for n in self.collisions], "time": _numbers(self.time),
+                "starts": np.asarray(self.starts, dtype=float).tolist(), "every": self.every, "d0": self.d0,
+                "notes": list(self.notes)}
+
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            m = self.per_collision.size
-            if m == 1:
-                return (f"LyapunovResult(λ = {self.per_collision[0]:.4g}/collision = {self.per_time[0]:.4g}/time, "
-                        f"{int(self.collisions[0])} collisions)")
-            return (f"LyapunovResult({m} orbits, λ/collision median {np.nanmedian(self.per_collision):.4g}, "
-                    f"range {np.nanmin(self.per_collision):.4g}..{np.nanmax(self.per_collision):.4g})")
-        except Exception:  # a repr must never raise
-            return "LyapunovResult(<unprintable>)"
+        m = self.per_collision.size
+        if m == 1:
+            return (f"LyapunovResult(λ = {self.per_collision[0]:.4g}/collision = {self.per_time[0]:.4g}/time, "
+                    f"{int(self.collisions[0])} collisions)")
+        return (f"LyapunovResult({m} orbits, λ/collision median {np.nanmedian(self.per_collision):.4g}, "
+                f"range {np.nanmin(self.per_collision):.4g}..{np.nanmax(self.per_collision):.4g})")
 
 
 def _state_at(traj_time, theta, eta, vt, ve, start, t):
@@ -138,7 +144,7 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     seed : int
         Seed of the random initial separation direction.
     workers : int, optional
-        Threads for :func:`~forward.billiard.ensemble`.
+        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
     transient : int
         Renormalisation intervals run first and not counted, while the
         random initial separation turns into the most unstable direction
@@ -150,10 +156,9 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     LyapunovResult
         ``collisions`` and ``time`` count only the intervals after the transient.
     """
-    if isinstance(transient, bool) or not isinstance(transient, (int, np.integer)) or transient < 0:
-        raise InvalidArgument(f"`transient` must be a non-negative integer, got {transient!r}")
-    collisions = _positive_int("collisions", collisions)
-    every = _positive_int("every", every)
+    transient = check_count("transient", transient, minimum=0)
+    collisions = check_count("collisions", collisions)
+    every = check_count("every", every)
     if not (isinstance(d0, (int, float)) and math.isfinite(d0) and 0 < d0 < 1e-3):
         raise InvalidArgument(f"`d0` must be a number in (0, 1e-3), got {d0!r}")
     ref = np.array(states, dtype=float).reshape(-1, 4)
@@ -251,12 +256,16 @@ class ChaoticFraction:
         """``regular / orbits`` (computed from the counts: ``1 − fraction`` rounds, e.g. 1 − 399/400 < 1/400)."""
         return self.regular / self.orbits if self.orbits else float("nan")
 
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (the per-orbit exponents under ``"exponents"``)."""
+        return {"fraction": self.fraction, "stderr": self.stderr, "regular": self.regular, "orbits": self.orbits,
+                "regular_fraction": _numbers([self.regular_fraction])[0], "threshold": self.threshold,
+                "collisions": self.collisions, "exponents": self.exponents.to_dict()}
+
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"ChaoticFraction({self.fraction:.3f} ± {self.stderr:.3f}: {self.regular} of {self.orbits} orbits "
-                    f"regular, λ threshold {self.threshold:.3g}/collision over {self.collisions} collisions)")
-        except Exception:  # a repr must never raise
-            return "ChaoticFraction(<unprintable>)"
+        return (f"ChaoticFraction({self.fraction:.3f} ± {self.stderr:.3f}: {self.regular} of {self.orbits} orbits "
+                f"regular, λ threshold {self.threshold:.3g}/collision over {self.collisions} collisions)")
 
 
 def chaotic_fraction(table: Billiard, orbits: int = 100, collisions: int = 2000, threshold=None, every: int = 10,
@@ -267,7 +276,7 @@ def chaotic_fraction(table: Billiard, orbits: int = 100, collisions: int = 2000,
     ----------
     table : Billiard
     orbits : int
-        Number of orbits sampled with :func:`~forward.billiard.random_states`.
+        Number of orbits sampled with :func:`~coinwall.forward.dynamics.billiard.random_states`.
     collisions : int
         Collisions per orbit.
     threshold : float, optional
@@ -280,8 +289,8 @@ def chaotic_fraction(table: Billiard, orbits: int = 100, collisions: int = 2000,
     -------
     ChaoticFraction
     """
-    orbits = _positive_int("orbits", orbits)
-    collisions = _positive_int("collisions", collisions)
+    orbits = check_count("orbits", orbits)
+    collisions = check_count("collisions", collisions)
     if threshold is None:
         threshold = default_threshold(collisions)
     elif not (isinstance(threshold, (int, float)) and math.isfinite(threshold) and threshold > 0):

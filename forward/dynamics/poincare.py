@@ -27,12 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .billiard import Billiard, ensemble, random_states
+from ..angles import TWO_PI
+from ..display import safe_repr
 from ..errors import InvalidArgument
+from ..validation import check_count
+from .billiard import Billiard, ensemble, random_states
 
 __all__ = ["PoincareSection", "poincare_section", "incidence_angle"]
 
-TWO_PI = 2.0 * math.pi
 _CHUNK_COLLISIONS = 2_000_000   # collisions (41 bytes each) held in memory at once
 
 
@@ -109,15 +111,40 @@ class PoincareSection:
                 "theta": self.theta.tolist(), "phi": self.phi.tolist(), "orbit": self.orbit.tolist(),
                 "starts": self.starts.tolist(), "notes": list(self.notes)}
 
-    def plot(self, ax=None, markersize=0.6, title=None):
-        """Scatter φ_c/π against θ_c/π, one colour per orbit; returns the matplotlib Axes.
+    def to_csv(self) -> str:
+        """The points as CSV text: header ``theta_c,phi_c,orbit``, angles in radians to full precision."""
+        import io
 
-        ``markersize`` is the marker area in points² (as ``scatter``'s ``s``).
+        text = io.StringIO()
+        text.write("theta_c,phi_c,orbit\n")
+        np.savetxt(text, np.column_stack([self.theta, self.phi, self.orbit]), delimiter=",",
+                   fmt=["%.17g", "%.17g", "%d"])
+        return text.getvalue()
+
+    def plot(self, ax=None, markersize=0.6, title=None):
+        """Scatter φ_c against θ_c (radians, ticks at multiples of π), one colour per orbit.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new figure (Agg backend, no display needed).
+        markersize : float
+            Marker area in points² (as ``scatter``'s ``s``).
+        title : str, optional
+            Default: the wall distance and the number of orbits.
+
+        Returns
+        -------
+        matplotlib Axes
+            Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
         import matplotlib.pyplot as plt
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 5))
+        own = ax is None
+        if own:
+            from ..formats.figure import new_figure
+
+            _, ax = new_figure(figsize=(7, 5))
         cmap = plt.get_cmap("tab20" if self.orbits <= 20 else "turbo")
         # one marker-only line per orbit rather than one scatter with a colour per point: Agg stamps a
         # line's identical markers from one cached raster, ~10x faster for millions of points, and no
@@ -128,21 +155,23 @@ class PoincareSection:
         for first, last in runs:
             k = int(self.orbit[first])
             colour = cmap(k % 20 if self.orbits <= 20 else k / max(self.orbits - 1, 1))
-            ax.plot(self.theta[first:last] / math.pi, self.phi[first:last] / math.pi, linestyle="none", marker="o",
+            ax.plot(self.theta[first:last], self.phi[first:last], linestyle="none", marker="o",
                     markersize=size, markeredgewidth=0, color=colour, rasterized=True)
-        ax.set_xlim(0, 2)
-        ax.set_ylim(-0.5, 0.5)
-        ax.set_xlabel(r"contact angle $\theta_c/\pi$")
-        ax.set_ylabel(r"angle of incidence $\phi_c/\pi$")
-        ax.set_title(title or f"bottom-wall Poincaré section, H = {self.table.H:g}, {self.orbits} orbits")
+        ax.set_xlim(0, TWO_PI)
+        ax.set_ylim(-0.5 * math.pi, 0.5 * math.pi)
+        ax.set_xticks([k * 0.5 * math.pi for k in range(5)], ["0", "π/2", "π", "3π/2", "2π"])
+        ax.set_yticks([k * 0.25 * math.pi for k in range(-2, 3)], ["−π/2", "−π/4", "0", "π/4", "π/2"])
+        ax.set_xlabel("contact angle θ_c (rad)")
+        ax.set_ylabel("angle of incidence φ_c (rad)")
+        ax.set_title(title or f"bottom-wall Poincaré section, H = {self.table.H:g} κ, {self.orbits} orbits")
+        if own:
+            ax.figure.tight_layout()
         return ax
 
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            return (f"PoincareSection({self.theta.size} points, {self.orbits} orbits × {self.collisions} collisions, "
-                    f"H={self.table.H:g}{', ' + str(len(self.notes)) + ' stopped early' if self.notes else ''})")
-        except Exception:  # a repr must never raise
-            return "PoincareSection(<unprintable>)"
+        return (f"PoincareSection({self.theta.size} points, {self.orbits} orbits × {self.collisions} collisions, "
+                f"H={self.table.H:g}{', ' + str(len(self.notes)) + ' stopped early' if self.notes else ''})")
 
 
 def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, seed=None, states=None,
@@ -161,11 +190,11 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     collisions : int
         Collisions (either wall) per orbit; about half are bottom collisions.
     seed : int, optional
-        Seed of :func:`~forward.billiard.random_states` (Liouville-uniform starts).
+        Seed of :func:`~coinwall.forward.dynamics.billiard.random_states` (Liouville-uniform starts).
     states : array_like (k, 4), optional
         Explicit start states instead of random ones.
     workers : int, optional
-        Threads for :func:`~forward.billiard.ensemble`.
+        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
     progress : callable, optional
         Called with the number of orbits finished so far, after each group.
 
@@ -173,13 +202,9 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     -------
     PoincareSection
     """
-    if isinstance(collisions, bool) or not isinstance(collisions, (int, np.integer)) or collisions <= 0:
-        raise InvalidArgument(f"`collisions` must be a positive integer, got {collisions!r}")
-    collisions = int(collisions)
+    collisions = check_count("collisions", collisions)
     if states is None:
-        if isinstance(orbits, bool) or not isinstance(orbits, (int, np.integer)) or orbits <= 0:
-            raise InvalidArgument(f"`orbits` must be a positive integer, got {orbits!r}")
-        states = random_states(table, int(orbits), seed)
+        states = random_states(table, check_count("orbits", orbits), seed)
     starts = np.array(states, dtype=float).reshape(-1, 4)
     n = starts.shape[0]
     if n == 0:

@@ -1,4 +1,4 @@
-"""A :class:`~forward.wall.Wall` as plain Python source that numba can compile.
+"""A :class:`~coinwall.forward.wall.Wall` as plain Python source that numba can compile.
 
 casadi functions cannot be called from numba, so the billiard kernel needs the
 wall as ordinary code.  This module writes that code:
@@ -17,7 +17,7 @@ wall as ordinary code.  This module writes that code:
   the coefficients in ``c``.
 
 The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, db, d2b)``
-(the kernel's last evaluation before a contact needs b'', see :mod:`forward.billiard`);
+(the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics._kernel`);
 it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
 """

@@ -1,6 +1,15 @@
-"""File formats: one module per format, holding its reader and the constants its writer uses."""
+"""File formats: one module per format, holding its reader and the constants its writer uses.
 
-from .bodyfile import load_outline, outline_from_polar, wall_functions
+``svg``, ``dxf``, ``bodyjson`` (the body JSON of ``coinwall solve``) and ``points`` (CSV x,y) read body
+outlines; ``load`` turns what they read into an :class:`Outline` (``load_outline``,
+``outline_from_polar``); ``wallfile`` reads walls (``load_wall``, ``load_wall_file``); ``output``
+writes files all or nothing and ``figure`` renders figures as PNG, SVG or PDF.
+"""
+
+from ..support import wall_functions
+from .load import OUTLINE_FORMATS, load_outline, outline_from_polar
 from .output import check_paths, write_all
+from .wallfile import WALL_FORMATS, load_wall, load_wall_file
 
-__all__ = ["load_outline", "outline_from_polar", "wall_functions", "check_paths", "write_all"]
+__all__ = ["load_outline", "outline_from_polar", "wall_functions", "load_wall", "load_wall_file",
+           "OUTLINE_FORMATS", "WALL_FORMATS", "check_paths", "write_all"]

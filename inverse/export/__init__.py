@@ -1,28 +1,32 @@
 """Exporters of solved bodies, chosen by file extension.
 
-Every module in this package that defines ``EXTENSION`` and ``write(body, stream)``
-is an exporter: adding a format is adding one module.  An exporter may take a
-third argument ``options`` (:class:`ExportOptions`: physical scale, tolerance)
-and may return a report ``{name: achieved deviation, ..., "tolerance": t}``.  Files are
-written atomically: all outputs go to temporary files first and are renamed
-only when every one of them succeeded, so a failure leaves nothing behind.
+``EXPORTERS`` maps each extension to its module.  Every exporter module defines ``EXTENSION`` and
+``write(body, stream, options=None)``: it writes the bytes of the file to the binary ``stream``,
+following the :class:`ExportOptions` (physical scale, tolerance) where they apply, and may return a
+report ``{name: achieved deviation, ..., "tolerance": t}``.  Adding a format is adding one module
+and one line to ``EXPORTERS``.  Files are written atomically: all outputs go to temporary files
+first and are renamed only when every one of them succeeded, so a failure leaves nothing behind.
+The same body and options always give the same bytes (no dates or timings inside).
 """
 
 from __future__ import annotations
 
-import importlib
-import inspect
 import io
 import os
-import pkgutil
 from dataclasses import dataclass, field
 
+from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import OutputError
 from coinwall.forward.formats.output import write_all
 
+from . import csvfile, dxf, jsonfile, pdf, png, svg
 from .options import UNITS, ExportOptions
 
-__all__ = ["exporters", "check_outputs", "write_outputs", "export_body", "ExportOptions", "ExportResult", "UNITS"]
+__all__ = ["EXPORTERS", "exporters", "check_outputs", "write_outputs", "export_body", "ExportOptions",
+           "ExportResult", "UNITS"]
+
+#: extension -> exporter module
+EXPORTERS = {module.EXTENSION: module for module in (svg, dxf, jsonfile, csvfile, png, pdf)}
 
 # report entries that are not deviations
 _NOT_DEVIATIONS = {"tolerance", "units", "polyline_vertices", "diameter"}
@@ -56,28 +60,25 @@ class ExportResult:
                 out[path] = max(values)
         return out
 
+    def to_dict(self) -> dict:
+        """JSON-ready: the paths, the reports and the options."""
+        return {"paths": list(self.paths), "reports": {p: dict(r) for p, r in self.reports.items()},
+                "options": self.options.to_dict()}
+
+    @safe_repr
     def __repr__(self) -> str:
-        try:
-            devs = ", ".join(f"{os.path.basename(p)}: {d:.2g}" for p, d in self.deviations().items())
-            return f"ExportResult({len(self.paths)} files, units {self.options.unit_name}, deviations {{{devs}}})"
-        except Exception:  # a repr must never raise
-            return "ExportResult(<unprintable>)"
+        devs = ", ".join(f"{os.path.basename(p)}: {d:.2g}" for p, d in self.deviations().items())
+        return f"ExportResult({len(self.paths)} files, units {self.options.unit_name}, deviations {{{devs}}})"
 
 
 def exporters() -> dict:
-    """Map of extension (``".svg"``) to exporter module, discovered from this package."""
-    found = {}
-    for info in pkgutil.iter_modules(__path__):
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        ext = getattr(module, "EXTENSION", None)
-        if ext and callable(getattr(module, "write", None)):
-            found[ext] = module
-    return found
+    """Map of extension (``".svg"``) to exporter module (a copy of ``EXPORTERS``)."""
+    return dict(EXPORTERS)
 
 
 def check_outputs(paths) -> list:
     """Validate output paths before any work: known extension, existing writable folder."""
-    known = exporters()
+    known = EXPORTERS
     checked = []
     for path in paths:
         ext = os.path.splitext(path)[1].lower()
@@ -93,13 +94,6 @@ def check_outputs(paths) -> list:
             raise OutputError(f"output {path!r} is a folder")
         checked.append((path, known[ext]))
     return checked
-
-
-def _takes_options(module) -> bool:
-    try:
-        return len(inspect.signature(module.write).parameters) >= 3
-    except (TypeError, ValueError):
-        return False
 
 
 def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False) -> list:
@@ -141,12 +135,12 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
     try:
         for path, module in checked:
             stream = io.BytesIO()
-            report = module.write(body, stream, options) if _takes_options(module) else module.write(body, stream)
+            report = module.write(body, stream, options)
             reports[path] = dict(report) if isinstance(report, dict) else {}
             achieved = [v for k, v in reports[path].items() if k not in _NOT_DEVIATIONS]
             limit = reports[path].get("tolerance")
             if achieved and limit is not None and max(achieved) > limit:
-                raise OutputError(f"output {path!r}: deviation {max(achieved):.3g} exceeds --tolerance "
+                raise OutputError(f"output {path!r}: deviation {max(achieved):.3g} exceeds `tolerance` "
                                   f"{limit:.3g} {options.unit_name}; give a larger tolerance")
             files[path] = stream.getvalue()
     except OSError as exc:

@@ -16,14 +16,24 @@ Layers
 ``$INSUNITS`` is 4/5/1 for mm/cm/in with a physical scale, 0 (unitless) in
 units of κ.  The scale and unit are also kept in ezdxf's metadata
 (``coinwall_kappa``, ``coinwall_units``) so that ``coinwall wall`` reads the
-drawing back in units of κ.
+drawing back in units of κ.  The layer and metadata names live with the
+reader, in :mod:`coinwall.forward.formats.dxf`.
+
+The same body gives the same bytes: ezdxf would stamp the file with the time
+of creation and of saving (``$TDCREATE``, ``$TDUPDATE``, its metadata marker)
+and random GUIDs; they are written with ezdxf's fixed values instead
+(``write_fixed_meta_data_for_testing``: 2000-01-01, null GUIDs).  Handles are
+assigned in order of creation, hence fixed too.
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 
 import numpy as np
+
+from coinwall.forward.formats.dxf import B0_KEY, KAPPA_KEY, LAYERS, UNITS_KEY
 
 from .flatten import flatten_outline, largest_diameter
 from .options import UNITS, ExportOptions
@@ -31,7 +41,19 @@ from .options import UNITS, ExportOptions
 __all__ = ["EXTENSION", "write", "build_document", "LAYERS"]
 
 EXTENSION = ".dxf"
-LAYERS = {"spline": "OUTLINE", "polyline": "OUTLINE_POLYLINE", "com": "CENTRE_OF_MASS", "notes": "NOTES"}
+
+
+@contextlib.contextmanager
+def _fixed_metadata():
+    """ezdxf writes fixed dates, GUIDs and markers inside this block (a global option, restored after)."""
+    import ezdxf
+
+    before = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = before
 
 
 def _bspline(outline, scale):
@@ -64,10 +86,11 @@ def build_document(body, options: ExportOptions | None = None):
     if tolerance < 1e-12 * diameter:  # below double-precision rounding of the coordinates
         from coinwall.forward.errors import OutputError
 
-        raise OutputError(f"--tolerance {tolerance:.3g} {options.unit_name} is below the rounding of the "
+        raise OutputError(f"`tolerance` {tolerance:.3g} {options.unit_name} is below the rounding of the "
                           f"coordinates ({1e-12 * diameter:.1g}); give a larger tolerance")
 
-    doc = ezdxf.new("R2010", setup=False)
+    with _fixed_metadata():  # the creation date and marker are set here
+        doc = ezdxf.new("R2010", setup=False)
     doc.header["$INSUNITS"] = UNITS.get(options.units, 0)
     doc.header["$MEASUREMENT"] = 0 if options.units == "in" else 1
     for name, color in zip(LAYERS.values(), (5, 1, 3, 7)):
@@ -95,9 +118,9 @@ def build_document(body, options: ExportOptions | None = None):
     msp.add_text(note, height=0.02 * diameter, dxfattribs={"layer": LAYERS["notes"]}).set_placement(
         (-0.5 * diameter, -0.65 * diameter))
     meta = doc.ezdxf_metadata()
-    meta["coinwall_kappa"] = repr(scale)
-    meta["coinwall_units"] = options.unit_name
-    meta["coinwall_b0"] = repr(float(body.b0))
+    meta[KAPPA_KEY] = repr(scale)
+    meta[UNITS_KEY] = options.unit_name
+    meta[B0_KEY] = repr(float(body.b0))
     report = {"spline": spline_dev, "polyline": poly_dev, "tolerance": tolerance,
               "polyline_vertices": int(len(points)), "units": options.unit_name}
     return doc, report
@@ -107,6 +130,7 @@ def write(body, stream, options: ExportOptions | None = None):
     """Write the DXF to a binary ``stream``; returns the deviation report."""
     doc, report = build_document(body, options)
     text = io.StringIO()
-    doc.write(text)
+    with _fixed_metadata():  # the saving date, the GUIDs and the "written by" marker are set here
+        doc.write(text)
     stream.write(text.getvalue().encode(doc.output_encoding))
     return report

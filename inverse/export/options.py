@@ -8,10 +8,10 @@ numbers stay in units of κ and the file says so.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.validation import check_choice, check_positive
 
 __all__ = ["ExportOptions", "UNITS", "DEFAULT_RELATIVE_TOLERANCE"]
 
@@ -46,19 +46,15 @@ class ExportOptions:
 
     def __post_init__(self):
         if self.kappa is not None:
-            if not isinstance(self.kappa, (int, float)) or not math.isfinite(self.kappa) or self.kappa <= 0:
-                raise InvalidArgument(f"--kappa must be a positive finite length, got {self.kappa!r}")
+            check_positive("kappa", self.kappa)
             if self.units is None:
-                raise InvalidArgument(f"--kappa {self.kappa:g} needs --units; choose one of {', '.join(UNITS)}")
+                raise InvalidArgument(f"`kappa` {self.kappa:g} needs `units`; choose one of {', '.join(UNITS)}")
         if self.units is not None:
-            if self.units not in UNITS:
-                raise InvalidArgument(f"--units must be one of {', '.join(UNITS)}, got {self.units!r}")
+            check_choice("units", self.units, tuple(UNITS))
             if self.kappa is None:
-                raise InvalidArgument(f"--units {self.units} needs --kappa (the radius of gyration in {self.units})")
+                raise InvalidArgument(f"`units` {self.units} needs `kappa` (the radius of gyration in {self.units})")
         if self.tolerance is not None:
-            if not isinstance(self.tolerance, (int, float)) or not math.isfinite(self.tolerance) \
-                    or self.tolerance <= 0:
-                raise InvalidArgument(f"--tolerance must be a positive finite length, got {self.tolerance!r}")
+            check_positive("tolerance", self.tolerance)
 
     @property
     def scale(self) -> float:
@@ -75,3 +71,7 @@ class ExportOptions:
         if self.tolerance is not None:
             return float(self.tolerance)
         return DEFAULT_RELATIVE_TOLERANCE * max(float(diameter), 1e-300)
+
+    def to_dict(self) -> dict:
+        """The options as a JSON-ready dict."""
+        return asdict(self)

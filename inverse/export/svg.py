@@ -7,10 +7,12 @@ deviation of the curve; that bound is reported.  Coordinates are in output
 units (κ, or the physical unit of the scale); with a scale the ``width`` and
 ``height`` attributes carry the unit (``width="53.2mm"``), so the drawing
 prints at real size.  y is flipped so the picture has the usual mathematical
-orientation.  The centre of mass is marked (``id="centre-of-mass"``); marks
-carry ``class="coinwall-annotation"`` so that ``coinwall wall`` ignores them
-when it reads the drawing back.  Optionally the largest diameter is drawn
-with its length.
+orientation.  The centre of mass is marked (a circle with id ``CENTRE_OF_MASS_ID``); marks
+carry the class ``ANNOTATION_CLASS`` and the root element records the scale
+(``KAPPA_ATTRIBUTE``, ``UNITS_ATTRIBUTE``), so that ``coinwall wall``
+(:mod:`coinwall.forward.formats.svg`, where these names live) skips the marks
+and reads the drawing back in units of κ.  Optionally the largest diameter is
+drawn with its length.
 """
 
 from __future__ import annotations
@@ -18,6 +20,9 @@ from __future__ import annotations
 from xml.sax.saxutils import escape
 
 import numpy as np
+
+from coinwall.forward.formats.svg import (ANNOTATION_CLASS, CENTRE_OF_MASS_ID, KAPPA_ATTRIBUTE, OUTLINE_ID,
+                                          SVG_NAMESPACE, UNITS_ATTRIBUTE)
 
 from .flatten import largest_diameter
 from .options import ExportOptions
@@ -68,21 +73,21 @@ def svg_document(body, options: ExportOptions | None = None, size_px: int = 400)
         unit_text = "coordinates in units of kappa (radius of gyration), no physical scale"
     title = f"coinwall body: b0={body.b0:g}, regime {body.regime}; {unit_text}"
     lines = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" {size} '
+        f'<svg xmlns="{SVG_NAMESPACE}" {size} '
         f'viewBox="{_fmt(-half)} {_fmt(-half)} {_fmt(2 * half)} {_fmt(2 * half)}" '
-        f'data-coinwall-kappa="{_fmt(scale)}" data-coinwall-units="{options.unit_name}">',
+        f'{KAPPA_ATTRIBUTE}="{_fmt(scale)}" {UNITS_ATTRIBUTE}="{options.unit_name}">',
         f"<title>{escape(title)}</title>",
-        f'<path id="outline" d="{path}" fill="#dde6f0" stroke="#123" stroke-width="{_fmt(stroke)}"/>',
-        f'<circle id="centre-of-mass" class="coinwall-annotation" cx="0" cy="0" r="{_fmt(3 * stroke)}" '
+        f'<path id="{OUTLINE_ID}" d="{path}" fill="#dde6f0" stroke="#123" stroke-width="{_fmt(stroke)}"/>',
+        f'<circle id="{CENTRE_OF_MASS_ID}" class="{ANNOTATION_CLASS}" cx="0" cy="0" r="{_fmt(3 * stroke)}" '
         f'fill="none" stroke="#c00" stroke-width="{_fmt(stroke)}"><title>centre of mass</title></circle>',
-        f'<path class="coinwall-annotation" d="M {_fmt(-5 * stroke)},0 H {_fmt(5 * stroke)} '
+        f'<path class="{ANNOTATION_CLASS}" d="M {_fmt(-5 * stroke)},0 H {_fmt(5 * stroke)} '
         f'M 0,{_fmt(-5 * stroke)} V {_fmt(5 * stroke)}" stroke="#c00" stroke-width="{_fmt(stroke)}"/>',
     ]
     if options.dimension:
         a, b = scale * end_a, scale * end_b
         mid = (a + b) / 2
         label = f"D = {diameter:.4g} {options.units or 'kappa'}"
-        lines.append(f'<g class="coinwall-annotation" stroke="#555" stroke-width="{_fmt(stroke)}">'
+        lines.append(f'<g class="{ANNOTATION_CLASS}" stroke="#555" stroke-width="{_fmt(stroke)}">'
                      f'<line x1="{_fmt(a[0])}" y1="{_fmt(-a[1])}" x2="{_fmt(b[0])}" y2="{_fmt(-b[1])}" '
                      f'stroke-dasharray="{_fmt(4 * stroke)}"/>'
                      f'<text x="{_fmt(mid[0])}" y="{_fmt(-mid[1] - 4 * stroke)}" font-size="{_fmt(12 * stroke)}" '

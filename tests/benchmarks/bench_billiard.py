@@ -20,7 +20,9 @@ import time
 import numpy as np
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, _compiled, _sample_bounds, random_states, simulate
+from coinwall.forward.dynamics.billiard import Billiard, random_states, simulate
+from coinwall.forward.dynamics.kernel import compiled as _compiled
+from coinwall.forward.dynamics.reference import sample_bounds as _sample_bounds
 from coinwall.forward.dynamics.wallcode import load_module, wall_source
 
 BASELINE = '''
@@ -116,7 +118,7 @@ def count_work(table, collisions=20_000, seed=1):
     with counters added at fixed lines, so the counts are those of the compiled kernel's
     algorithm (not its timing).
     """
-    from coinwall.forward.dynamics.billiard import KERNEL_SOURCE
+    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE
 
     source, constants = wall_source(table.wall)
     counts = {"cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}

@@ -1,0 +1,63 @@
+"""``coinwall critical``: the exact critical offset ``b_c = −min_θ (b + b'')`` of a wall."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .common import add_command, format_angles, wall_arguments
+from .solve import OFFSET_TOLERANCE
+
+__all__ = ["register"]
+
+_DESCRIPTION = """\
+The exact critical offset b_c = -min over θ of (b + b''), and the angles where the minimum is
+attained (where b + b'' is minimal on whole arcs, as for the stick, those intervals).  b0 + b + b''
+is the radius of curvature of the body with wall b0 + b: below b_c no convex body has that wall,
+at b_c the curvature is infinite at those angles.  b_c = inf means a concave kink of the wall (b'
+jumps down), which no offset repairs.  The minimum is sought over all angles, not only at the
+extrema of b where the paper's Appendix estimated it."""
+
+_EXAMPLE = """\
+coinwall critical "0.2*cos(2*t) + 0.06*sin(3*t)"
+coinwall critical "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=1 --json"""
+
+
+def register(subparsers):
+    """Add the ``critical`` subcommand."""
+    parser = add_command(subparsers, "critical", help="exact critical offset b_c = -min(b + b'')",
+                         description=_DESCRIPTION, example=_EXAMPLE)
+    wall_arguments(parser)
+    parser.add_argument("--json", action="store_true", help="print JSON (full precision)")
+    parser.set_defaults(run=run)
+
+
+def run(args):
+    """Compute the critical offset and print it."""
+    from coinwall.forward.display import format_number
+    from coinwall.inverse import critical_offset
+
+    from .common import load_wall
+
+    wall = load_wall(args.wall, args.param, degrees=args.degrees)
+    result = critical_offset(wall)
+    finite = math.isfinite(result.b_c)
+    if args.json:
+        print(json.dumps({"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
+                          "b_c_tolerance": result.b_c_tolerance,
+                          "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]},
+                         indent=1, allow_nan=False))
+        return 0
+    print(f"wall       {wall!r}")
+    if finite:
+        tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
+        line = f"b_c        {format_number(result.b_c, tolerance, 15)}"
+        if result.b_c_tolerance > OFFSET_TOLERANCE * max(1.0, wall.scale):
+            line += f" ± {result.b_c_tolerance:.2g} (what the samples' rounding and spacing allow)"
+        print(line)
+    else:
+        print("b_c        inf (a concave kink: no convex body for any b0)")
+    print(f"angles     {format_angles(result.angles)} (rad, where b + b'' is smallest)")
+    for lo, hi in result.intervals:
+        print(f"interval   b + b'' is minimal on [{format_number(lo)}, {format_number(hi)}]")
+    return 0

@@ -1,0 +1,219 @@
+"""``coinwall solve``: wall function + offset b0 -> body outline (the inverse problem)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .common import add_command, describe_written, format_angles, wall_arguments
+
+__all__ = ["register", "OFFSET_TOLERANCE", "AREA_TOLERANCE", "DEFICIT_TOLERANCE", "DIRECTION_TOLERANCE"]
+
+# The tolerances solve_body itself works to; a number below its own tolerance prints as 0.
+#: regime_of: b0 within 1e-9·max(1, wall scale) of b_c is the critical case
+OFFSET_TOLERANCE = 1e-9
+#: solve_body: an area below 1e-12·scale² (scale = max(1, largest R)) is a segment, zero area
+AREA_TOLERANCE = 1e-12
+#: solve_body: a corner deficit above 1e-10·(wall scale) is a deficit; below it the corner touches the wall
+DEFICIT_TOLERANCE = 1e-10
+#: solve_body: angular windows narrower than 1e-9 rad are not corners; directions are resolved to that
+DIRECTION_TOLERANCE = 1e-9
+
+_CASES = {"convex": "Case I: convex body",
+          "critical": "Case II: critical, convex, infinite curvature at the critical angles",
+          "corner": "Case III: no body has this wall; the largest body under it has corners"}
+
+_DESCRIPTION = """\
+Solve the inverse problem: the body whose support function about its centre of mass is the wall
+b0 + b(θ) (lengths in units of the radius of gyration κ).  Prints the exact critical offset
+b_c = -min(b + b'') and where it is attained, the regime (the paper's Appendix: Case I convex,
+Case II critical, Case III corners), the body's size, every corner (direction, distance R_c,
+half-width of the window of wall angles it governs, largest wall deficit) and the closed-loop check
+max |wall(body) - wall|, with the other solver's agreement.  Below b_c the body is the largest
+convex body whose wall never exceeds the prescribed one.  Without WALL: the paper's ellipse wall,
+eps = 1, at b0 = -0.5 (Fig. 4)."""
+
+_EXAMPLE = """\
+coinwall solve "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=1 --b0 -0.6 -o body.json -o figures/body.svg"""
+
+
+def register(subparsers):
+    """Add the ``solve`` subcommand."""
+    from coinwall.inverse.solve import DEFAULT_POINTS
+
+    parser = add_command(subparsers, "solve", help="wall function + offset b0 -> body outline (the inverse problem)",
+                         description=_DESCRIPTION, example=_EXAMPLE)
+    wall_arguments(parser, optional=True)
+    parser.add_argument("--b0", default=None, metavar="B0",
+                        help="offset added to the wall (default 0), or 'self-consistent': the offset at which the "
+                             "uniform body has κ = 1")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help="write the body; format by extension: .svg .dxf .json .csv .png .pdf (repeatable); "
+                             "missing folders are created")
+    parser.add_argument("--points", type=int, default=DEFAULT_POINTS,
+                        help=f"outline nodes (default {DEFAULT_POINTS})")
+    parser.add_argument("--method", choices=["envelope", "polar"], default="envelope",
+                        help="solver (default envelope; the other one is the cross-check)")
+    parser.add_argument("--no-cross-check", action="store_true", help="skip the cross-check with the other solver")
+    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+                        help="radius of gyration in --units: .svg/.dxf drawn at real size (default: units of kappa)")
+    parser.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
+    parser.add_argument("--tolerance", type=float, default=None, metavar="T",
+                        help="largest deviation of approximated outlines (DXF polyline) in output units")
+    parser.add_argument("--nearest", choices=["largest", "least-squares"], default="largest",
+                        help="below b_c: the largest body under the wall (default) or the convex body whose wall "
+                             "is nearest in least squares (coinwall fit's programme)")
+    parser.add_argument("--allow-unrealizable", action="store_true",
+                        help="write a real-size drawing (--kappa, --units) even when no mass distribution inside "
+                             "the body gives it κ = 1")
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+    parser.set_defaults(run=run)
+
+
+def _offset(text, wall):
+    """--b0 as given: a number, or 'self-consistent' (the offset of the uniform body with κ = 1)."""
+    from coinwall.forward.errors import InvalidArgument
+
+    if isinstance(text, (int, float)):
+        return float(text)
+    if text.strip().lower() == "self-consistent":
+        from coinwall.inverse import self_consistent_offset
+
+        found = self_consistent_offset(wall)
+        if found.b0 is None:
+            raise InvalidArgument("`b0`: no offset gives a uniform body with κ = 1 and its centroid at the origin "
+                                  f"(searched b0 in [{found.searched[0]:.6g}, {found.searched[1]:.6g}])")
+        return float(found.b0)
+    try:
+        return float(text)
+    except ValueError:
+        raise InvalidArgument(f"`b0` must be a number or 'self-consistent', got {text!r}") from None
+
+
+def _wall_and_offset(args):
+    """The wall text, its parameters and b0: as given, a case's own offset, or the built-in example."""
+    from .. import EXAMPLE
+
+    if args.wall is None:
+        params = [f"{k}={v}" for k, v in EXAMPLE["params"].items()]
+        return EXAMPLE["wall"], params, EXAMPLE["b0"] if args.b0 is None else args.b0
+    b0 = 0.0 if args.b0 is None else args.b0
+    if args.wall.startswith("case:") and args.b0 is None:
+        from ..catalog import get_case
+
+        b0 = get_case(args.wall).b0  # a case comes with the offset it is meant for
+    return args.wall, args.param, b0
+
+
+def run(args):
+    """Solve, write the outputs, print the summary."""
+    from coinwall.forward.display import format_number
+    from coinwall.forward.formats.output import check_paths, existing_files
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.inverse import realizability, solve_body
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
+
+    from .common import load_wall
+
+    wall_text, params, b0 = _wall_and_offset(args)
+    if args.wall is None and not args.json:
+        print("No wall given: solving the built-in example, the paper's ellipse wall with eps = 1 at the "
+              "critical offset b0 = -0.5 (paper Fig. 4).")
+    # bad input fails before any work; missing folders are created only once everything else is good
+    ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance)
+    wall = load_wall(wall_text, params, degrees=args.degrees)
+    check_paths(args.output, sorted(exporters()))
+    check_outputs(args.output)
+    b0 = _offset(b0, wall)
+    body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)
+    fit = None
+    if args.nearest == "least-squares" and body.regime == "corner":
+        body, fit = _nearest_least_squares(wall, body)
+    physical = realizability(body)
+    if args.kappa is not None and not physical.realizable and not args.allow_unrealizable and any(
+            path.lower().endswith((".svg", ".dxf", ".pdf")) for path in args.output):
+        raise InvalidArgument(
+            f"`kappa`: no mass distribution inside this body gives it κ = 1 (κ_max = {physical.kappa_max:.4g} κ), "
+            "so a part cut at this size would not have this wall; use --b0 self-consistent (the uniform body "
+            "with κ = 1) or --allow-unrealizable")
+    replaced = existing_files(args.output)
+    result = export_body(body, args.output, kappa=args.kappa, units=args.units,
+                         tolerance=args.tolerance) if args.output else None
+    status = 1 if body.warnings else 0
+    if args.json:
+        doc = body.to_dict()
+        doc.update({"kappa_uniform": physical.kappa_uniform,
+                    "kappa_max": physical.kappa_max if math.isfinite(physical.kappa_max) else None,
+                    "realizable": physical.realizable, "nearest": args.nearest})
+        if fit is not None:
+            doc.update({"rms_residual": fit.rms_residual, "max_residual": fit.max_residual})
+        print(json.dumps(doc, indent=1, allow_nan=False))
+        _print_warnings(body)
+        return status
+
+    scale = max(1.0, wall.scale)
+    if math.isinf(body.b_c):
+        b_c = "inf (a concave kink: no offset gives a convex body)"
+    else:
+        b_c = format_number(body.b_c, OFFSET_TOLERANCE * scale, 12)
+    size = max(1.0, float(body.R.max()))
+    print(f"wall       {body.wall!r}")
+    print(f"offset     b0 = {body.b0:g}")
+    print(f"critical   b_c = {b_c} at θ = {format_angles(body.critical_angles)}")
+    regime = f"{body.regime} ({_CASES[body.regime]})"
+    if body.b_c_tolerance > OFFSET_TOLERANCE * scale and body.regime == "critical":
+        regime += f"; critical within the sampling accuracy (b_c ± {body.b_c_tolerance:.2g})"
+    elif body.b_c_tolerance > OFFSET_TOLERANCE * scale:
+        regime += f"; b_c is known to ± {body.b_c_tolerance:.2g} from the samples"
+    print(f"regime     {regime}")
+    print(f"body       {body.x.size} nodes, area {format_number(body.area, AREA_TOLERANCE * size**2)}, "
+          f"perimeter {format_number(body.perimeter)}, R from {format_number(body.R.min())} to "
+          f"{format_number(body.R.max())} (units of κ)")
+    for c in body.corners:
+        print(f"corner     at direction {format_angles([c.direction], DIRECTION_TOLERANCE)} rad, "
+              f"distance {format_number(c.distance)}, window ±{format_number(c.half_width)} rad, "
+              f"largest wall deficit {format_number(c.max_deficit, DEFICIT_TOLERANCE * wall.scale, 3)}")
+    check = f"max |wall(body) − wall| = {body.max_wall_error:.2e} ({body.method})"
+    if body.cross_check is not None:
+        other = {"envelope": "polar solver", "polar": "envelope solver",
+                 "halfplanes": "scipy's HalfspaceIntersection"}.get(body.method, "other solver")
+        check += f"; {other} agrees to {body.cross_check:.1e}"
+    print(f"check      {check}")
+    print(f"outline    convex: {'yes' if body.convex else 'NO'}, simple (valid): {'yes' if body.valid else 'NO'}")
+    if fit is not None:
+        print(f"fit        nearest convex body in least squares: rms residual {fit.rms_residual:.3g}, "
+              f"max {fit.max_residual:.3g}")
+    kmax = f"{physical.kappa_max:.6g}" if math.isfinite(physical.kappa_max) else "— (centre of mass not inside)"
+    print(f"physical   κ of the uniform body {physical.kappa_uniform:.6g} κ, κ_max {kmax} κ: "
+          + ("some mass distribution gives this wall" if physical.realizable
+             else "NO mass distribution inside the body gives κ = 1"))
+    for note in body.notes:
+        print(f"note       {note}")
+    if result is not None:
+        for line in describe_written(result, replaced):
+            print(line)
+    _print_warnings(body)
+    return status
+
+
+def _print_warnings(body):
+    import sys
+
+    for warning in body.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+
+
+def _nearest_least_squares(wall, largest):
+    """Below b_c: the convex body whose wall is nearest in least squares (inverse.fit), from the wall's
+    samples (a sampled wall) or from 1,024 uniform samples of it."""
+    import numpy as np
+
+    from coinwall.inverse.fit import fit_convex
+
+    if wall.samples is not None:
+        theta, values = wall.samples
+    else:
+        theta = np.linspace(0.0, 2 * np.pi, 1024, endpoint=False)
+        values = wall(theta)
+    fit = fit_convex(theta, values, largest.b0)
+    return fit.body, fit

@@ -1,0 +1,134 @@
+"""``coinwall wall``: body outline (file, or ``--polar R(α)``) -> wall function b(θ) (the forward direction)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .common import add_command, parse_com, written_lines
+
+__all__ = ["register", "WALL_TOLERANCE"]
+
+#: the support function is exact to rounding: a value within 1e-12 of the largest |b| of zero is
+#: rounding and prints as 0 (a centre of mass on the boundary gives b = 0 there); the scale solve_body
+#: uses for the same purpose (collapsing nodes, zero area)
+WALL_TOLERANCE = 1e-12
+
+_TABLES = (".csv", ".json")
+
+_DESCRIPTION = """\
+The forward direction: the wall function b(θ) of a body, i.e. its support function about the
+centre of mass h(θ) = max over the body of x·(cos θ, sin θ), in units of the radius of gyration κ,
+at uniform angles θ in [0, 2π); with --H the upper wall t(θ) = H - b(θ + π) too.  The body is a
+drawing (.json from `coinwall solve`, .csv points, .svg, .dxf) or a polar curve R(α) about the
+centre of mass.  Non-convex outlines are replaced by their convex hull (concave parts never touch a
+wall).  The .csv output is a wall file that `coinwall solve` reads back."""
+
+_EXAMPLE = """\
+coinwall wall --polar "1/sqrt(1+eps*sin(t)**2)" --param eps=1 --H 3 -o ellipse_wall.csv -o ellipse_wall.svg"""
+
+
+def register(subparsers):
+    """Add the ``wall`` subcommand."""
+    parser = add_command(subparsers, "wall",
+                         help="body outline (.json/.csv/.svg/.dxf, or --polar R(α)) -> wall function b(θ)",
+                         description=_DESCRIPTION, example=_EXAMPLE)
+    parser.add_argument("body", nargs="?", default=None,
+                        help="body file: .json from solve, .csv x,y points, .svg (closed paths, polygons, rects, "
+                             "circles, ellipses) or .dxf (LWPOLYLINE POLYLINE SPLINE CIRCLE ELLIPSE ARC)")
+    parser.add_argument("--polar", default=None, metavar="EXPR",
+                        help="instead of a file: the outline R(α) about the centre of mass, an expression in t")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="parameter of the --polar expression (repeatable)")
+    parser.add_argument("--layer", default=None, help="DXF layer to read (default: all layers)")
+    parser.add_argument("--com", default=None, metavar="X,Y",
+                        help="centre of mass in drawing coordinates (default: as recorded by coinwall, else centroid)")
+    parser.add_argument("--kappa", type=float, default=None,
+                        help="radius of gyration in drawing units (default: as recorded by coinwall, else 1)")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help=".csv (theta,b[,t]: feeds 'coinwall solve'), .json, or a figure of the body and its "
+                             "wall: .png, .svg or .pdf (repeatable; missing folders are created)")
+    parser.add_argument("--H", type=float, default=None, help="wall distance: also write the upper wall t(θ)")
+    parser.add_argument("--samples", type=int, default=720, help="number of angles (default 720)")
+    parser.add_argument("--json", action="store_true", help="print JSON (full precision)")
+    parser.set_defaults(run=run)
+
+
+def _load(args):
+    """The outline named on the command line, its note and a description of where it came from."""
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.expression import parse_param
+    from coinwall.forward.formats import load_outline, outline_from_polar
+
+    if (args.body is None) == (args.polar is None):
+        raise InvalidArgument("give a body file or --polar EXPR (R(α) about the centre of mass), not both or neither")
+    com = parse_com(args.com)
+    if args.polar is not None:
+        if args.layer is not None or args.kappa is not None:
+            raise InvalidArgument("--layer and --kappa apply to body files, not to --polar")
+        outline, note = outline_from_polar(args.polar, dict(parse_param(p) for p in args.param), com=com)
+        return outline, note, f"R(α) = {args.polar}"
+    if args.param:
+        raise InvalidArgument("--param applies to --polar expressions, not to a body file")
+    outline, note = load_outline(args.body, layer=args.layer, com=com, kappa=args.kappa)
+    return outline, note, args.body
+
+
+def _table_bytes(path, theta, lower, upper, H, note):
+    """The samples as a wall file (.csv ``theta,b[,t]``) or a JSON document, full precision."""
+    import io
+
+    import numpy as np
+
+    if path.lower().endswith(".csv"):
+        text = io.StringIO()
+        text.write("theta,b" + (",t" if upper is not None else "") + "\n")
+        np.savetxt(text, np.column_stack([theta, lower] + ([upper] if upper is not None else [])),
+                   delimiter=",", fmt="%.17g")
+        return text.getvalue().encode()
+    doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
+    if upper is not None:
+        doc.update(H=H, t=upper.tolist())
+    return json.dumps(doc).encode()
+
+
+def run(args):
+    """Compute the wall of the body, write the outputs, print the summary."""
+    import numpy as np
+
+    from coinwall.forward.display import format_number
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes, new_figure
+    from coinwall.forward.formats.output import check_paths, write_all
+    from coinwall.forward.support import wall_functions
+    from coinwall.forward.validation import check_count, check_positive
+
+    H = None if args.H is None else check_positive("H", args.H)
+    samples = check_count("samples", args.samples, minimum=8)
+    if args.kappa is not None:
+        check_positive("kappa", args.kappa)
+    check_paths(args.output, _TABLES + FIGURE_FORMATS)
+    outline, note, source = _load(args)
+    theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
+    lower, upper = wall_functions(outline, theta, H)
+    files = {}
+    for path in args.output:
+        if path.lower().endswith(_TABLES):
+            files[path] = _table_bytes(path, theta, lower, upper, H, note)
+        else:
+            fig, (body_axes, wall_axes) = new_figure(1, 2, figsize=(10, 4.2))
+            outline.plot(body_axes)
+            outline.plot_wall(wall_axes, theta=theta, H=H)
+            fig.tight_layout()
+            files[path] = figure_bytes(fig, path)
+    written = write_all(files)
+    if args.json:
+        print(json.dumps({"body": source, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
+                          "b_max": float(lower.max()), "outputs": args.output}, indent=1))
+        return 0
+    tolerance = WALL_TOLERANCE * max(1.0, float(np.max(np.abs(lower))))
+    print(f"body       {source} ({note})")
+    print(f"wall       b(θ) from {format_number(lower.min(), tolerance)} to {format_number(lower.max(), tolerance)} "
+          f"on {theta.size} angles")
+    for line in written_lines(written, written.replaced):
+        print(line)
+    return 0
