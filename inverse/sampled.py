@@ -55,12 +55,12 @@ def interpolant_agrees(wall, support) -> bool:
     return bool(np.all(np.abs(rho_interpolant - support.rho) <= allowed))
 
 
-def _closure(outline, theta, h, windows):
+def _closure(outline, theta, h, windows, convex=False):
     """Largest wall error on the samples: ``|h_body − h_i|`` outside the cut windows, and inside them
     only how far the body's wall *exceeds* the samples (a cut lowers the wall, never raises it)."""
     from .solve import outline_support
 
-    body_wall = outline_support(outline, theta)
+    body_wall = outline_support(outline, theta, convex=convex)
     inside = np.zeros(theta.size, bool)
     for lo, hi in windows:
         inside |= np.mod(theta - lo, TWO_PI) <= hi - lo
@@ -92,7 +92,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         body = solve_smooth(wall, b0, method=method, points=points, cross_check=cross_check, started=started,
                             accuracy=accuracy)
         windows = [c.window for c in body.corners if c.max_deficit > 0]
-        error = max(body.max_wall_error, _closure(body.outline, theta, h, windows))
+        error = max(body.max_wall_error, _closure(body.outline, theta, h, windows, body.convex and body.valid))
         notes = (*body.notes, sampled_note,
                  "the samples are smooth: their trigonometric interpolant agrees with the discrete curvature, "
                  "and the body was solved from it")
@@ -112,7 +112,12 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         corners.append(Corner(0.0 if direction >= TWO_PI else direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
                               float(polygon.deficit[k]), (start, start + hi - lo), float(polygon.deficit_angle[k])))
     windows = [c.window for c in corners if c.max_deficit > 0]
-    max_wall_error = _closure(outline, theta, h, windows)
+    from shapely.geometry import Polygon
+
+    shape = Polygon(polygon.vertices)
+    valid = bool(shape.is_valid)
+    convex = bool(valid and shape.area >= shape.convex_hull.area * (1 - 1e-9))
+    max_wall_error = _closure(outline, theta, h, windows, convex)
 
     cross = None
     if cross_check:
@@ -120,11 +125,6 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         other = Outline.from_polygon(halfspace_polygon(theta, h))
         cross = float(np.max(np.abs(support_function(other, theta) - support_function(outline, theta))))
 
-    from shapely.geometry import Polygon
-
-    shape = Polygon(polygon.vertices)
-    valid = bool(shape.is_valid)
-    convex = bool(valid and shape.area >= shape.convex_hull.area * (1 - 1e-9))
     with np.errstate(divide="ignore"):
         curvature = np.where(polygon.corner | (polygon.rho <= 0), np.inf, 1.0 / np.maximum(polygon.rho, 1e-300))
     notes = [sampled_note,

@@ -127,10 +127,20 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
                               where))
     deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]
 
+    area = outline.area
+    notes = []
+    if area <= 1e-12 * scale**2:
+        # a segment (the stick) has no interior; shapely calls such a polygon invalid
+        valid, convex = True, True
+        notes.append("the body is a segment (zero area)")
+    else:
+        polygon = Polygon(outline.polygon(4))  # every piece, not only the nodes
+        valid = bool(polygon.is_valid)
+        convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
     theta, keep = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
     prescribed = b0 + wall(theta)
     lowest = float(np.min(prescribed)) if samples is None else min(float(np.min(prescribed)), float(np.min(samples.h)))
-    body_wall = outline_support(outline, theta)
+    body_wall = outline_support(outline, theta, convex=convex and valid)
     # the loop is closed on the whole outline: outside the corner windows the body's wall is the
     # prescribed one; inside them it may only be lower (a corner cuts the wall, never exceeds it)
     error = np.abs(body_wall - prescribed)[keep]
@@ -149,16 +159,6 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     with np.errstate(divide="ignore"):
         curvature = np.where((widths > 1e-9) | (np.minimum(rho_in, rho_out) <= 0), np.inf, 1.0 / rho_out)
     x, y = nodes.x[:, 0], nodes.x[:, 1]
-    area = outline.area
-    notes = []
-    if area <= 1e-12 * scale**2:
-        # a segment (the stick) has no interior; shapely calls such a polygon invalid
-        valid, convex = True, True
-        notes.append("the body is a segment (zero area)")
-    else:
-        polygon = Polygon(outline.polygon(4))  # every piece, not only the nodes
-        valid = bool(polygon.is_valid)
-        convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
     com_inside = lowest > 0  # on the check grid and the construction grid
     if not com_inside:
         notes.append("the centre of mass lies on the boundary (b0 + b = 0 somewhere)")
@@ -175,14 +175,17 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
         accuracy=accuracy, warnings=body_warnings(max_wall_error, cross, convex, valid, accuracy))
 
 
-def outline_support(outline, theta, per_segment: int = 8):
+def outline_support(outline, theta, per_segment: int = 8, *, convex: bool = False):
     """The support function of ``outline`` at ``theta``, seen from every piece of it.
 
     :func:`~coinwall.forward.outline.support_function` is exact for a convex outline but only looks
     near where a convex outline would touch; a spike or a loop elsewhere would pass unseen.  The
     largest projection of points along every segment catches those; for a convex outline it never
-    exceeds the exact value, so the larger of the two is exact there and honest everywhere.
+    exceeds the exact value, so the larger of the two is exact there and honest everywhere.  An outline
+    already checked to be simple and convex (``convex=True``) needs only the exact search.
     """
+    if convex:
+        return support_function(outline, theta)
     points = outline.polygon(per_segment)
     directions = np.stack([np.cos(theta), np.sin(theta)])
     dense = np.empty(np.size(theta))

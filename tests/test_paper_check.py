@@ -17,7 +17,8 @@ RECORDED = {
     "stick-specular": "yes", "eq3-typo": "partly", "general-specular": "yes", "eq18": "yes", "eq16-17": "yes",
     "limits": "yes", "eq19": "yes", "eq22": "yes", "eq23-sign": "partly", "bc": "yes", "bc-extremum": "partly",
     "K0": "yes", "eq27": "yes", "case1": "yes", "case2": "yes", "case3-corner": "yes", "case3-R0": "no",
-    "case3-thetac": "partly", "case3-deficit": "yes", "case3-positive": "yes", "large-b0": "yes", "extrema": "yes",
+    "case3-thetac": "partly", "case3-deficit": "yes", "case3-positive": "yes",
+    "case1-realizable": "no", "case2-realizable": "no", "large-b0": "yes", "extrema": "yes",
     "four-extrema": "no", "theta-half": "no", "equivalence-simulated": "yes",
 }
 CONDITIONS = (Below, Above, Within, Equals)
@@ -66,7 +67,7 @@ def test_fast_run_keeps_every_verdict(fast_report):
     assert tuple(r.key for r in fast_report.rows) == CLAIMS
     assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
     assert fast_report.ok
-    assert fast_report.counts() == {"yes": 18, "partly": 4, "no": 3}
+    assert fast_report.counts() == {"yes": 18, "partly": 4, "no": 5}
 
 
 def test_report_to_dict_and_repr(fast_report):
@@ -74,7 +75,7 @@ def test_report_to_dict_and_repr(fast_report):
     assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == []
     assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
     assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
-    assert "25 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
+    assert "27 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
     assert repr(Report(rows=None)) == "Report(<unprintable>)"
 
 
@@ -124,7 +125,7 @@ def test_run_verify_creates_the_folder_and_writes_vector_figures(tmp_path):
     assert report.ok and report.markdown_path == str(out / "paper-check.md")
     text = (out / "paper-check.md").read_text(encoding="utf-8")
     assert "![fig4_critical.svg](figures/fig4_critical.svg)" in text
-    assert "| 25 | Rigid body and billiard" in text
+    assert "| 27 | Rigid body and billiard" in text
     for name in ("fig4_critical.svg", "appendix_gallery.svg"):
         assert (out / "figures" / name).read_bytes().startswith(b"<?xml")
     assert not [p.name for p in out.rglob(".coinwall-*")]

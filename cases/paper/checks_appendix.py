@@ -17,7 +17,7 @@ from coinwall.forward.angles import TWO_PI
 from .checks import Measured, fit_exponent
 
 __all__ = ["critical_offsets", "extremum_estimate", "curvature_at_zero", "coefficient_27", "exponents_near_zero",
-           "case_three", "offset_positivity"]
+           "case_three", "offset_positivity", "realizable_body"]
 
 #: The angle of a smooth maximum found by a minimiser is known to about sqrt(rounding) ≈ 1e-8 rad only.
 ARGMAX_TOLERANCE = 1e-7
@@ -142,3 +142,18 @@ def offset_positivity(resolution, *, eps: float) -> dict:
     min_wall = float(np.min(wall(theta)))
     b_c = critical_offset(wall).b_c
     return {"min_wall": min_wall, "minus_b_c": -b_c, "margin": b_c + min_wall}
+
+
+def realizable_body(resolution, *, b0: float, eps: float) -> dict:
+    """A body the paper calls physical, as a rigid body: the ellipse wall (ε) at offset b0 solved, then
+    κ of the uniform lamina (``kappa_uniform``) and κ_max, the largest κ any mass distribution inside the
+    outline with its centre of mass at the origin gives (``kappa_max``); ``realizable`` iff κ_max ≥ 1
+    (the wall is in units of κ, so the body must be able to have κ = 1)."""
+    from coinwall.inverse import realizability, solve_body
+
+    from ..ellipse import ellipse_wall
+
+    body = solve_body(ellipse_wall(eps), b0, points=resolution.points)
+    found = realizability(body)
+    return {"kappa_uniform": found.kappa_uniform, "kappa_max": found.kappa_max, "realizable": found.realizable,
+            "regime": body.regime}

@@ -253,6 +253,19 @@ _CLAIMS = (
     Claim("case3-positive", "b0 + b stays positive down to b0 = −1/sqrt(1 + ε)", "Appendix, end of Case III",
           "−1/sqrt(1+ε) < b_c", checks_appendix.offset_positivity, {"eps": 1.0}, {"margin": Above(0.0)}, "yes",
           "min b = {min_wall:.6f} for ε = {eps:g}: the bound is −{min_wall:.6f} < b_c = −{minus_b_c:g}"),
+    Claim("case1-realizable", "Case I bodies are physical shapes", "Appendix Case I",
+          "a physical shape", checks_appendix.realizable_body, {"b0": -0.25, "eps": 1.0},
+          {"realizable": Equals(True)}, "no",
+          "b0 = {b0:g} ({regime}): κ_max = {kappa_max:.4f} κ, uniform κ = {kappa_uniform:.4f} κ",
+          "Convex, yes; a rigid body, not for every b0 > b_c. The wall is in units of κ, so the body must be "
+          "able to have κ = 1; the largest κ any mass distribution inside it gives (centre of mass at the origin) "
+          "is its largest distance from the centre, b0 + 1 for this wall: only b0 ≥ 0 is realizable."),
+    Claim("case2-realizable", "The critical body of Fig. 4 is a completely physical shape", "Appendix Case II, Fig. 4",
+          "completely physical", checks_appendix.realizable_body, {"b0": -0.5, "eps": 1.0},
+          {"realizable": Equals(True)}, "no",
+          "b0 = {b0:g} ({regime}): κ_max = {kappa_max:.4f} κ, uniform κ = {kappa_uniform:.4f} κ",
+          "The Fig. 4 body is convex, but no mass distribution inside it has κ = 1: with κ_max = 0.5 κ it "
+          "cannot be the rigid body whose billiard has this wall. Scaled to be realizable it has another wall."),
     # ------------------------------------------------------------------ section IV: general walls
     Claim("large-b0", "Large b0: R(α) ≈ b0 + b(α), α ≈ θ", "eq. 23–25", "leading order", checks.large_offset,
           {"eps": 1.0, "offsets": [50.0, 100.0, 200.0, 400.0], "points": 512},
