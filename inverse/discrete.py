@@ -15,7 +15,9 @@ themselves, with no interpolant and no derivative (docs/theory.md, "Walls as dat
   between, the body is the edge joining them (the wall has a kink at the edge's normal).
 
 Every comparison with zero uses the tolerance that the data imply: the rounding of the values
-(:func:`rounding_of`, from the decimal digits they carry) propagated through the formulas.
+propagated through the formulas.  Values read from a file carry their rounding in their digits
+(:func:`rounding_of`; the file readers pass it on); arrays given to the API are taken at face value
+(a few ulps) unless ``Wall.from_samples(..., rounding=)`` says otherwise.
 """
 
 from __future__ import annotations
@@ -27,45 +29,18 @@ import numpy as np
 
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidWall
+from coinwall.forward.formats.wallfile import rounding_of
 
-__all__ = ["rounding_of", "discrete_curvature", "DiscreteSupport", "discrete_support", "SampledBody",
+__all__ = ["rounding_of", "machine_rounding", "discrete_curvature", "DiscreteSupport", "discrete_support", "SampledBody",
            "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
 
 _EPS = np.finfo(float).eps
 
 
-def rounding_of(values) -> np.ndarray:
-    """Half the last decimal place of each value: how far it may be from the number it stands for.
-
-    Data come rounded to a number of decimals (``%.6f``) or of significant digits (``%.6g``); a
-    value that needs no more than k decimals may have been rounded at the k-th.  The digits are read
-    off the whole data set (a value that happens to be short, such as ``1.0``, is not taken as
-    coarser than the rest): ``max(½·10^−K, ½·10^(m_i + 1 − S))`` with K the most decimals and S the
-    most significant digits any value needs, m_i the decimal exponent of value i.  Values at full
-    double precision give a few ulps.
-    """
-    v = np.asarray(values, dtype=float)
-    a = np.abs(v)
-    floor = 2.0 * _EPS * np.maximum(a, np.finfo(float).tiny)
-    nonzero = a > 0
-    if not nonzero.any():
-        return floor
-    decimals = np.full(v.size, 0)
-    pending = nonzero.copy()
-    for k in range(0, 25):
-        fits = pending & (np.abs(np.round(v, k) - v) <= 2.0 * _EPS * a)
-        decimals[fits] = k
-        pending &= ~fits
-        if not pending.any():
-            break
-    decimals[pending] = 25
-    exponent = np.floor(np.log10(np.where(nonzero, a, 1.0))).astype(int)
-    significant = np.where(nonzero, decimals + exponent + 1, 0)
-    most_decimals = int(decimals[nonzero].max())
-    most_significant = int(significant[nonzero].max())
-    fixed = 0.5 * 10.0 ** (-most_decimals)
-    relative = 0.5 * 10.0 ** (exponent + 1 - most_significant)
-    return np.maximum(floor, np.where(nonzero, np.maximum(fixed, relative), fixed))
+def machine_rounding(values) -> np.ndarray:
+    """A few ulps of each value: the rounding of numbers taken at face value."""
+    v = np.abs(np.asarray(values, dtype=float))
+    return 2.0 * _EPS * np.maximum(v, np.finfo(float).tiny)
 
 
 def _gaps(theta):
@@ -88,7 +63,7 @@ def discrete_curvature(theta, h, rounding=None):
     h : ndarray
         Support values.
     rounding : ndarray, optional
-        How far each ``h_i`` may be off (default: :func:`rounding_of`).
+        How far each ``h_i`` may be off (default: a few ulps).
 
     Returns
     -------
@@ -100,7 +75,7 @@ def discrete_curvature(theta, h, rounding=None):
     before, after = _gaps(theta)
     if np.max(np.maximum(before, after)) >= math.pi * (1 - 1e-9):
         raise InvalidWall("samples: two consecutive angles are π or more apart; the lines do not bound a body")
-    delta = rounding_of(h) if rounding is None else np.asarray(rounding, dtype=float)
+    delta = machine_rounding(h) if rounding is None else np.maximum(machine_rounding(h), rounding)
     sb, cb, sa, ca = np.sin(before), np.cos(before), np.sin(after), np.cos(after)
     norm = np.tan(before / 2) + np.tan(after / 2)
     prev, nxt = np.roll(h, 1), np.roll(h, -1)
@@ -120,7 +95,7 @@ class DiscreteSupport:
     theta, b : ndarray
         The samples, sorted, angles in [0, 2π).
     rounding : ndarray
-        How far each ``b_i`` may be off (:func:`rounding_of`).
+        How far each ``b_i`` may be off (a few ulps, or what the maker of the samples said).
     rho, rho_tolerance : ndarray
         Discrete radius of curvature of ``b`` (offset 0) and its rounding tolerance.
     spacing_error : ndarray
@@ -162,10 +137,10 @@ class DiscreteSupport:
 
 def discrete_support(theta, b, rounding=None) -> DiscreteSupport:
     """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π)); ``rounding``: how far
-    each value may be off, at least (default: only what the digits of the values say)."""
+    each value may be off (default: a few ulps: arrays are taken at face value)."""
     theta = np.asarray(theta, dtype=float)
     b = np.asarray(b, dtype=float)
-    rounding = rounding_of(b) if rounding is None else np.maximum(rounding_of(b), rounding)
+    rounding = machine_rounding(b) if rounding is None else np.maximum(machine_rounding(b), rounding)
     rho, tol = discrete_curvature(theta, b, rounding)
     spacing = np.abs(np.roll(rho, 1) - 2 * rho + np.roll(rho, -1)) / 12.0
     return DiscreteSupport(theta, b, rounding, rho, tol, spacing)

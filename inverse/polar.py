@@ -324,7 +324,8 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
     g, h, d1, d2 = _g(wall, b0, np.where(ok, phi, 0.0))
     rho = h + d2
     on_line = np.array([c >= 0 and branches[c].kind == "line" for c in chosen])
-    xs = radius[:, None] * np.stack([np.cos(targets), np.sin(targets)], axis=1)
+    with np.errstate(invalid="ignore"):  # targets no branch covers have R = inf; they are masked by `ok`
+        xs = radius[:, None] * np.stack([np.cos(targets), np.sin(targets)], axis=1)
     rho_nodes = np.where(on_line, 0.0, rho)
     keys = list(targets[ok])
     xs_l, pin, pout, rin, rout, st = list(xs[ok]), list(phi[ok]), list(phi[ok]), list(rho_nodes[ok]), \
@@ -344,7 +345,9 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
     nodes = nodes.collapse(1e-12 * scale)
 
     # the paper's equation, evaluated honestly at the solution: θ = α − atan(R'/R)
-    slope = np.where(ok, radius * np.where(on_line, np.tan(targets - phi), d1 / np.where(h != 0, h, 1.0)), np.nan)
+    with np.errstate(invalid="ignore"):  # masked by `ok` as above
+        slope = np.where(ok, radius * np.where(on_line, np.tan(targets - phi), d1 / np.where(h != 0, h, 1.0)),
+                         np.nan)
     theta = targets - np.arctan2(slope, radius)
     hb = b0 + wall(np.mod(np.where(ok, theta, 0.0), TWO_PI))
     F = hb - radius**2 / np.sqrt(radius**2 + slope**2)

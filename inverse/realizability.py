@@ -137,10 +137,16 @@ class Realizability:
 
 def realizability(body, tol: float = 1e-6) -> Realizability:
     """Uniform κ and centroid of ``body`` (an :class:`inverse.Body`), and the reachable κ range."""
-    props = outline_moments(body.outline) if body.area > 0 else None
-    if props is None or props.mass <= 0:
-        kappa_u, centroid = 0.0, (0.0, 0.0)
+    size = float(np.max(np.hypot(body.x, body.y))) if body.x.size else 0.0
+    if body.area <= 1e-12 * max(1.0, size) ** 2:
+        # a segment (the stick): the uniform rod, κ = length/√12 about its midpoint (a lamina has no mass)
+        points = body.outline.polygon(4)
+        ends = points[np.argmax(points @ points[np.argmax(np.hypot(*points.T))])], points[np.argmax(np.hypot(*points.T))]
+        far = points[np.argmax(np.hypot(*(points - ends[1]).T))]
+        kappa_u = float(np.hypot(*(far - ends[1])) / math.sqrt(12.0))
+        centroid = tuple(0.5 * (far + ends[1]))
     else:
+        props = outline_moments(body.outline)
         kappa_u, centroid = props.kappa, props.centre
     # κ_max is measured on points of the outline, a few 1e-8 below the exact value at the default
     # resolution: κ_max = 1 within 1e-6 is reachable (mass at the far ends)

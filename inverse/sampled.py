@@ -128,8 +128,9 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
     with np.errstate(divide="ignore"):
         curvature = np.where(polygon.corner | (polygon.rho <= 0), np.inf, 1.0 / np.maximum(polygon.rho, 1e-300))
     notes = [sampled_note,
-             f"the samples are not smooth (vertex windows, kinks or noise): the body is the intersection of the "
-             f"{theta.size} sampled half-planes, exact for the data; `points` does not apply"]
+             f"the samples are not smooth (vertex windows, kinks or noise): the body is built from the "
+             f"{theta.size} sampled support lines (their half-plane intersection, with edges joining vertex "
+             "windows), exact at every sample; `points` does not apply"]
     if method == "polar":
         notes.append("the polar equation needs a smooth wall: these data were solved by the half-plane construction")
     if polygon.edges:

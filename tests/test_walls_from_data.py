@@ -13,7 +13,8 @@ import pytest
 
 from coinwall import Wall, critical_offset, solve_body
 from coinwall.cases.cli.main import main
-from coinwall.inverse.discrete import discrete_curvature, halfspace_polygon, rounding_of
+from coinwall.forward.formats.wallfile import rounding_of
+from coinwall.inverse.discrete import discrete_curvature, halfspace_polygon
 from coinwall.inverse.fit import fit_convex
 
 THETA720 = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
@@ -115,11 +116,11 @@ def test_sampled_polygon_body_is_inside_the_largest_body_and_exact_at_samples():
 
 
 def test_rounded_data_of_a_polygon_are_critical_within_their_accuracy():
-    """The same triangle written with 6 decimals: critical within the rounding's tolerance, three
-    corners within ~1e-6 of the vertices."""
+    """The same triangle written with 6 decimals (a file: the rounding is read off its digits): critical
+    within the rounding's tolerance, three corners within ~1e-6 of the vertices."""
     triangle = np.array([[1.0, 0.0], [-0.4, 0.9], [-0.6, -0.7]])
     h = np.round(polygon_support(triangle, THETA720), 6)
-    body = solve_body(Wall.from_samples(THETA720, h), 0.0, cross_check=True)
+    body = solve_body(Wall.from_samples(THETA720, h, rounding=rounding_of(h)), 0.0, cross_check=True)
     assert body.regime == "critical" and abs(body.b_c) <= body.b_c_tolerance
     assert 1e-3 < body.b_c_tolerance < 0.1  # 6 decimals at 0.5° spacing: ~4·5e-7/Δ²
     assert match_vertices(corner_points(body), triangle) < 1e-6
@@ -211,6 +212,19 @@ def test_fit_refuses_what_it_cannot_do():
 def _write(path, text):
     path.write_text(text)
     return str(path)
+
+
+def test_a_file_carries_its_rounding(tmp_path, capsys):
+    """Values written with 6 decimals are rounded at the 6th: the tolerance of b_c says so (≈ 4·5e-7/Δ²
+    at 720 samples); the same values given as an array are taken at face value."""
+    triangle = np.array([[1.0, 0.0], [-0.4, 0.9], [-0.6, -0.7]])
+    h = polygon_support(triangle, THETA720)
+    path = _write(tmp_path / "tri6.csv", "theta,b\n" + "".join(f"{float(a)!r},{v:.6f}\n" for a, v in zip(THETA720, h)))
+    assert main(["critical", path, "--json"]) == 0
+    tolerance = json.loads(capsys.readouterr().out)["b_c_tolerance"]
+    assert 4 * 5e-7 / (2 * np.pi / 720) ** 2 / 4 < tolerance < 0.1
+    # the same numbers as an array: no rounding is assumed, only the spacing term remains
+    assert critical_offset(Wall.from_samples(THETA720, np.round(h, 6))).b_c_tolerance < tolerance / 2
 
 
 def test_csv_variants(tmp_path, capsys):

@@ -173,11 +173,15 @@ def run(args):
         print(f"corner     at direction {format_angles([c.direction], DIRECTION_TOLERANCE)} rad, "
               f"distance {format_number(c.distance)}, window ±{format_number(c.half_width)} rad, "
               f"largest wall deficit {format_number(c.max_deficit, DEFICIT_TOLERANCE * wall.scale, 3)}")
-    check = f"max |wall(body) − wall| = {body.max_wall_error:.2e} ({body.method})"
+    cut = [c.max_deficit for c in body.corners if c.max_deficit > 0]
+    where = " outside the corner windows" if cut else ""
+    check = f"max |wall(body) − wall|{where} = {body.max_wall_error:.2e} ({body.method})"
     if body.cross_check is not None:
         other = {"envelope": "polar solver", "polar": "envelope solver",
-                 "halfplanes": "scipy's HalfspaceIntersection"}.get(body.method, "other solver")
+                 "halfplanes": "scipy's HalfspaceIntersection (at the samples)"}.get(body.method, "other solver")
         check += f"; {other} agrees to {body.cross_check:.1e}"
+    if cut:
+        check += f"; inside them the body's wall is lower, by up to {max(cut):.3g} (the corners' deficits)"
     print(f"check      {check}")
     print(f"outline    convex: {'yes' if body.convex else 'NO'}, simple (valid): {'yes' if body.valid else 'NO'}")
     if fit is not None:

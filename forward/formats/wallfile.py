@@ -13,7 +13,8 @@ import json
 
 from ..errors import InvalidArgument, InvalidWall
 
-__all__ = ["WALL_FORMATS", "FOURIER_KEYS", "SAMPLE_KEYS", "load_wall", "load_wall_file", "read_samples_csv"]
+__all__ = ["WALL_FORMATS", "FOURIER_KEYS", "SAMPLE_KEYS", "load_wall", "load_wall_file", "read_samples_csv",
+           "rounding_of"]
 
 WALL_FORMATS = (".csv", ".json")
 DRAWING_FORMATS = (".svg", ".dxf")
@@ -178,7 +179,9 @@ def load_wall_file(path: str, *, degrees: bool = False):
     from ..wall import Wall
 
     if path.lower().endswith(".csv"):
-        return Wall.from_samples(*read_samples_csv(path, degrees=degrees))
+        theta, b = read_samples_csv(path, degrees=degrees)
+        # numbers written as text carry their rounding in their digits
+        return Wall.from_samples(theta, b, rounding=rounding_of(b))
     text = _read_text(path)
     try:
         doc = json.loads(text)
@@ -197,7 +200,7 @@ def load_wall_file(path: str, *, degrees: bool = False):
                 import numpy as np
 
                 theta = np.radians(theta)
-            return Wall.from_samples(theta, b)
+            return Wall.from_samples(theta, b, rounding=rounding_of(b))
         unknown = set(doc) - set(FOURIER_KEYS)
         if unknown:
             raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected "
@@ -220,3 +223,39 @@ def _numbers(value, path, key):
         if isinstance(item, bool) or not isinstance(item, numbers.Real):
             raise InvalidWall(f"wall file {path!r}: `{key}` must hold numbers, got {item!r}")
     return value
+
+
+def rounding_of(values):
+    """Half the last decimal place of each value: how far it may be from the number it stands for.
+
+    Data come rounded to a number of decimals (``%.6f``) or of significant digits (``%.6g``); a
+    value that needs no more than k decimals may have been rounded at the k-th.  The digits are read
+    off the whole data set (a value that happens to be short, such as ``1.0``, is not taken as
+    coarser than the rest): ``max(½·10^−K, ½·10^(m_i + 1 − S))`` with K the most decimals and S the
+    most significant digits any value needs, m_i the decimal exponent of value i.  Values at full
+    double precision give a few ulps.
+    """
+    import numpy as np
+
+    v = np.asarray(values, dtype=float)
+    a = np.abs(v)
+    floor = 2.0 * np.finfo(float).eps * np.maximum(a, np.finfo(float).tiny)
+    nonzero = a > 0
+    if not nonzero.any():
+        return floor
+    decimals = np.full(v.size, 0)
+    pending = nonzero.copy()
+    for k in range(0, 25):
+        fits = pending & (np.abs(np.round(v, k) - v) <= 2.0 * np.finfo(float).eps * a)
+        decimals[fits] = k
+        pending &= ~fits
+        if not pending.any():
+            break
+    decimals[pending] = 25
+    exponent = np.floor(np.log10(np.where(nonzero, a, 1.0))).astype(int)
+    significant = np.where(nonzero, decimals + exponent + 1, 0)
+    most_decimals = int(decimals[nonzero].max())
+    most_significant = int(significant[nonzero].max())
+    fixed = 0.5 * 10.0 ** (-most_decimals)
+    relative = 0.5 * 10.0 ** (exponent + 1 - most_significant)
+    return np.maximum(floor, np.where(nonzero, np.maximum(fixed, relative), fixed))
