@@ -333,7 +333,7 @@ def test_numbers_at_their_tolerance_print_as_zero(capsys):
     assert main(["solve", "abs(cos(t))", "--no-cross-check"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert "critical   b_c = 0 at θ = 0, 3.14159" in out
-    assert "body       2 nodes, area 0, perimeter 4, R from 1 to 1 (units of κ)" in out
+    assert "body       2 nodes, area 0, perimeter 4, R from 0 to 1 (units of κ, along the whole outline)" in out
     corners = [line for line in out if line.startswith("corner")]
     assert corners[1] == "corner     at direction 0 rad, distance 1, window ±1.5708 rad, largest wall deficit 0"
     assert not any("-0 " in line or "-0," in line for line in out)

@@ -156,6 +156,9 @@ def run(args):
         b_c = "inf (a concave kink: no offset gives a convex body)"
     else:
         b_c = format_number(body.b_c, OFFSET_TOLERANCE * scale, 12)
+    import numpy as np
+
+    radius = np.hypot(*body.outline.polygon(16).T)  # between nodes too: a polygon's edge comes nearer
     size = max(1.0, float(body.R.max()))
     print(f"wall       {body.wall!r}")
     print(f"offset     b0 = {body.b0:g}")
@@ -167,8 +170,8 @@ def run(args):
         regime += f"; b_c is known to ± {body.b_c_tolerance:.2g} from the samples"
     print(f"regime     {regime}")
     print(f"body       {body.x.size} nodes, area {format_number(body.area, AREA_TOLERANCE * size**2)}, "
-          f"perimeter {format_number(body.perimeter)}, R from {format_number(body.R.min())} to "
-          f"{format_number(body.R.max())} (units of κ)")
+          f"perimeter {format_number(body.perimeter)}, R from {format_number(radius.min(), 1e-12 * size)} to "
+          f"{format_number(radius.max())} (units of κ, along the whole outline)")
     for c in body.corners:
         print(f"corner     at direction {format_angles([c.direction], DIRECTION_TOLERANCE)} rad, "
               f"distance {format_number(c.distance)}, window ±{format_number(c.half_width)} rad, "
