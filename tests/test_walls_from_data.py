@@ -330,3 +330,16 @@ def test_nearest_least_squares_below_b_c(capsys):
                  "--nearest", "least-squares", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["nearest"] == "least-squares" and doc["rms_residual"] > 0 and doc["convex"]
+
+
+def test_export_reports_and_guards_realizability(tmp_path, capsys):
+    """`export` of a stored body: κ of the uniform body and κ_max in its report (Fig. 4 body: κ_max = 0.5 κ,
+    the distance of its farthest point, b0 + 1), and a real-size drawing of it is refused."""
+    stored = str(tmp_path / "fig4.json")
+    assert main(["solve", "-o", stored]) == 0
+    capsys.readouterr()
+    assert main(["export", stored, "-o", str(tmp_path / "f.svg"), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["kappa_max"] == pytest.approx(0.5, abs=1e-6) and doc["realizable"] is False
+    assert main(["export", stored, "-o", str(tmp_path / "f.dxf"), "--kappa", "10", "--units", "mm"]) == 2
+    assert "κ_max" in capsys.readouterr().err and not (tmp_path / "f.dxf").exists()

@@ -50,24 +50,45 @@ def _check_drawing_outputs(paths):
                               f"(for .json/.csv/.png use 'coinwall solve -o')")
 
 
+def _physical(outline):
+    """κ of the uniform lamina and κ_max (inverse.realizability) of a stored outline."""
+    from coinwall.forward.massprops import outline_moments
+    from coinwall.inverse.realizability import kappa_max
+
+    kmax, _ = kappa_max(outline)
+    kappa_uniform = outline_moments(outline).kappa if outline.area > 0 else 0.0
+    return float(kappa_uniform), float(kmax)
+
+
 def run(args):
     """Read the body, write the drawings, print what was written."""
+    from coinwall.forward.errors import InvalidArgument
+
     from coinwall.forward.formats.output import check_paths, existing_files
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
     ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance, dimension=args.dimension)
     body = _stored_body(args.body)
+    kappa_uniform, kmax = _physical(body.outline)
+    if args.kappa is not None and not (math.isfinite(kmax) and kmax >= 1.0 - 1e-6) and not args.allow_unrealizable:
+        raise InvalidArgument(
+            f"`kappa`: no mass distribution inside this body gives it κ = 1 (κ_max = {kmax:.4g} κ), so a part cut "
+            "at this size would not have this wall; solve it again with --b0 self-consistent, or pass "
+            "--allow-unrealizable")
     check_paths(args.output, _REEXPORT)  # creates missing folders, now that the input is known to be good
     check_outputs(args.output)
     replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units, tolerance=args.tolerance,
                          dimension=args.dimension)
     if args.json:
-        print(json.dumps({"outputs": result.paths, "reports": result.reports}, indent=1))
+        print(json.dumps({"outputs": result.paths, "reports": result.reports, "kappa_uniform": kappa_uniform,
+                          "kappa_max": kmax if math.isfinite(kmax) else None,
+                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)}, indent=1))
         return 0
     scale = f"kappa = {args.kappa:g} {args.units}" if args.kappa else "units of kappa (no physical scale)"
     print(f"body       {args.body} (b0 = {body.b0:g}, regime {body.regime}); {scale}")
+    print(f"physical   κ of the uniform body {kappa_uniform:.6g} κ, κ_max {kmax:.6g} κ")
     for line in describe_written(result, replaced):
         print(line)
     return 0
@@ -98,5 +119,7 @@ def register(subparsers):
                         help="largest deviation of the DXF polyline from the exact outline, in output units "
                              "(default 1e-4 x largest diameter)")
     parser.add_argument("--dimension", action="store_true", help="draw the largest diameter (SVG)")
+    parser.add_argument("--allow-unrealizable", action="store_true",
+                        help="draw at real size even when no mass distribution inside the body gives it κ = 1")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.set_defaults(run=run)
