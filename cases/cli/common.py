@@ -172,7 +172,8 @@ def describe_written(result, replaced=()):
         report = result.reports.get(path, {})
         name = _replaced(path, replaced)
         if "polyline" in report:
-            lines.append(f"wrote      {name}: SPLINE exact (deviation {report['spline']:.1e}), LWPOLYLINE "
+            spline = f"SPLINE exact (deviation {report['spline']:.1e}), " if "spline" in report else "cut-ready, "
+            lines.append(f"wrote      {name}: {spline}LWPOLYLINE "
                          f"{report['polyline_vertices']} vertices, deviation {report['polyline']:.3g} "
                          f"<= tolerance {report['tolerance']:.3g} {report['units']}")
         elif "path" in report:

@@ -68,7 +68,8 @@ def run(args):
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
-    ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance, dimension=args.dimension)
+    ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance, dimension=args.dimension,
+                  cut=args.cut)
     body = _stored_body(args.body)
     kappa_uniform, kmax = _physical(body.outline)
     if args.kappa is not None and not (math.isfinite(kmax) and kmax >= 1.0 - 1e-6) and not args.allow_unrealizable:
@@ -80,7 +81,7 @@ def run(args):
     check_outputs(args.output)
     replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units, tolerance=args.tolerance,
-                         dimension=args.dimension)
+                         dimension=args.dimension, cut=args.cut)
     if args.json:
         print(json.dumps({"outputs": result.paths, "reports": result.reports, "kappa_uniform": kappa_uniform,
                           "kappa_max": kmax if math.isfinite(kmax) else None,
@@ -98,7 +99,8 @@ _DESCRIPTION = """\
 Re-export a body solved by `coinwall solve -o BODY.json` (its exact Bézier outline) as a drawing:
 .svg (an exact Bézier path) or .dxf (an exact SPLINE and an LWPOLYLINE within --tolerance), at a
 physical scale: with --kappa VALUE --units mm|cm|in the body is drawn at real size, the radius of
-gyration being VALUE units.  Prints the deviation each file achieves."""
+gyration being VALUE units.  With --cut the drawing is cut-ready: one closed contour (DXF: one
+LWPOLYLINE within --tolerance) on layer CUT and nothing else.  Prints the deviation each file achieves."""
 
 _EXAMPLE = """\
 coinwall solve "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=1 --b0 -0.4 -o body.json
@@ -119,6 +121,9 @@ def register(subparsers):
                         help="largest deviation of the DXF polyline from the exact outline, in output units "
                              "(default 1e-4 x largest diameter)")
     parser.add_argument("--dimension", action="store_true", help="draw the largest diameter (SVG)")
+    parser.add_argument("--cut", action="store_true",
+                        help="cut-ready drawing: one closed contour on one layer (CUT) and nothing else (no spline "
+                             "copy, centre-of-mass cross, text or dimension)")
     parser.add_argument("--allow-unrealizable", action="store_true",
                         help="draw at real size even when no mass distribution inside the body gives it κ = 1")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")

@@ -60,6 +60,8 @@ def register(subparsers):
     parser.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
     parser.add_argument("--tolerance", type=float, default=None, metavar="T",
                         help="largest deviation of approximated outlines (DXF polyline) in output units")
+    parser.add_argument("--cut", action="store_true",
+                        help="cut-ready .svg/.dxf: one closed contour on one layer (CUT), no marks or notes")
     parser.add_argument("--nearest", choices=["largest", "least-squares"], default="largest",
                         help="below b_c: the largest body under the wall (default) or the convex body whose wall "
                              "is nearest in least squares (coinwall fit's programme)")
@@ -138,7 +140,7 @@ def run(args):
             "with κ = 1) or --allow-unrealizable")
     replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units,
-                         tolerance=args.tolerance) if args.output else None
+                         tolerance=args.tolerance, cut=args.cut) if args.output else None
     status = 1 if body.warnings else 0
     if args.json:
         doc = body.to_dict()

@@ -22,7 +22,12 @@ centre of mass h(θ) = max over the body of x·(cos θ, sin θ), in units of the
 at uniform angles θ in [0, 2π); with --H the upper wall t(θ) = H - b(θ + π) too.  The body is a
 drawing (.json from `coinwall solve`, .csv points, .svg, .dxf) or a polar curve R(α) about the
 centre of mass.  Non-convex outlines are replaced by their convex hull (concave parts never touch a
-wall).  The .csv output is a wall file that `coinwall solve` reads back."""
+wall).  Scale: --kappa is a length in --units, by default the drawing's own unit (SVG width/height over
+its viewBox, DXF $INSUNITS); a drawing that records no unit is taken to be in --units.  Closed chains
+of DXF LINE and ARC are outlines.  --element ID (SVG) or --layer NAME (DXF) picks one shape; several
+shapes that each add to the hull are merged with a warning on stderr (exit status 0), and a
+page-sized background rectangle is left out with a note.  The .csv output is a wall file that
+`coinwall solve` reads back."""
 
 _EXAMPLE = """\
 coinwall wall --polar "1/sqrt(1+eps*sin(t)**2)" --param eps=1 --H 3 -o ellipse_wall.csv -o ellipse_wall.svg"""
@@ -40,11 +45,16 @@ def register(subparsers):
                         help="instead of a file: the outline R(α) about the centre of mass, an expression in t")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="parameter of the --polar expression (repeatable)")
-    parser.add_argument("--layer", default=None, help="DXF layer to read (default: all layers)")
+    parser.add_argument("--layer", default=None,
+                        help="DXF layer to read (default: all layers but annotation layers, ANNOTATION*)")
+    parser.add_argument("--element", default=None, metavar="ID", help="SVG: read only the element with this id")
     parser.add_argument("--com", default=None, metavar="X,Y",
                         help="centre of mass in drawing coordinates (default: as recorded by coinwall, else centroid)")
     parser.add_argument("--kappa", type=float, default=None,
-                        help="radius of gyration in drawing units (default: as recorded by coinwall, else 1)")
+                        help="radius of gyration in --units (default: as recorded by coinwall, else 1 drawing unit)")
+    parser.add_argument("--units", choices=["mm", "cm", "m", "in", "pt", "px"], default=None,
+                        help="unit of --kappa (default: the drawing's own unit, from SVG width/height and viewBox "
+                             "or DXF $INSUNITS; a drawing that records none is taken to be in --units)")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help=".csv (theta,b[,t]: feeds 'coinwall solve'), .json, or a figure of the body and its "
                              "wall: .png, .svg or .pdf (repeatable; missing folders are created)")
@@ -58,20 +68,22 @@ def _load(args):
     """The outline named on the command line, its note and a description of where it came from."""
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.expression import parse_param
-    from coinwall.forward.formats import load_outline, outline_from_polar
+    from coinwall.forward.formats import outline_from_polar
+    from coinwall.forward.formats.load import read_outline
 
     if (args.body is None) == (args.polar is None):
         raise InvalidArgument("give a body file or --polar EXPR (R(α) about the centre of mass), not both or neither")
     com = parse_com(args.com)
     if args.polar is not None:
-        if args.layer is not None or args.kappa is not None:
-            raise InvalidArgument("--layer and --kappa apply to body files, not to --polar")
+        if any(v is not None for v in (args.layer, args.kappa, args.units, args.element)):
+            raise InvalidArgument("--layer, --element, --kappa and --units apply to body files, not to --polar")
         outline, note = outline_from_polar(args.polar, dict(parse_param(p) for p in args.param), com=com)
-        return outline, note, f"R(α) = {args.polar}"
+        return outline, note, f"R(α) = {args.polar}", []
     if args.param:
         raise InvalidArgument("--param applies to --polar expressions, not to a body file")
-    outline, note = load_outline(args.body, layer=args.layer, com=com, kappa=args.kappa)
-    return outline, note, args.body
+    reading = read_outline(args.body, layer=args.layer, element=args.element, com=com, kappa=args.kappa,
+                           units=args.units)
+    return reading.outline, reading.note, args.body, reading.warnings
 
 
 def _table_bytes(path, theta, lower, upper, H, note):
@@ -107,7 +119,7 @@ def run(args):
     if args.kappa is not None:
         check_positive("kappa", args.kappa)
     check_paths(args.output, _TABLES + FIGURE_FORMATS)
-    outline, note, source = _load(args)
+    outline, note, source, warnings = _load(args)
     theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, H)
     files = {}
@@ -123,7 +135,8 @@ def run(args):
     written = write_all(files)
     if args.json:
         print(json.dumps({"body": source, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
-                          "b_max": float(lower.max()), "outputs": args.output}, indent=1))
+                          "b_max": float(lower.max()), "outputs": args.output, "warnings": warnings}, indent=1))
+        _print_warnings(warnings)
         return 0
     tolerance = WALL_TOLERANCE * max(1.0, float(np.max(np.abs(lower))))
     print(f"body       {source} ({note})")
@@ -131,4 +144,20 @@ def run(args):
           f"on {theta.size} angles")
     for line in written_lines(written, written.replaced):
         print(line)
+    _print_warnings(warnings)
     return 0
+
+
+def _print_warnings(warnings):
+    """Warnings on stderr; the exit status stays 0, since the wall of the merged hull is well defined."""
+    import sys
+
+    for warning in warnings:
+        print(f"warning: {_as_flags(warning)}", file=sys.stderr)
+
+
+def _as_flags(text):
+    """The library names arguments (`element`); the command line names flags (--element)."""
+    for name in ("element", "layer", "kappa", "units"):
+        text = text.replace(f"`{name}`", f"--{name}")
+    return text

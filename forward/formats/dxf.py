@@ -1,12 +1,18 @@
 """DXF: the outline reader, and the layer and metadata names coinwall's DXF writer uses.
 
-The reader takes every LWPOLYLINE, POLYLINE, SPLINE, CIRCLE, ELLIPSE and ARC (``DXF_ENTITIES``) on
-the chosen layer (default every layer), flattened on the exact geometry by ezdxf; the outline is
-their convex hull.
+The reader takes every LWPOLYLINE, POLYLINE, SPLINE, CIRCLE, ELLIPSE, LINE and ARC (``DXF_ENTITIES``)
+on the chosen layer (default every layer but annotation layers, whose names start with ANNOTATION),
+flattened on the exact geometry by ezdxf.  LINE and ARC entities are pieces of chains: their end
+points are joined (within ``CHAIN_TOLERANCE`` times the size of the pieces) into closed loops, which
+are outlines like a closed polyline; a chain that does not close is an error that names its gap.
+``$INSUNITS`` (``INSUNITS``: 1 in, 2 ft, 4 mm, 5 cm, 6 m) is the drawing's unit; 0 or another code
+records none.
 
-The writer (:mod:`coinwall.inverse.export.dxf`) puts the outline on the layers of ``LAYERS``, a POINT
-at the centre of mass on ``LAYERS["com"]`` and the scale in ezdxf's metadata (``KAPPA_KEY``,
-``UNITS_KEY``, ``B0_KEY``), so that the reader finds the centre of mass and the scale again.
+The writer (:mod:`coinwall.inverse.export.dxf`) puts the outline on the layers of ``LAYERS``
+(annotations on layers whose names say so), a POINT at the centre of mass on ``LAYERS["com"]`` and
+the scale and the centre of mass in ezdxf's metadata (``KAPPA_KEY``, ``UNITS_KEY``, ``B0_KEY``,
+``COM_KEY``), so that the reader finds the centre of mass and the scale again; a cut-ready drawing
+holds its one contour on ``LAYERS["cut"]``.
 ezdxf is imported inside the functions (it is slow to import).
 """
 
@@ -16,18 +22,28 @@ import numpy as np
 
 from ..angles import TWO_PI
 from ..errors import InvalidOutline
-from .geometry import FLATNESS, Drawing
+from .geometry import CHAIN_TOLERANCE, FLATNESS, UNIT_LENGTHS, Drawing, join_chains
 
-__all__ = ["DXF_ENTITIES", "LAYERS", "KAPPA_KEY", "UNITS_KEY", "B0_KEY", "read_dxf"]
+__all__ = ["DXF_ENTITIES", "CHAIN_ENTITIES", "LAYERS", "INSUNITS", "KAPPA_KEY", "UNITS_KEY", "B0_KEY", "COM_KEY",
+           "read_dxf"]
 
 #: DXF entity types read as outline
-DXF_ENTITIES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "CIRCLE", "ELLIPSE", "ARC")
-#: layers of coinwall's drawing: exact spline, polyline within the tolerance, centre of mass, notes
-LAYERS = {"spline": "OUTLINE", "polyline": "OUTLINE_POLYLINE", "com": "CENTRE_OF_MASS", "notes": "NOTES"}
-#: ezdxf metadata keys: κ in drawing units, the drawing's unit, the offset b0
+DXF_ENTITIES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "CIRCLE", "ELLIPSE", "LINE", "ARC")
+#: entity types joined end to end into closed chains
+CHAIN_ENTITIES = ("LINE", "ARC")
+#: layers of coinwall's drawing: exact spline, polyline within the tolerance, the centre-of-mass
+#: annotation, the notes annotation, and the one layer of a cut-ready drawing
+LAYERS = {"spline": "OUTLINE", "polyline": "OUTLINE_POLYLINE", "com": "ANNOTATION_CENTRE_OF_MASS",
+          "notes": "ANNOTATION_NOTES", "cut": "CUT"}
+#: the centre-of-mass layer of drawings written before the annotation layers were named as such
+_LEGACY_COM_LAYER = "CENTRE_OF_MASS"
+#: ``$INSUNITS`` code -> unit name (:data:`~.geometry.UNIT_LENGTHS`); other codes record no unit
+INSUNITS = {1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
+#: ezdxf metadata keys: κ in drawing units, the drawing's unit, the offset b0, the centre of mass "x,y"
 KAPPA_KEY = "coinwall_kappa"
 UNITS_KEY = "coinwall_units"
 B0_KEY = "coinwall_b0"
+COM_KEY = "coinwall_com"
 
 def _dxf_points(entity, sagitta):
     """Points along a DXF entity (curves flattened on the exact geometry) and its closed flag.
@@ -36,6 +52,8 @@ def _dxf_points(entity, sagitta):
     (its Bézier path conversion would approximate arcs, to ~1e-4).
     """
     kind = entity.dxftype()
+    if kind == "LINE":
+        return np.array([[entity.dxf.start.x, entity.dxf.start.y], [entity.dxf.end.x, entity.dxf.end.y]]), False
     if kind in ("CIRCLE", "ARC", "ELLIPSE", "SPLINE"):
         pts = [(v.x, v.y) for v in entity.flattening(sagitta)]
         return np.array(pts, float).reshape(-1, 2), kind in ("CIRCLE",) or (
@@ -50,6 +68,27 @@ def _dxf_points(entity, sagitta):
             continue
         pts.extend(seg)
     return np.array(pts, float).reshape(-1, 2), bool(entity.closed if kind == "LWPOLYLINE" else entity.is_closed)
+
+
+def _is_annotation(layer):
+    """Whether a layer holds annotations: its name starts with ANNOTATION (or is an older coinwall mark layer)."""
+    return layer.upper().startswith("ANNOTATION") or layer.upper() == _LEGACY_COM_LAYER
+
+
+def _chains(path, pieces):
+    """Closed loops of LINE/ARC pieces; an open chain is an error naming its gap."""
+    everything = np.vstack(pieces)
+    size = float(np.ptp(everything, axis=0).max()) if len(everything) else 0.0
+    tolerance = CHAIN_TOLERANCE * max(size, 1e-300)
+    loops, open_chains = join_chains(pieces, tolerance)
+    if open_chains:
+        points, gap = max(open_chains, key=lambda chain: chain[1])
+        a, b = points[0], points[-1]
+        raise InvalidOutline(f"body file {path!r}: the LINE/ARC chain from ({a[0]:.6g}, {a[1]:.6g}) to "
+                             f"({b[0]:.6g}, {b[1]:.6g}) is open: its ends are {gap:.3g} apart (end points "
+                             f"join within {tolerance:.2g}); close the outline in the drawing"
+                             + (f" ({len(open_chains)} open chains)" if len(open_chains) > 1 else ""))
+    return loops
 
 
 def read_dxf(path, layer=None) -> Drawing:
@@ -72,11 +111,11 @@ def read_dxf(path, layer=None) -> Drawing:
             raise InvalidOutline(f"body file {path!r}: nothing to read on layer {layer!r} (need one of "
                                  f"{', '.join(DXF_ENTITIES)}); layers with outline entities: "
                                  f"{', '.join(layers) or 'none'}")
-    else:
-        chosen = candidates
+    else:  # annotations are not outline: the centre-of-mass cross is made of LINEs
+        chosen = [e for e in candidates if not _is_annotation(e.dxf.layer)]
     if not chosen:
         raise InvalidOutline(f"body file {path!r}: the DXF has no {', '.join(DXF_ENTITIES)} entity")
-    shapes, loose = [], []
+    shapes, loose, pieces = [], [], []
     for entity in chosen:
         try:
             box = bbox.extents([entity])
@@ -87,10 +126,18 @@ def read_dxf(path, layer=None) -> Drawing:
                                  f"{exc}") from None
         if len(pts) < 2:
             continue
+        if entity.dxftype() in CHAIN_ENTITIES:
+            pieces.append(pts)
+            continue
         closed = flagged or np.hypot(*(pts[0] - pts[-1])) <= 1e-9 * max(size, 1e-300)
         (shapes if closed and len(pts) > 3 else loose).append(pts[:-1] if closed else pts)
+    if pieces:
+        shapes.extend(_chains(path, pieces))
     recorded = {}
-    points = [e for e in msp.query("POINT") if e.dxf.layer.upper() == LAYERS["com"]]
+    code = doc.header.get("$INSUNITS", 0)
+    if code in INSUNITS:
+        recorded["unit"] = (INSUNITS[code], UNIT_LENGTHS[INSUNITS[code]])
+    points = [e for e in msp.query("POINT") if e.dxf.layer.upper() in (LAYERS["com"], _LEGACY_COM_LAYER)]
     if points:
         location = points[0].dxf.location
         recorded["com"] = np.array([location.x, location.y], float)
@@ -99,6 +146,8 @@ def read_dxf(path, layer=None) -> Drawing:
         if KAPPA_KEY in meta:
             recorded["kappa"] = float(meta[KAPPA_KEY])
             recorded["units"] = meta.get(UNITS_KEY, "")
+        if COM_KEY in meta and "com" not in recorded:
+            recorded["com"] = np.array([float(v) for v in meta[COM_KEY].split(",")], float).reshape(2)
     except (KeyError, ValueError, TypeError, AttributeError):
         pass
     kinds = sorted({e.dxftype() for e in chosen})

@@ -12,13 +12,20 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Drawing", "FLATNESS", "MAX_POINTS_PER_CURVE", "convex_hull", "polygon_area_centroid",
-           "shapes_area_centroid", "steps_for_curvature", "cubic_points", "ellipse_points"]
+__all__ = ["Drawing", "FLATNESS", "MAX_POINTS_PER_CURVE", "UNIT_LENGTHS", "CHAIN_TOLERANCE", "convex_hull",
+           "polygon_area_centroid", "shapes_area_centroid", "steps_for_curvature", "cubic_points",
+           "ellipse_points", "is_rectangle", "join_chains"]
 
 #: chord error of flattened curves, relative to the size of the shape
 FLATNESS = 1e-8
 #: points per curve at most (a huge curvature bound must not exhaust memory)
 MAX_POINTS_PER_CURVE = 200_000
+#: length of one unit in millimetres: the units a drawing may record (SVG ``width``/``height``, DXF
+#: ``$INSUNITS``) and a caller may give κ in; px and pt are the CSS units (1 px = 1/96 in, 1 pt = 1/72 in)
+UNIT_LENGTHS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "ft": 304.8, "pt": 25.4 / 72, "pc": 25.4 / 6,
+                "px": 25.4 / 96}
+#: end points of DXF LINE/ARC pieces closer than this times the size of the pieces are joined
+CHAIN_TOLERANCE = 1e-6
 
 
 class Drawing(NamedTuple):
@@ -31,7 +38,9 @@ class Drawing(NamedTuple):
     loose : list of ndarray
         Open curves; they count for the convex hull only.
     recorded : dict
-        What coinwall's own export recorded in the file: ``com`` (x, y), ``kappa`` and ``units``.
+        What the file records: from coinwall's own export ``com`` (x, y), ``kappa`` and ``units``;
+        from any drawing ``unit`` = (name, length of one drawing coordinate in mm) when it states a
+        physical unit, and for SVG ``page`` = the area of the page (viewBox) in drawing coordinates.
     what : str
         A note saying what was read.
     """
@@ -117,3 +126,76 @@ def ellipse_points(centre, rx, ry, rotation, start, sweep, size):
     c, s = math.cos(rotation), math.sin(rotation)
     x, y = rx * np.cos(t), ry * np.sin(t)
     return np.column_stack([centre[0] + c * x - s * y, centre[1] + s * x + c * y])
+
+
+def is_rectangle(points, tolerance=1e-9):
+    """Whether a closed shape is a rectangle: four corners (after dropping collinear points) at right angles.
+
+    ``tolerance`` is relative to the size of the shape.
+    """
+    pts = np.asarray(points, float)
+    size = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
+    # repeated points (a DXF polyline's pieces share their ends) are one point
+    pts = pts[np.hypot(*(pts - np.roll(pts, 1, axis=0)).T) > tolerance * size] if size > 0 else pts
+    if len(pts) < 4:
+        return False
+    if size <= 0:
+        return False
+    before, after = pts - np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0) - pts
+    turn = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
+    lengths = np.hypot(*before.T) * np.hypot(*after.T)
+    keep = (np.abs(turn) > tolerance * np.maximum(lengths, size**2 * tolerance)) & (lengths > 0)
+    corners = pts[keep]
+    if len(corners) != 4:
+        return False
+    sides = np.roll(corners, -1, axis=0) - corners
+    dots = np.sum(sides * np.roll(sides, -1, axis=0), axis=1)
+    return bool(np.all(np.abs(dots) <= 1e-7 * np.sum(sides**2, axis=1).max()))
+
+
+def join_chains(pieces, tolerance):
+    """Join open pieces (arrays of points from start to end) whose end points meet into closed loops.
+
+    Parameters
+    ----------
+    pieces : list of ndarray
+        Each an (m, 2) array, m ≥ 2, ordered from one end to the other (either direction).
+    tolerance : float
+        End points closer than this meet.
+
+    Returns
+    -------
+    (list of ndarray, list of (ndarray, float))
+        The closed loops (points not repeating the first), and the open chains, each with the
+        distance between its two ends (the gap that keeps it open).
+    """
+    unused = [np.asarray(p, float) for p in pieces if len(p) >= 2]
+
+    def take(point):
+        """The unused piece with an end at ``point``, oriented to start there, or None."""
+        for k, piece in enumerate(unused):
+            for candidate in (piece, piece[::-1]):
+                if np.hypot(*(candidate[0] - point)) <= tolerance:
+                    unused.pop(k)
+                    return candidate
+        return None
+
+    loops, open_chains = [], []
+    while unused:
+        chain = [unused.pop(0)]
+        while np.hypot(*(chain[-1][-1] - chain[0][0])) > tolerance or sum(len(p) for p in chain) < 4:
+            after = take(chain[-1][-1])
+            if after is not None:
+                chain.append(after)
+                continue
+            before = take(chain[0][0])  # an open chain is followed both ways, so its gap is its whole gap
+            if before is None:
+                break
+            chain.insert(0, before[::-1])
+        points = np.vstack([chain[0]] + [piece[1:] for piece in chain[1:]])
+        gap = float(np.hypot(*(points[-1] - points[0])))
+        if gap <= tolerance and len(points) > 3:
+            loops.append(points[:-1])
+        else:
+            open_chains.append((points, gap))
+    return loops, open_chains

@@ -9,9 +9,17 @@ mass at the origin, and a note saying what was done.
   in a file written by coinwall (the JSON/CSV of ``solve``, the centre-of-mass mark of its SVG, the
   POINT on its DXF's centre-of-mass layer); otherwise the centroid of the drawn shape (uniform
   density).  A polar expression R(α) is measured from the centre of mass, like the paper's R(α).
-* **Scale.**  Coordinates are divided by ``kappa`` (the radius of gyration in drawing units) when
-  given, else by the scale recorded by coinwall's own SVG/DXF export, else drawing units are taken
-  as units of κ.
+* **Scale (one rule).**  ``kappa`` is a length in ``units``; ``units`` defaults to the drawing's own
+  unit (SVG ``width``/``height`` over its ``viewBox``, DXF ``$INSUNITS``).  Coordinates are converted
+  from the drawing's unit to ``units`` and divided by ``kappa``; a drawing that records no unit is
+  taken to be in ``units`` (and without ``units``, ``kappa`` is in its coordinates).  Without
+  ``kappa``: the scale recorded by coinwall's own SVG/DXF export, else drawing units are taken as
+  units of κ.
+* **Which shapes.**  ``element`` (SVG id) or ``layer`` (DXF) picks one shape.  A page-sized background
+  rectangle (SVG: a rectangle covering at least ``PAGE_FRACTION`` of the page; DXF: a rectangle
+  enclosing every other shape) is left out with a note, and is an error if it is the only shape.
+  Shapes lying inside the largest one do not change the hull and are noted; several shapes that
+  each add to the hull are merged into it with a warning (:func:`read_outline` returns warnings).
 * **Curves** are flattened with a chord error below :data:`~.geometry.FLATNESS` times the size of the
   shape (see :mod:`.geometry`).
 """
@@ -19,24 +27,47 @@ mass at the origin, and a note saying what was done.
 from __future__ import annotations
 
 import os
+from typing import NamedTuple
 
 import numpy as np
 
 from ..angles import TWO_PI
 from ..errors import CoinwallError, InvalidArgument, InvalidOutline
 from ..outline import Outline
-from ..validation import check_count, check_positive
+from ..validation import check_choice, check_count, check_positive
 from .bodyjson import read_body_json
 from .dxf import read_dxf
-from .geometry import Drawing, convex_hull, polygon_area_centroid, shapes_area_centroid
+from .geometry import UNIT_LENGTHS, Drawing, convex_hull, is_rectangle, polygon_area_centroid, shapes_area_centroid
 from .points import read_points_csv
 from .svg import read_svg
 
-__all__ = ["OUTLINE_FORMATS", "load_outline", "outline_from_polar", "check_com"]
+__all__ = ["OUTLINE_FORMATS", "PAGE_FRACTION", "OutlineReading", "read_outline", "load_outline",
+           "outline_from_polar", "check_com"]
 
 #: file extensions load_outline reads
 OUTLINE_FORMATS = (".json", ".csv", ".svg", ".dxf")
 _NON_CONVEX = 1e-7  # relative area excess of the hull that counts as "not convex"
+#: an SVG rectangle covering at least this fraction of the page is a background, not the body
+PAGE_FRACTION = 0.9
+_ADDS_TO_HULL = 1e-6  # relative area a shape must add to the largest shape's hull to count as merged
+
+
+class OutlineReading(NamedTuple):
+    """What :func:`read_outline` read.
+
+    Attributes
+    ----------
+    outline : Outline
+        Convex, in units of κ, centre of mass at the origin.
+    note : str
+        What was done (shapes read, hull, centre of mass, scale).
+    warnings : list of str
+        Choices the caller should know about: several shapes merged into one hull.
+    """
+
+    outline: Outline
+    note: str
+    warnings: list
 
 
 def check_com(com) -> np.ndarray:
@@ -50,16 +81,106 @@ def check_com(com) -> np.ndarray:
     return centre
 
 
-def _finish(path, drawing: Drawing, com, kappa):
-    """Hull, centre of mass, scale → (Outline, note)."""
+def _hull_area(points):
+    hull, _ = convex_hull(points)
+    return polygon_area_centroid(hull)[0] if len(hull) > 2 else 0.0
+
+
+def _inside_convex(polygon, points, tolerance=1e-9):
+    """Whether every point lies in the convex polygon (within ``tolerance`` times its size)."""
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    orientation = np.sign(_signed_area(polygon)) or 1.0
+    rel = np.asarray(points, float)[:, None, :] - polygon[None, :, :]
+    cross = orientation * (edges[None, :, 0] * rel[..., 1] - edges[None, :, 1] * rel[..., 0])
+    size = float(np.ptp(polygon, axis=0).max())
+    return bool(np.all(cross >= -tolerance * size * np.hypot(*edges.T)[None, :]))
+
+
+def _signed_area(pts):
+    """Signed area of a polygon (positive counter-clockwise)."""
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _background(path, shapes, loose, recorded, notes):
+    """Drop a page-sized background rectangle from ``shapes`` (noted); an error if it is the only shape."""
+    page = recorded.get("page")
+    for k, shape in enumerate(shapes):
+        if not is_rectangle(shape):
+            continue
+        area = polygon_area_centroid(shape)[0]
+        others = [s for j, s in enumerate(shapes) if j != k] + list(loose)
+        if page is not None:  # SVG: a rectangle covering the page
+            if area < PAGE_FRACTION * page:
+                continue
+            if not others:
+                raise InvalidOutline(f"body file {path!r}: the only shape is a rectangle covering "
+                                     f"{area / page:.0%} of the page, a background, not a body; draw the body, "
+                                     "or pick the rectangle with `element` if it is the body")
+            notes.append(f"a background rectangle covering {area / page:.0%} of the page left out")
+        else:  # DXF: a rectangle enclosing every other shape
+            if not others:
+                continue
+            if not all(_inside_convex(shape, o) for o in others):
+                continue
+            notes.append("a rectangle enclosing every other shape (a frame) left out; pick it with `layer` if it "
+                         "is the body")
+        return [s for j, s in enumerate(shapes) if j != k]
+    return shapes
+
+
+def _merged(shapes, loose, notes, warnings, choose):
+    """Note shapes inside the largest one; warn when several shapes each add to the hull."""
+    parts = [np.asarray(s, float) for s in list(shapes) + list(loose) if len(s)]
+    if len(parts) < 2:
+        return
+    areas = [_hull_area(p) if len(p) > 2 else 0.0 for p in parts]
+    largest = int(np.argmax(areas))
+    base = areas[largest]
+    adding = [k for k, p in enumerate(parts) if k != largest
+              and _hull_area(np.vstack([parts[largest], p])) > base * (1 + _ADDS_TO_HULL)]
+    inside = len(parts) - 1 - len(adding)
+    if adding:
+        warnings.append(f"{len(adding) + 1} shapes merged into one convex hull (the wall is that of the hull); "
+                        f"pick one with {choose}")
+    if inside:
+        notes.append(f"{inside} shape{'s' if inside != 1 else ''} inside the largest one (no effect on the hull)")
+
+
+def _scale(path, recorded, kappa, units, notes):
+    """Drawing coordinates per unit κ, by the module's one rule (see the module docstring)."""
+    drawing_unit = recorded.get("unit")
+    if kappa is None:
+        if recorded.get("kappa") is not None:
+            notes.append(f"kappa = {float(recorded['kappa']):g} {recorded.get('units', '')} as recorded in the file"
+                         .replace("  ", " "))
+            return float(recorded["kappa"])
+        notes.append("drawing units taken as units of kappa")
+        return 1.0
+    kappa = float(kappa)
+    if drawing_unit is None:
+        notes.append(f"kappa = {kappa:g} {units or 'drawing units'}"
+                     + (f"; the drawing records no unit: coordinates taken as {units}" if units else ""))
+        return kappa
+    name, millimetres = drawing_unit
+    units = units or name
+    coordinate = millimetres / UNIT_LENGTHS[units]  # one drawing coordinate in `units`
+    notes.append(f"kappa = {kappa:g} {units}; drawing unit {name}, one coordinate = {coordinate:.6g} {units}")
+    return kappa / coordinate
+
+
+def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (SVG) or `layer` (DXF)"):
+    """Background, hull, centre of mass, scale → OutlineReading."""
     shapes, loose, recorded, what = drawing
-    everything = [np.asarray(s, float) for s in shapes + loose if len(s)]
+    notes, warnings = [what], []
+    shapes = _background(path, list(shapes), list(loose), recorded, notes)
+    _merged(shapes, loose, notes, warnings, choose)
+    everything = [np.asarray(s, float) for s in shapes + list(loose) if len(s)]
     if not everything:
         raise InvalidOutline(f"body file {path!r}: no outline found ({what})")
     points = np.vstack(everything)
     if not np.all(np.isfinite(points)):
         raise InvalidOutline(f"body file {path!r}: outline coordinates are not finite")
-    notes = [what]
     hull, _ = convex_hull(points)
     hull_area = polygon_area_centroid(hull)[0] if len(hull) > 2 else 0.0
     drawn = shapes_area_centroid(shapes) if shapes else None
@@ -81,20 +202,13 @@ def _finish(path, drawing: Drawing, com, kappa):
         else:
             centre = hull.mean(axis=0)
         notes.append(f"centre of mass = centroid ({centre[0]:.6g}, {centre[1]:.6g}), uniform density")
-    if kappa is not None:
-        scale = check_positive("kappa", kappa)
-        notes.append(f"kappa = {scale:g} drawing units")
-    elif recorded.get("kappa") is not None:
-        scale = float(recorded["kappa"])
-        notes.append(f"kappa = {scale:g} {recorded.get('units', '')} as recorded in the file".replace("  ", " "))
-    else:
-        scale = 1.0
-        notes.append("drawing units taken as units of kappa")
-    return Outline.from_polygon((hull - centre) / scale), "; ".join(notes)
+    scale = _scale(path, recorded, kappa, units, notes)
+    return OutlineReading(Outline.from_polygon((hull - centre) / scale), "; ".join(notes), warnings)
 
 
-def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float | None = None):
-    """Outline from a file, in units of κ with the centre of mass at the origin.
+def read_outline(path: str, *, layer: str | None = None, element: str | None = None, com=None,
+                 kappa: float | None = None, units: str | None = None) -> OutlineReading:
+    """Outline from a file, in units of κ with the centre of mass at the origin, with notes and warnings.
 
     Parameters
     ----------
@@ -102,25 +216,31 @@ def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float 
         ``.json`` (from ``coinwall solve``, or ``{"outline"|"points": [[x, y], ...]}``),
         ``.csv`` (x, y columns; a header row is skipped), ``.svg`` (closed paths,
         polygons, rects, circles, ellipses) or ``.dxf`` (LWPOLYLINE, POLYLINE, SPLINE,
-        CIRCLE, ELLIPSE, ARC).
+        CIRCLE, ELLIPSE, and closed chains of LINE and ARC).
     layer : str, optional
-        DXF layer to read (default: every layer).
+        DXF layer to read (default: every layer but annotation layers).
+    element : str, optional
+        SVG: the id of the element to read (default: the whole drawing).
     com : (float, float), optional
         Centre of mass in drawing coordinates (default: recorded by coinwall, else the centroid).
     kappa : float, optional
-        Radius of gyration in drawing units (default: recorded by coinwall, else 1).
+        Radius of gyration in ``units`` (default: recorded by coinwall, else 1 drawing unit).
+    units : str, optional
+        Unit of ``kappa``, one of :data:`~.geometry.UNIT_LENGTHS` (default: the drawing's own unit).
+        Needs ``kappa``.
 
     Returns
     -------
-    (Outline, str)
-        The convex outline and a note saying what was done.
+    OutlineReading
+        The convex outline, a note saying what was done, and warnings (several shapes merged).
 
     Raises
     ------
     InvalidOutline
-        Missing, empty, damaged or unsupported files; no closed shape; nothing on the layer.
+        Missing, empty, damaged or unsupported files; no closed shape; nothing on the layer or in the
+        element; an open LINE/ARC chain; a background rectangle as the only shape.
     InvalidArgument
-        A bad ``com``, ``kappa`` or ``layer``.
+        A bad ``com``, ``kappa``, ``units``, ``layer`` or ``element``.
     """
     if not isinstance(path, str) or not os.path.isfile(path):
         raise InvalidOutline(f"body file {path!r} does not exist")
@@ -132,22 +252,29 @@ def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float 
         raise InvalidArgument(f"`layer` applies to DXF files, not to {path!r}")
     if layer is not None and not isinstance(layer, str):
         raise InvalidArgument(f"`layer` must be a layer name (a string), got {layer!r}")
+    if element is not None and ext != ".svg":
+        raise InvalidArgument(f"`element` applies to SVG files, not to {path!r}")
     # the arguments are checked before the file is read: their errors are the caller's, not the file's
     if com is not None:
         check_com(com)
     if kappa is not None:
         check_positive("kappa", kappa)
+    if units is not None:
+        check_choice("units", units, tuple(UNIT_LENGTHS))
+        if kappa is None:
+            raise InvalidArgument(f"`units` {units} needs `kappa` (the radius of gyration in {units})")
     if os.path.getsize(path) == 0:
         raise InvalidOutline(f"body file {path!r} is empty")
     try:
         if ext == ".svg":
-            return _finish(path, read_svg(path), com, kappa)
+            return _finish(path, read_svg(path, element), com, kappa, units, "`element` (an SVG id)")
         if ext == ".dxf":
-            return _finish(path, read_dxf(path, layer), com, kappa)
+            return _finish(path, read_dxf(path, layer), com, kappa, units, "`layer`")
         if ext == ".json":
             points, controls, recorded, what = read_body_json(path)
             if controls is not None and com is None and kappa is None:
-                return Outline(points, controls), "exact Bézier outline (coinwall JSON, units of kappa)"
+                return OutlineReading(Outline(points, controls),
+                                      "exact Bézier outline (coinwall JSON, units of kappa)", [])
         else:
             points, coinwall = read_points_csv(path)
             recorded = {"com": (0.0, 0.0)} if coinwall else {}
@@ -159,7 +286,24 @@ def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float 
     if points.ndim != 2 or points.shape[1] != 2 or len(points) < 2 or not np.all(np.isfinite(points)):
         raise InvalidOutline(f"body file {path!r}: the outline must be at least 2 finite [x, y] points")
     closed = [points] if len(points) >= 3 else []
-    return _finish(path, Drawing(closed, [] if closed else [points], recorded, what), com, kappa)
+    return _finish(path, Drawing(closed, [] if closed else [points], recorded, what), com, kappa, units)
+
+
+def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float | None = None,
+                 units: str | None = None, element: str | None = None):
+    """Outline from a file, in units of κ with the centre of mass at the origin, and a note.
+
+    The same as :func:`read_outline` (see there for the parameters), with its warnings appended
+    to the note.
+
+    Returns
+    -------
+    (Outline, str)
+        The convex outline and a note saying what was done.
+    """
+    reading = read_outline(path, layer=layer, element=element, com=com, kappa=kappa, units=units)
+    note = "; ".join([reading.note] + [f"warning: {w}" for w in reading.warnings])
+    return reading.outline, note
 
 
 def outline_from_polar(text: str, params=None, *, samples: int = 4096, com=None):
@@ -203,7 +347,7 @@ def outline_from_polar(text: str, params=None, *, samples: int = 4096, com=None)
         step = np.full(samples, TWO_PI / samples)
         return Outline.from_hermite(points, tangent, tangent, step), \
             f"polar R(α) = {text}: convex, exact-derivative Bézier outline on {samples} nodes; pole = centre of mass"
-    outline, note = _finish(f"polar:{text}", Drawing([points], [], {"com": (0.0, 0.0)},
-                                                     f"polar R(α) = {text} on {samples} points"), com, None)
+    outline, note, _ = _finish(f"polar:{text}", Drawing([points], [], {"com": (0.0, 0.0)},
+                                                        f"polar R(α) = {text} on {samples} points"), com, None)
     return outline, note.replace("centre of mass as recorded in the file", "pole = centre of mass") \
         .replace("; drawing units taken as units of kappa", "")

@@ -5,10 +5,20 @@ the transforms of its groups; open paths and lines are counted and ignored.  Bé
 flattened on the exact geometry (arcs by the SVG 1.1 endpoint-to-centre conversion, implementation
 notes F.6.5).  SVG's y axis points down; the body frame's points up, so y is flipped.
 
+**Units.**  ``width``/``height`` with an absolute unit (mm, cm, in, pt, pc, px, m) and a ``viewBox`` give
+the physical length of one drawing coordinate (the viewBox is fitted into the page uniformly, as
+``preserveAspectRatio`` does by default); without a viewBox a coordinate is one px (1/96 in), as the
+SVG specification says.  A unitless ``width`` is a screen size, not a physical unit: such a drawing
+records no unit.  The page area (viewBox, else ``width`` × ``height``) lets the loader recognise a
+page-sized background rectangle.
+
+**One shape.**  ``element`` restricts the reader to the element with that ``id`` (and what it holds).
+
 The writer (:mod:`coinwall.inverse.export.svg`) records the scale on the root element
 (``KAPPA_ATTRIBUTE``, ``UNITS_ATTRIBUTE``) and marks the centre of mass with a circle of id
-``CENTRE_OF_MASS_ID``; every mark carries the class ``ANNOTATION_CLASS``, so that the reader skips
-marks and reads the recorded centre of mass and scale back.
+``CENTRE_OF_MASS_ID`` (a cut-ready drawing, which has no marks, records it in ``COM_ATTRIBUTE``);
+every mark carries the class ``ANNOTATION_CLASS``, so that the reader skips marks and reads the
+recorded centre of mass and scale back.
 """
 
 from __future__ import annotations
@@ -19,10 +29,11 @@ import re
 import numpy as np
 
 from ..angles import TWO_PI
-from ..errors import InvalidOutline
-from .geometry import Drawing, cubic_points, ellipse_points
+from ..errors import InvalidArgument, InvalidOutline
+from .geometry import UNIT_LENGTHS, Drawing, cubic_points, ellipse_points
 
-__all__ = ["SVG_NAMESPACE", "KAPPA_ATTRIBUTE", "UNITS_ATTRIBUTE", "ANNOTATION_CLASS", "CENTRE_OF_MASS_ID",
+__all__ = ["SVG_NAMESPACE", "KAPPA_ATTRIBUTE", "UNITS_ATTRIBUTE", "COM_ATTRIBUTE", "ANNOTATION_CLASS",
+           "CENTRE_OF_MASS_ID", "svg_unit",
            "OUTLINE_ID", "SKIPPED_ELEMENTS", "read_svg", "svg_transform", "svg_path"]
 
 SVG_NAMESPACE = "http://www.w3.org/2000/svg"
@@ -30,6 +41,8 @@ SVG_NAMESPACE = "http://www.w3.org/2000/svg"
 KAPPA_ATTRIBUTE = "data-coinwall-kappa"
 #: root attribute: the unit of the drawing ("mm", "cm", "in" or "kappa")
 UNITS_ATTRIBUTE = "data-coinwall-units"
+#: root attribute: the centre of mass "x,y" in SVG coordinates (cut-ready drawings, which have no marks)
+COM_ATTRIBUTE = "data-coinwall-com"
 #: class of coinwall's marks (centre of mass, dimension): not outline
 ANNOTATION_CLASS = "coinwall-annotation"
 #: id of the circle at the centre of mass
@@ -235,8 +248,42 @@ def _length(value, default=0.0):
     return vals[0] if vals else default
 
 
-def read_svg(path) -> Drawing:
-    """The closed shapes of an SVG file, and what coinwall's own export recorded in it."""
+_LENGTH = re.compile(r"^\s*(" + _NUMBER + r")\s*([a-zA-Z%]*)\s*$")
+
+
+def svg_unit(root):
+    """The drawing unit of an SVG root element and the page area in drawing coordinates.
+
+    Returns
+    -------
+    ((str, float) or None, float or None)
+        ``(unit name, length of one drawing coordinate in mm)`` when ``width``/``height`` state an
+        absolute unit, else None; the area of the viewBox (else ``width`` × ``height``), else None.
+    """
+    sizes = {}
+    for name in ("width", "height"):
+        match = _LENGTH.match(root.get(name) or "")
+        if match and float(match.group(1)) > 0:
+            sizes[name] = (float(match.group(1)), match.group(2).lower())
+    box = _numbers(root.get("viewBox"))
+    has_box = len(box) == 4 and box[2] > 0 and box[3] > 0
+    page = box[2] * box[3] if has_box else (
+        sizes["width"][0] * sizes["height"][0] if len(sizes) == 2 and sizes["width"][1] in ("", "px")
+        and sizes["height"][1] in ("", "px") else None)
+    units = [u for _, u in sizes.values() if u in UNIT_LENGTHS]
+    if not units:
+        return None, page
+    if not has_box:  # no viewBox: one user unit is one CSS px, whatever the page size
+        return ("px", UNIT_LENGTHS["px"]), page
+    per_coordinate = [value * UNIT_LENGTHS[u] / box[2 if name == "width" else 3]
+                      for name, (value, u) in sizes.items() if u in UNIT_LENGTHS]
+    return (units[0], min(per_coordinate)), page  # min: the viewBox is fitted in ("meet", the default)
+
+
+def read_svg(path, element=None) -> Drawing:
+    """The closed shapes of an SVG file (of the element with id ``element`` if given), and what it records."""
+    if element is not None and (not isinstance(element, str) or not element):
+        raise InvalidArgument(f"`element` must be the id of an SVG element (a string), got {element!r}")
     import xml.etree.ElementTree as ET
 
     try:
@@ -245,7 +292,12 @@ def read_svg(path) -> Drawing:
         raise InvalidOutline(f"body file {path!r} is not valid SVG (XML error: {exc})") from None
     if root.tag.rsplit("}", 1)[-1] != "svg":
         raise InvalidOutline(f"body file {path!r}: the root element is <{root.tag.rsplit('}', 1)[-1]}>, not <svg>")
-    shapes, open_count, recorded = [], 0, {}
+    shapes, open_count, recorded, found, ids = [], 0, {}, [], []
+    unit, page = svg_unit(root)
+    if unit is not None:
+        recorded["unit"] = unit
+    if page is not None and element is None:
+        recorded["page"] = page
     kappa = root.get(KAPPA_ATTRIBUTE)
     if kappa is not None and _numbers(kappa):
         recorded["kappa"] = _numbers(kappa)[0]
@@ -257,7 +309,10 @@ def read_svg(path) -> Drawing:
         full = flip @ matrix
         return pts @ full[:2, :2].T + full[:2, 2]
 
-    def visit(elem, matrix):
+    if _numbers(root.get(COM_ATTRIBUTE)):
+        recorded["com"] = apply(svg_transform(root.get("transform")), _numbers(root.get(COM_ATTRIBUTE))[:2])[0]
+
+    def visit(elem, matrix, inside):
         nonlocal open_count
         tag = elem.tag.rsplit("}", 1)[-1]
         if tag in SKIPPED_ELEMENTS:
@@ -267,6 +322,15 @@ def read_svg(path) -> Drawing:
         if ANNOTATION_CLASS in classes:
             if elem.get("id") == CENTRE_OF_MASS_ID and tag == "circle":
                 recorded["com"] = apply(matrix, [_length(elem.get("cx")), _length(elem.get("cy"))])[0]
+            return
+        if elem.get("id"):
+            ids.append(elem.get("id"))
+        if element is not None and elem.get("id") == element:
+            inside = True
+            found.append(tag)
+        if not inside:
+            for child in elem:
+                visit(child, matrix, inside)
             return
         size = 1.0
         if tag == "path":
@@ -300,14 +364,23 @@ def read_svg(path) -> Drawing:
         elif tag == "line":
             open_count += 1
         for child in elem:
-            visit(child, matrix)
+            visit(child, matrix, inside)
 
-    visit(root, np.eye(3))
+    visit(root, np.eye(3), element is None)
+    if element is not None and not found:
+        shown = ", ".join(repr(i) for i in ids[:12]) + (", ..." if len(ids) > 12 else "")
+        raise InvalidOutline(f"body file {path!r}: no element with id {element!r} (ids in the file: "
+                             f"{shown or 'none'})")
+    if element is not None and not shapes:
+        raise InvalidOutline(f"body file {path!r}: element {element!r} (<{found[0]}>) holds no closed shape "
+                             f"(path ending in Z, polygon, rect, circle or ellipse)")
     if not shapes:
         extra = f" ({open_count} open shape{'s' if open_count != 1 else ''} ignored)" if open_count else ""
         raise InvalidOutline(f"body file {path!r}: the SVG has no closed shape (path ending in Z, polygon, "
                              f"rect, circle or ellipse){extra}")
     what = f"SVG: {len(shapes)} closed shape{'s' if len(shapes) != 1 else ''}"
+    if element is not None:
+        what += f" in element {element!r}"
     if open_count:
         what += f", {open_count} open shape{'s' if open_count != 1 else ''} ignored"
     return Drawing(shapes, [], recorded, what)

@@ -96,16 +96,18 @@ def check_outputs(paths) -> list:
     return checked
 
 
-def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False) -> list:
+def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False, cut=False) -> list:
     """Write ``body`` to every path (format by extension), all or nothing; returns the paths.
 
-    ``kappa``/``units``/``tolerance``/``dimension`` are :class:`ExportOptions`; use
+    ``kappa``/``units``/``tolerance``/``dimension``/``cut`` are :class:`ExportOptions`; use
     :func:`export_body` to also get the achieved deviations.
     """
-    return export_body(body, paths, kappa=kappa, units=units, tolerance=tolerance, dimension=dimension).paths
+    return export_body(body, paths, kappa=kappa, units=units, tolerance=tolerance, dimension=dimension,
+                       cut=cut).paths
 
 
-def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False) -> ExportResult:
+def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False,
+                cut=False) -> ExportResult:
     """Write ``body`` to every path, all or nothing, and report the deviations achieved.
 
     Parameters
@@ -121,6 +123,8 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
         Largest deviation from the exact outline, in output units.
     dimension : bool
         Draw the largest diameter (SVG).
+    cut : bool
+        Cut-ready SVG/DXF: one closed contour on one layer, nothing else (:class:`ExportOptions`).
 
     Raises
     ------
@@ -129,7 +133,7 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
     InvalidArgument
         Bad scale or tolerance.
     """
-    options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension)
+    options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension, cut=cut)
     checked = check_outputs(paths)
     reports, files = {}, {}
     try:

@@ -8,10 +8,15 @@ Layers
     the same curve exactly, C⁰ at nodes, so corners stay corners.
 ``OUTLINE_POLYLINE``
     A closed LWPOLYLINE within the tolerance of the curve, every node a vertex.
-``CENTRE_OF_MASS``
+``ANNOTATION_CENTRE_OF_MASS``
     A POINT at the centre of mass (the origin) and a small cross of LINEs.
-``NOTES``
+``ANNOTATION_NOTES``
     A TEXT stating units and scale, the offset and the achieved deviations.
+
+A cut-ready drawing (``ExportOptions(cut=True)``, ``--cut``) holds one entity only: the closed
+LWPOLYLINE within the tolerance, on layer ``CUT``; laser and CNC software that cuts every layer cuts
+the outline once and nothing else.  The centre of mass is then kept in the metadata only
+(``coinwall_com``), which no CAM program draws.
 
 ``$INSUNITS`` is 4/5/1 for mm/cm/in with a physical scale, 0 (unitless) in
 units of κ.  The scale and unit are also kept in ezdxf's metadata
@@ -33,7 +38,7 @@ import io
 
 import numpy as np
 
-from coinwall.forward.formats.dxf import B0_KEY, KAPPA_KEY, LAYERS, UNITS_KEY
+from coinwall.forward.formats.dxf import B0_KEY, COM_KEY, KAPPA_KEY, LAYERS, UNITS_KEY
 
 from .flatten import flatten_outline, largest_diameter
 from .options import UNITS, ExportOptions
@@ -74,6 +79,19 @@ def _spline_deviation(bspline, outline, scale, per_segment=16):
     return float(np.max(np.hypot(*(spline - exact).T)))
 
 
+def _annotate(msp, body, options, diameter, tolerance, poly_dev, spline_dev):
+    """The centre-of-mass mark and the note, on the annotation layers."""
+    mark = 0.02 * diameter
+    msp.add_point((0.0, 0.0), dxfattribs={"layer": LAYERS["com"]})
+    msp.add_line((-mark, 0), (mark, 0), dxfattribs={"layer": LAYERS["com"]})
+    msp.add_line((0, -mark), (0, mark), dxfattribs={"layer": LAYERS["com"]})
+    unit_text = f"kappa = {options.kappa:g} {options.units}" if options.kappa else "units of kappa (unscaled)"
+    note = (f"coinwall body: b0={body.b0:g}, regime {body.regime}; {unit_text}; "
+            f"polyline deviation {poly_dev:.3g} (tolerance {tolerance:.3g}); spline exact ({spline_dev:.1e})")
+    msp.add_text(note, height=0.02 * diameter, dxfattribs={"layer": LAYERS["notes"]}).set_placement(
+        (-0.5 * diameter, -0.65 * diameter))
+
+
 def build_document(body, options: ExportOptions | None = None):
     """The ezdxf document for ``body`` and a report ``{"spline": dev, "polyline": dev, ...}``."""
     import ezdxf
@@ -93,36 +111,32 @@ def build_document(body, options: ExportOptions | None = None):
         doc = ezdxf.new("R2010", setup=False)
     doc.header["$INSUNITS"] = UNITS.get(options.units, 0)
     doc.header["$MEASUREMENT"] = 0 if options.units == "in" else 1
-    for name, color in zip(LAYERS.values(), (5, 1, 3, 7)):
-        doc.layers.add(name, color=color)
     msp = doc.modelspace()
-
-    bspline = _bspline(outline, scale)
-    spline = msp.add_spline(dxfattribs={"layer": LAYERS["spline"]})
-    spline.apply_construction_tool(bspline)
-    spline.dxf.flags = spline.PLANAR | spline.CLOSED
-    spline_dev = _spline_deviation(bspline, outline, scale)
-
     points, poly_dev = flatten_outline(outline, tolerance, scale)
-    msp.add_lwpolyline([tuple(p) for p in points], format="xy", close=True,
-                       dxfattribs={"layer": LAYERS["polyline"]})
-
-    mark = 0.02 * diameter
-    msp.add_point((0.0, 0.0), dxfattribs={"layer": LAYERS["com"]})
-    msp.add_line((-mark, 0), (mark, 0), dxfattribs={"layer": LAYERS["com"]})
-    msp.add_line((0, -mark), (0, mark), dxfattribs={"layer": LAYERS["com"]})
-
-    unit_text = f"kappa = {options.kappa:g} {options.units}" if options.kappa else "units of kappa (unscaled)"
-    note = (f"coinwall body: b0={body.b0:g}, regime {body.regime}; {unit_text}; "
-            f"polyline deviation {poly_dev:.3g} (tolerance {tolerance:.3g}); spline exact ({spline_dev:.1e})")
-    msp.add_text(note, height=0.02 * diameter, dxfattribs={"layer": LAYERS["notes"]}).set_placement(
-        (-0.5 * diameter, -0.65 * diameter))
+    if options.cut:
+        doc.layers.add(LAYERS["cut"], color=1)
+        msp.add_lwpolyline([tuple(p) for p in points], format="xy", close=True, dxfattribs={"layer": LAYERS["cut"]})
+        spline_dev = 0.0
+    else:
+        for key, color in (("spline", 5), ("polyline", 1), ("com", 3), ("notes", 7)):
+            doc.layers.add(LAYERS[key], color=color)
+        bspline = _bspline(outline, scale)
+        spline = msp.add_spline(dxfattribs={"layer": LAYERS["spline"]})
+        spline.apply_construction_tool(bspline)
+        spline.dxf.flags = spline.PLANAR | spline.CLOSED
+        spline_dev = _spline_deviation(bspline, outline, scale)
+        msp.add_lwpolyline([tuple(p) for p in points], format="xy", close=True,
+                           dxfattribs={"layer": LAYERS["polyline"]})
+        _annotate(msp, body, options, diameter, tolerance, poly_dev, spline_dev)
     meta = doc.ezdxf_metadata()
     meta[KAPPA_KEY] = repr(scale)
     meta[UNITS_KEY] = options.unit_name
     meta[B0_KEY] = repr(float(body.b0))
-    report = {"spline": spline_dev, "polyline": poly_dev, "tolerance": tolerance,
-              "polyline_vertices": int(len(points)), "units": options.unit_name}
+    meta[COM_KEY] = "0,0"  # the body frame's origin is the centre of mass
+    report = {"polyline": poly_dev, "tolerance": tolerance, "polyline_vertices": int(len(points)),
+              "units": options.unit_name}
+    if not options.cut:
+        report = {"spline": spline_dev, **report}
     return doc, report
 
 

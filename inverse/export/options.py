@@ -37,12 +37,17 @@ class ExportOptions:
         ``None``: ``DEFAULT_RELATIVE_TOLERANCE`` times the largest diameter.
     dimension : bool
         Draw the largest diameter with its length (SVG).
+    cut : bool
+        Cut-ready drawing: one closed contour on one layer and nothing else (DXF: a single
+        LWPOLYLINE within the tolerance on layer ``CUT``; SVG: a single path, no marks), so that laser
+        or CNC software that takes every layer cuts the outline once.
     """
 
     kappa: float | None = None
     units: str | None = None
     tolerance: float | None = None
     dimension: bool = False
+    cut: bool = False
 
     def __post_init__(self):
         if self.kappa is not None:

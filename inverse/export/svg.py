@@ -13,6 +13,10 @@ carry the class ``ANNOTATION_CLASS`` and the root element records the scale
 (:mod:`coinwall.forward.formats.svg`, where these names live) skips the marks
 and reads the drawing back in units of κ.  Optionally the largest diameter is
 drawn with its length.
+
+A cut-ready drawing (``ExportOptions(cut=True)``, ``--cut``) holds the outline path only, in a group
+``CUT_LAYER_ID`` (a layer for Inkscape), with no fill, no marks, no title and no description; the centre
+of mass is kept in a root attribute (``COM_ATTRIBUTE``) that nothing draws.
 """
 
 from __future__ import annotations
@@ -21,15 +25,25 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
-from coinwall.forward.formats.svg import (ANNOTATION_CLASS, CENTRE_OF_MASS_ID, KAPPA_ATTRIBUTE, OUTLINE_ID,
-                                          SVG_NAMESPACE, UNITS_ATTRIBUTE)
+from coinwall.forward.formats.svg import (
+    ANNOTATION_CLASS,
+    CENTRE_OF_MASS_ID,
+    COM_ATTRIBUTE,
+    KAPPA_ATTRIBUTE,
+    OUTLINE_ID,
+    SVG_NAMESPACE,
+    UNITS_ATTRIBUTE,
+)
 
 from .flatten import largest_diameter
 from .options import ExportOptions
 
-__all__ = ["EXTENSION", "write", "svg_text", "svg_document"]
+__all__ = ["EXTENSION", "CUT_LAYER_ID", "write", "svg_text", "svg_document"]
 
 EXTENSION = ".svg"
+#: id (and Inkscape layer label) of the group holding the one contour of a cut-ready drawing
+CUT_LAYER_ID = "CUT"
+_INKSCAPE = "http://www.inkscape.org/namespaces/inkscape"
 _DIGITS = 12
 
 
@@ -72,6 +86,17 @@ def svg_document(body, options: ExportOptions | None = None, size_px: int = 400)
         size = f'width="{size_px}" height="{size_px}"'
         unit_text = "coordinates in units of kappa (radius of gyration), no physical scale"
     title = f"coinwall body: b0={body.b0:g}, regime {body.regime}; {unit_text}"
+    report = {"path": rounding, "tolerance": options.tolerance_for(diameter), "diameter": diameter,
+              "units": options.unit_name}
+    if options.cut:
+        lines = [
+            f'<svg xmlns="{SVG_NAMESPACE}" xmlns:inkscape="{_INKSCAPE}" {size} '
+            f'viewBox="{_fmt(-half)} {_fmt(-half)} {_fmt(2 * half)} {_fmt(2 * half)}" '
+            f'{KAPPA_ATTRIBUTE}="{_fmt(scale)}" {UNITS_ATTRIBUTE}="{options.unit_name}" {COM_ATTRIBUTE}="0,0">',
+            f'<g id="{CUT_LAYER_ID}" inkscape:groupmode="layer" inkscape:label="{CUT_LAYER_ID}">',
+            f'<path id="{OUTLINE_ID}" d="{path}" fill="none" stroke="#000" stroke-width="{_fmt(stroke)}"/>',
+            "</g>", "</svg>"]
+        return "\n".join(lines) + "\n", report
     lines = [
         f'<svg xmlns="{SVG_NAMESPACE}" {size} '
         f'viewBox="{_fmt(-half)} {_fmt(-half)} {_fmt(2 * half)} {_fmt(2 * half)}" '
@@ -95,8 +120,6 @@ def svg_document(body, options: ExportOptions | None = None, size_px: int = 400)
     lines.append(f"<desc>{escape('largest diameter ' + f'{diameter:.6g}' + ' ' + options.unit_name)}; "
                  f"path = exact Bezier outline, rounding of control points at most {rounding:.1e}</desc>")
     lines.append("</svg>")
-    report = {"path": rounding, "tolerance": options.tolerance_for(diameter), "diameter": diameter,
-              "units": options.unit_name}
     return "\n".join(lines) + "\n", report
 
 
