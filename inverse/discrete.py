@@ -325,7 +325,7 @@ def sampled_critical_offset(support: DiscreteSupport):
     samples, the parabola through the three values around it gives its value.  Runs of samples at the minimum
     (vertex windows) are reported as intervals, an isolated minimum as an angle refined by a parabola.
     """
-    from .critical import CriticalOffset
+    from .critical import CriticalOffset, _cyclic_runs
 
     rho, theta = support.rho, support.theta
     n = rho.size
@@ -359,15 +359,3 @@ def sampled_critical_offset(support: DiscreteSupport):
     angle_tolerance = float(np.max(np.maximum(before, after)))
     return CriticalOffset(-value + 0.0, tuple(angles[j] for j in order), tuple(sorted(intervals)), angle_tolerance,
                           tolerance)
-
-
-def _cyclic_runs(mask):
-    """(start, length) of runs of True in a cyclic boolean array."""
-    n = mask.size
-    if mask.all():
-        return [(0, n)]
-    shift = int(np.argmin(mask))
-    rolled = np.roll(mask, -shift).astype(np.int8)
-    edges = np.diff(np.concatenate([[0], rolled, [0]]))
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    return [(int((a + shift) % n), int(b - a)) for a, b in zip(starts, stops)]

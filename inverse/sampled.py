@@ -71,7 +71,7 @@ def _closure(outline, theta, h, windows, convex=False):
 
 def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float) -> Body:
     """The body of a sampled wall at offset ``b0`` (see the module docstring)."""
-    from .solve import WALL_ACCURACY, body_warnings, solve_smooth
+    from .solve import WALL_ACCURACY, body_warnings, shape_check, solve_smooth
 
     theta, b = wall.samples
     h = b0 + b
@@ -112,11 +112,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         corners.append(Corner(0.0 if direction >= TWO_PI else direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
                               float(polygon.deficit[k]), (start, start + hi - lo), float(polygon.deficit_angle[k])))
     windows = [c.window for c in corners if c.max_deficit > 0]
-    from shapely.geometry import Polygon
-
-    shape = Polygon(polygon.vertices)
-    valid = bool(shape.is_valid)
-    convex = bool(valid and shape.area >= shape.convex_hull.area * (1 - 1e-9))
+    valid, convex = shape_check(polygon.vertices)
     max_wall_error = _closure(outline, theta, h, windows, convex)
 
     cross = None

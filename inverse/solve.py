@@ -18,7 +18,7 @@ from .envelope import envelope_nodes
 from .polar import polar_nodes
 from .support import check_offset, check_points, sample_support
 
-__all__ = ["solve_body", "solve_smooth", "body_warnings", "outline_support", "METHODS", "DEFAULT_POINTS", "WALL_ACCURACY"]
+__all__ = ["solve_body", "solve_smooth", "body_warnings", "outline_support", "shape_check", "METHODS", "DEFAULT_POINTS", "WALL_ACCURACY"]
 
 DEFAULT_POINTS = 1024
 #: Largest wall error and solver disagreement (relative to the wall's scale) of a formula wall's body
@@ -101,8 +101,6 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
                  accuracy: float | None = None) -> Body:
     """The body of a wall known everywhere (a formula, or data shown to be smooth): the envelope or
     polar construction on a grid of ``points`` normal angles, checked against the wall on a second grid."""
-    from shapely.geometry import Polygon
-
     # the envelope grid doubles as the bracketing grid of the critical offset
     samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
     critical = critical_offset(wall, samples=samples)
@@ -134,9 +132,7 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
         valid, convex = True, True
         notes.append("the body is a segment (zero area)")
     else:
-        polygon = Polygon(outline.polygon(4))  # every piece, not only the nodes
-        valid = bool(polygon.is_valid)
-        convex = bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
+        valid, convex = shape_check(outline.polygon(4))  # every piece, not only the nodes
     theta, keep = _check_grid(max(points, 256), deficit_windows, offset=0.5 + 1 / math.pi)
     prescribed = b0 + wall(theta)
     lowest = float(np.min(prescribed)) if samples is None else min(float(np.min(prescribed)), float(np.min(samples.h)))
@@ -173,6 +169,16 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
         com_inside=com_inside,
         seconds=time.perf_counter() - started, notes=tuple(notes), b_c_tolerance=critical.b_c_tolerance,
         accuracy=accuracy, warnings=body_warnings(max_wall_error, cross, convex, valid, accuracy))
+
+
+def shape_check(points) -> tuple[bool, bool]:
+    """``(valid, convex)`` of the closed polygon through ``points`` (shapely): simple, and with no more
+    area in its convex hull than in itself (to 1e-9)."""
+    from shapely.geometry import Polygon
+
+    polygon = Polygon(points)
+    valid = bool(polygon.is_valid)
+    return valid, bool(valid and polygon.area >= polygon.convex_hull.area * (1 - 1e-9))
 
 
 def outline_support(outline, theta, per_segment: int = 8, *, convex: bool = False):

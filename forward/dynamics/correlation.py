@@ -184,11 +184,9 @@ class Correlation:
         matplotlib Axes
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
-        own = ax is None
-        if own:
-            from ..formats.figure import new_figure
+        from ..formats.figure import axes_or_new
 
-            _, ax = new_figure(figsize=(6, 4))
+        ax, own = axes_or_new(ax, (6, 4))
         n = np.arange(self.P.size)
         ax.errorbar(n, np.abs(self.P - 0.5), yerr=self.P_stderr, fmt="o", ms=3, label="|P(n) − ½|")
         if math.isfinite(self.tau):

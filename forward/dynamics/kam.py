@@ -109,11 +109,9 @@ class KamBoundary:
         matplotlib Axes
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
-        own = ax is None
-        if own:
-            from ..formats.figure import new_figure
+        from ..formats.figure import axes_or_new
 
-            _, ax = new_figure(figsize=(6, 4))
+        ax, own = axes_or_new(ax, (6, 4))
         grid = np.linspace(min(self.H.min(), 1.5), self.H.max() * 1.1, 200)
         ax.plot(grid, paper_boundary(grid), "k-", label=r"paper: $1/H + 17/H^2$")
         ax.errorbar(self.H, self.eps, yerr=[self.eps - self.eps_low, self.eps_high - self.eps], fmt="o",

@@ -140,11 +140,9 @@ class PoincareSection:
         """
         import matplotlib.pyplot as plt
 
-        own = ax is None
-        if own:
-            from ..formats.figure import new_figure
+        from ..formats.figure import axes_or_new
 
-            _, ax = new_figure(figsize=(7, 5))
+        ax, own = axes_or_new(ax, (7, 5))
         cmap = plt.get_cmap("tab20" if self.orbits <= 20 else "turbo")
         # one marker-only line per orbit rather than one scatter with a colour per point: Agg stamps a
         # line's identical markers from one cached raster, ~10x faster for millions of points, and no

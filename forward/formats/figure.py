@@ -7,7 +7,7 @@ import os
 
 from ..errors import OutputError
 
-__all__ = ["FIGURE_FORMATS", "figure_bytes", "new_figure"]
+__all__ = ["FIGURE_FORMATS", "figure_bytes", "new_figure", "axes_or_new"]
 
 FIGURE_FORMATS = (".png", ".svg", ".pdf")
 _DPI = 110
@@ -21,6 +21,15 @@ def new_figure(*args, **kwargs):
     import matplotlib.pyplot as plt
 
     return plt.subplots(*args, **kwargs)
+
+
+def axes_or_new(ax, figsize):
+    """``(ax, created)``: the caller's axes, or the axes of a new figure of ``figsize`` (the ``.plot(ax=None)``
+    methods; ``created`` says whether the layout of the figure is theirs to finish)."""
+    if ax is not None:
+        return ax, False
+    _, ax = new_figure(figsize=figsize)
+    return ax, True
 
 
 def figure_bytes(fig, path: str, *, close: bool = True) -> bytes:
