@@ -15,7 +15,9 @@ __all__ = ["figure", "write_figure"]
 
 def _legend_below(ax):
     """The legend under the axes, off the curves."""
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8, frameon=False)
+    # anchored a fixed distance below the axes (in font sizes), clear of the tick and axis labels whatever
+    # the panel's height (the outline panel is short: its aspect is equal)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=4.5, ncol=2, fontsize=8, frameon=False)
 
 
 def figure(body):
