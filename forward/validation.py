@@ -13,7 +13,12 @@ import numbers
 
 from .errors import InvalidArgument
 
-__all__ = ["check_count", "check_finite", "check_positive", "check_choice", "is_integer"]
+__all__ = ["check_count", "check_finite", "check_positive", "check_choice", "check_range", "check_memory",
+           "available_memory", "is_integer", "MEMORY_FRACTION"]
+
+# a request may use at most this fraction of the memory available when it starts (the rest is for the
+# interpreter, the libraries and the copies numpy makes on the way)
+MEMORY_FRACTION = 0.5
 
 
 def is_integer(value) -> bool:
@@ -55,3 +60,56 @@ def check_choice(name: str, value, choices, *, error=InvalidArgument):
     if value not in choices:
         raise error(f"`{name}` must be one of {', '.join(map(repr, choices))}, got {value!r}")
     return value
+
+
+def check_range(name: str, value, low: float, high: float, *, why: str = "", error=InvalidArgument) -> float:
+    """``value`` as a finite ``float`` in ``[low, high]``; ``why`` (e.g. "so the kernel keeps 1e-9 precision
+    in θ") is added to the message."""
+    value = check_finite(name, value, error=error)
+    if not low <= value <= high:
+        raise error(f"`{name}` must be between {low:g} and {high:g}{'; ' + why if why else ''}, got {value:g}")
+    return value
+
+
+def available_memory() -> int:
+    """Bytes of memory this process can still use: ``MemAvailable`` of ``/proc/meminfo``, lowered to the
+    address-space limit (``ulimit -v``) when one is set; 8 GiB where neither can be read."""
+    available = None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    available = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        import resource
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft != resource.RLIM_INFINITY:
+            available = soft if available is None else min(available, soft)
+    except (ImportError, OSError, ValueError):
+        pass
+    return int(available) if available is not None else 8 * 2 ** 30
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("GiB", 2 ** 30), ("MiB", 2 ** 20), ("KiB", 2 ** 10)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{int(n)} bytes"
+
+
+def check_memory(what: str, nbytes: float, *, error=InvalidArgument) -> float:
+    """Refuse, before any work, a request whose estimated memory ``nbytes`` exceeds
+    :data:`MEMORY_FRACTION` of :func:`available_memory`.
+
+    ``what`` names the request in the words of the message, e.g. "`collisions` = 10000000000 (6 columns of
+    8 bytes per collision)"; the message gives the estimate and the limit.
+    """
+    limit = MEMORY_FRACTION * available_memory()
+    if not nbytes <= limit:  # also refuses nan
+        raise error(f"{what} needs about {_bytes(nbytes)} of memory, more than the {_bytes(limit)} this machine "
+                    f"can give it; ask for less")
+    return nbytes
