@@ -15,8 +15,9 @@ import math
 import operator
 import re
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Mapping
+from typing import TYPE_CHECKING
 
 from .errors import InvalidExpression, InvalidParameter
 
@@ -24,7 +25,7 @@ if TYPE_CHECKING:
     import casadi
 from .display import safe_repr
 
-__all__ = ["ParsedExpression", "parse_expression", "parse_param"]
+__all__ = ["ParsedExpression", "check_ascii", "parse_expression", "parse_param", "parse_params"]
 
 MAX_LENGTH = 2000
 MAX_NODES = 1000
@@ -44,7 +45,10 @@ _BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
            ast.Div: operator.truediv, ast.Pow: operator.pow}
 _NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 # a plain decimal literal: no underscores, hex, nan/inf words or expressions
-_FLOAT_RE = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\Z")
+# (ASCII digits only: Python's float() and re's \d also take "１" and other Unicode digits)
+_FLOAT_RE = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\Z")
+# a number literal in an expression: the same grammar, unsigned (the sign is an operator there)
+_LITERAL_RE = re.compile(r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\Z")
 _FORBIDDEN_OPS = {ast.FloorDiv: "//", ast.Mod: "%", ast.MatMult: "@", ast.LShift: "<<", ast.RShift: ">>",
                   ast.BitOr: "|", ast.BitXor: "^", ast.BitAnd: "&", ast.Not: "not", ast.Invert: "~",
                   ast.And: "and", ast.Or: "or"}
@@ -82,8 +86,8 @@ class ParsedExpression:
 
     text: str
     params: tuple[tuple[str, float], ...]
-    symbol: "casadi.SX"
-    expr: "casadi.SX"
+    symbol: casadi.SX
+    expr: casadi.SX
     switching: tuple
 
     @safe_repr
@@ -142,15 +146,54 @@ def parse_param(text: str) -> tuple[str, float]:
     if not name:
         raise InvalidParameter(f"parameter {_show(text)} has no name; use NAME=VALUE, e.g. eps=0.5")
     _check_name(name)
-    try:
-        value = float(raw)
-    except ValueError:
-        raise InvalidParameter(f"parameter {_show(name)} must be a number, got {_show(raw)}") from None
-    if not math.isfinite(value):
+    if raw.lower().lstrip("+-") in ("inf", "infinity", "nan"):
         raise InvalidParameter(f"parameter {_show(name)} must be finite, got {raw}")
     if not _FLOAT_RE.match(raw):
-        raise InvalidParameter(f"parameter {_show(name)} must be a plain decimal number, got {_show(raw)}")
+        # the grammar of numbers in expressions too: no hexadecimal, underscores, complex or Unicode digits
+        raise InvalidParameter(f"parameter {_show(name)} must be a plain decimal number such as 0.5 or -1e-3, "
+                               f"got {_show(raw)}")
+    value = float(raw)
+    if not math.isfinite(value):
+        raise InvalidParameter(f"parameter {_show(name)} must be finite, got {raw}")
     return name, value
+
+
+def parse_params(texts) -> dict[str, float]:
+    """Parse command-line ``NAME=VALUE`` parameters (:func:`parse_param`) into a dict.
+
+    Raises
+    ------
+    InvalidParameter
+        As :func:`parse_param`, and for a name given twice (the last value would silently win).
+    """
+    params: dict[str, float] = {}
+    for text in texts:
+        name, value = parse_param(text)
+        if name in params:
+            raise InvalidParameter(f"parameter {_show(name)} is given twice ({params[name]:g} and {value:g}); "
+                                   "give each parameter once")
+        params[name] = value
+    return params
+
+
+def check_ascii(text: str, what: str = "expression") -> str:
+    """Refuse any character outside ASCII, naming it and its column.
+
+    Python's parser folds lookalike letters (``ｓｉｎ``, mathematical bold ``𝐭``) to ASCII by NFKC
+    normalisation, so ``ｓｉｎ(𝐭)`` would silently read as ``sin(t)``; a wall is a number to be
+    manufactured, and what the user typed should be what is computed.  So nothing outside ASCII is
+    accepted (a Unicode minus sign or a non-breaking space included): the message says which
+    character and where, so it can be retyped.
+    """
+    import unicodedata
+
+    for column, char in enumerate(text, start=1):
+        if ord(char) > 127:
+            name = unicodedata.name(char, "unnamed character")
+            raise InvalidExpression(f"{what} {_show(text)}: character {char!r} (U+{ord(char):04X} {name}) at "
+                                    f"column {column} is not allowed; use plain ASCII (e.g. '-' for a minus, "
+                                    "'t' for the angle)")
+    return text
 
 
 class _Translator:
@@ -181,6 +224,10 @@ class _Translator:
                     self.fail(f"string {_show(value, 40)} is not allowed", allowed=True)
                 kind = {bool: "boolean", complex: "complex number"}.get(type(value), "literal")
                 self.fail(f"{kind} {self.segment(node)} is not allowed", allowed=True)
+            segment = ast.get_source_segment(self.source, node)
+            if segment is not None and not _LITERAL_RE.match(segment):
+                # hexadecimal, octal, binary and 1_000: --param takes plain decimals only, so do expressions
+                self.fail(f"number {_show(segment, 40)} is not a plain decimal number (write e.g. 16, 0.5 or 1e-3)")
             try:
                 number = float(value)
             except OverflowError:
@@ -327,6 +374,7 @@ def parse_expression(text: str, params: Mapping[str, float] | None = None) -> Pa
         raise InvalidParameter(f"parameters must be a mapping name -> value, got {type(params).__name__}")
     values = {_check_name(name): _check_value(name, value) for name, value in params.items()}
     source = text.strip()  # a leading blank would be an IndentationError
+    check_ascii(source)
     if not source:
         raise InvalidExpression(f"expression {_show(text)} is empty; give a wall such as '1 + 0.1*cos(2*t)'")
     if len(source) > MAX_LENGTH:

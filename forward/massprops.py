@@ -29,7 +29,7 @@ import numpy as np
 from .display import safe_repr
 from .errors import InvalidArgument, InvalidExpression, InvalidOutline, InvalidParameter
 
-__all__ = ["MassProperties", "mass_properties", "outline_moments", "parse_density", "DENSITY_VARIABLES"]
+__all__ = ["MassProperties", "mass_properties", "outline_moments", "parse_density", "DENSITY_VARIABLES", "MAX_DENSITY"]
 
 #: names a density expression may use: Cartesian body coordinates and the distance from the origin
 DENSITY_VARIABLES = ("x", "y", "r")
@@ -92,6 +92,10 @@ class MassProperties:
                 f"kappa={self.kappa:.6g}, density={self.density!r}, method={self.method!r})")
 
 
+#: largest density value integrated (see :func:`mass_properties`)
+MAX_DENSITY = 1e100
+
+
 def _from_moments(mass, area, first, second, density, method, elements=0, min_density=1.0):
     if not (mass > 0 and math.isfinite(mass)):
         raise InvalidOutline(f"the body has no mass (mass = {mass:.3g}): a lamina needs a positive area and density")
@@ -137,6 +141,7 @@ def parse_density(text: str, params=None):
     if clash:
         raise InvalidParameter(f"parameter {clash[0]!r} is a density variable; rename it")
     source = text.strip()
+    ex.check_ascii(source, "density")  # lookalike letters are refused, not folded to ASCII (see check_ascii)
     if len(source) > ex.MAX_LENGTH:
         raise InvalidExpression(f"density expression is too long ({len(source)} characters, at most {ex.MAX_LENGTH})")
     tree = ex._parse_tree(text, source)
@@ -263,6 +268,10 @@ def mass_properties(outline, density=None, params=None, *, boundary: int = 2048,
         k = int(np.flatnonzero(~np.isfinite(values.ravel()))[0]) if not np.all(np.isfinite(values)) else 0
         raise InvalidArgument(f"density {density!r} is not finite at (x, y) = "
                               f"({qx.ravel()[k]:.4g}, {qy.ravel()[k]:.4g}); it must be finite in the body")
+    if np.max(both) > MAX_DENSITY:
+        # the mass and the moments (density × coordinates², summed over many points) would overflow a double
+        raise InvalidArgument(f"density {density!r} reaches {np.max(both):.3g} in the body; coinwall integrates "
+                              f"densities up to {MAX_DENSITY:g} (only their ratios matter: scale it down)")
     if np.min(both) < 0:
         if np.min(values) <= np.min(vertex_values):
             k = int(np.argmin(values))

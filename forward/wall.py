@@ -17,19 +17,32 @@ a negative jump cannot belong to any convex body.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping, Sequence
 
 import numpy as np
 
 from .angles import TWO_PI
 from .display import safe_repr
 from .errors import InvalidWall
+from .validation import check_memory
+from .wallbackends import _ArcsBackend, _FourierBackend, _SampledBackend
 
-__all__ = ["Wall", "Kink"]
+__all__ = ["BYTES_PER_SAMPLE", "MAX_MAGNITUDE", "MAX_SAMPLES", "Kink", "Wall", "check_magnitude"]
 
 _MIN_SAMPLES = 8
+#: Largest |b| and |b'| of a wall.  The body's area ``½∫(h² − h'²)`` and polar moment
+#: ``¼∫(h² + h'²) h (h + h'') dφ`` are fourth powers of the wall: (1.8e308)^(1/4) ≈ 1e77 is where they
+#: overflow; 1e60 leaves room for the sums and the offset.
+MAX_MAGNITUDE = 1e60
+#: Most distinct sample angles a wall takes.  Measured on 2 shared cores (load about 6): the critical offset
+#: of 10⁶ samples takes 3 s (the data's own geometry, O(n log n); 9 s from a CSV file), solving the body of
+#: 10⁶ smooth uniform samples 8.8 s; peaks of 166–540 bytes per sample (tracemalloc), counted as
+#: :data:`BYTES_PER_SAMPLE`.  Non-uniform samples are further bounded for their least-squares
+#: interpolant (:data:`~.wallbackends.MAX_LSQ_SAMPLES`).  The wall-file readers read at most as many rows.
+MAX_SAMPLES = 1_000_000
+BYTES_PER_SAMPLE = 600
 _CHECK_POINTS = 4096
 # least squares costs n·k²: beyond a few hundred harmonics a smooth wall gains nothing and a large
 # non-uniform data set would take minutes (the data themselves are solved exactly: inverse/discrete.py)
@@ -103,79 +116,16 @@ class _ExpressionBackend:
         return [self._blocks(s, theta, 1)[0] for s in self._switching]
 
 
-class _FourierBackend:
-    """b(θ) = a0 + Σ_k (a_k cos kθ + s_k sin kθ), derivatives term by term (exact)."""
-
-    def __init__(self, a0: float, cos: np.ndarray, sin: np.ndarray):
-        n = max(len(cos), len(sin))
-        self.a0 = float(a0)
-        self.cos = np.zeros(n)
-        self.sin = np.zeros(n)
-        self.cos[: len(cos)] = cos
-        self.sin[: len(sin)] = sin
-        self.k = np.arange(1, n + 1, dtype=float)
-
-    def _eval(self, theta, orders):
-        theta = np.asarray(theta, dtype=float).ravel()
-        out = {o: np.zeros(theta.size) for o in orders}
-        if 0 in out:
-            out[0] += self.a0
-        # chunk the outer product so memory stays bounded for long series
-        step = max(1, 2_000_000 // max(1, self.k.size))
-        for start in range(0, theta.size, step):
-            th = theta[start:start + step]
-            arg = np.outer(th, self.k)
-            c, s = np.cos(arg), np.sin(arg)
-            for o in orders:
-                kp = self.k**o
-                # d^o/dθ^o of cos kθ and sin kθ cycle with period 4 in o
-                cc = (c, -s, -c, s)[o % 4]
-                ss = (s, c, -s, -c)[o % 4]
-                out[o][start:start + step] += cc @ (self.cos * kp) + ss @ (self.sin * kp)
-        return [out[o] for o in orders]
-
-    def values(self, theta):
-        return self._eval(theta, (0,))[0]
-
-    def derivatives(self, theta):
-        return tuple(self._eval(theta, (0, 1, 2)))
-
-    def switching(self, theta):
-        return []
-
-
-class _ArcsBackend:
-    """``h(θ) = c_k·n(θ) + r_k`` for θ in ``[a_k, a_{k+1})``: the support function of a convex body
-    bounded by circle arcs (radius ``r_k`` about ``c_k``; ``r_k = 0`` is a vertex, whose window of
-    normals is ``[a_k, a_{k+1})``) and straight edges (where two pieces meet with different slopes).
-    Exact, piece by piece; b'' jumps at every break, which no finite Fourier series can represent."""
-
-    def __init__(self, angles, centres, radii):
-        self.angles = angles
-        self.centres = centres
-        self.radii = radii
-
-    def _piece(self, theta):
-        reduced = np.mod(theta, TWO_PI)
-        return np.searchsorted(self.angles, reduced, side="right") - 1  # -1 is the last piece (wraps)
-
-    def _eval(self, theta):
-        theta = np.asarray(theta, dtype=float).ravel()
-        k = self._piece(theta)
-        c, s = np.cos(theta), np.sin(theta)
-        cx, cy = self.centres[k, 0], self.centres[k, 1]
-        return cx * c + cy * s + self.radii[k], -cx * s + cy * c, -cx * c - cy * s
-
-    def values(self, theta):
-        return self._eval(theta)[0]
-
-    def derivatives(self, theta):
-        return self._eval(theta)
-
-    def switching(self, theta):
-        # one function per break, changing sign there only (on [0, 2π])
-        theta = np.asarray(theta, dtype=float).ravel()
-        return [np.sin(0.5 * (theta - a)) for a in self.angles]
+def check_magnitude(description: str, theta, b, slope=None) -> None:
+    """Refuse a wall whose values or slopes exceed :data:`MAX_MAGNITUDE` (on the check angles ``theta``)."""
+    for name, values in (("b", b), ("b'", slope)):
+        if values is None or not values.size:
+            continue
+        worst = int(np.argmax(np.abs(values)))
+        if abs(values[worst]) > MAX_MAGNITUDE:
+            raise InvalidWall(f"wall {description!r}: |{name}| = {abs(values[worst]):.3g} at θ = {theta[worst]:.6g} "
+                              f"is more than {MAX_MAGNITUDE:g}; the body's area (∝ b²) and moment of inertia (∝ b⁴) "
+                              "would overflow: measure the wall in a larger unit")
 
 
 class Wall:
@@ -243,7 +193,7 @@ class Wall:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def from_expression(cls, text: str, params: Mapping[str, float] | None = None) -> "Wall":
+    def from_expression(cls, text: str, params: Mapping[str, float] | None = None) -> Wall:
         """Wall from an expression in ``t`` (alias ``theta``) with named parameters.
 
         The expression is parsed with a whitelist (see
@@ -255,7 +205,7 @@ class Wall:
         return cls(_ExpressionBackend(parsed), text.strip(), "expression", dict(parsed.params))
 
     @classmethod
-    def from_fourier(cls, a0: float = 0.0, cos: Sequence[float] = (), sin: Sequence[float] = ()) -> "Wall":
+    def from_fourier(cls, a0: float = 0.0, cos: Sequence[float] = (), sin: Sequence[float] = ()) -> Wall:
         """Wall ``a0 + Σ_{k≥1} cos[k-1]·cos kθ + sin[k-1]·sin kθ``."""
         coeffs = {"a0": np.atleast_1d(np.asarray(a0, dtype=float)),
                   "cos": np.asarray(cos, dtype=float).ravel(),
@@ -272,7 +222,7 @@ class Wall:
 
     @classmethod
     def from_arcs(cls, angles: Sequence[float], centres, radii: Sequence[float], *,
-                  description: str | None = None) -> "Wall":
+                  description: str | None = None) -> Wall:
         """The exact wall of a convex body bounded by circle arcs, vertices and straight edges.
 
         Piece k, for wall angles from ``angles[k]`` to the next one, is ``centres[k]·n(θ) + radii[k]``:
@@ -311,7 +261,7 @@ class Wall:
 
     @classmethod
     def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None,
-                     rounding: float | None = None) -> "Wall":
+                     rounding: float | None = None) -> Wall:
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
 
         The samples are replaced by a trigonometric polynomial: the interpolant
@@ -319,7 +269,9 @@ class Wall:
         many harmonics as samples (at most 256) for non-uniform ones.  Derivatives are those
         of the trigonometric polynomial, hence spectrally accurate for smooth
         walls.  Samples at θ and θ + 2π must agree; the samples must cover the
-        whole period.
+        whole period.  The interpolant is made on first use (the critical offset and the half-plane body
+        of the data never need it).  At most :data:`MAX_SAMPLES` distinct angles, and
+        :data:`~.wallbackends.MAX_LSQ_SAMPLES` non-uniform ones for the interpolant.
         """
         theta = np.asarray(theta, dtype=float).ravel()
         b = np.asarray(b, dtype=float).ravel()
@@ -329,6 +281,7 @@ class Wall:
             bad = np.flatnonzero(~np.isfinite(arr))
             if bad.size:
                 raise InvalidWall(f"samples: {name} of sample {bad[0]} is {arr[bad[0]]}; every sample must be finite")
+        check_magnitude("samples", theta, b)
         reduced = np.mod(theta, TWO_PI)
         order = np.argsort(reduced, kind="stable")
         reduced, values = reduced[order], b[order]
@@ -350,6 +303,10 @@ class Wall:
         n = reduced.size
         if n < _MIN_SAMPLES:
             raise InvalidWall(f"samples: too short: {n} distinct angles, need at least {_MIN_SAMPLES}")
+        if n > MAX_SAMPLES:
+            raise InvalidWall(f"samples: {n} distinct angles, at most {MAX_SAMPLES} (about 30 s of work and "
+                              f"{BYTES_PER_SAMPLE * MAX_SAMPLES / 2**20:.0f} MiB); thin the samples")
+        check_memory(f"{n} samples ({BYTES_PER_SAMPLE} bytes per sample)", n * BYTES_PER_SAMPLE, error=InvalidWall)
         gaps = np.diff(np.concatenate([reduced, [reduced[0] + TWO_PI]]))
         big = int(np.argmax(gaps))
         if gaps[big] > 10.0 * np.median(gaps) and gaps[big] > 0.2:
@@ -357,34 +314,16 @@ class Wall:
                 f"samples: the wall does not cover a full period: no sample between θ = {reduced[big]:.4g} and "
                 f"θ = {(reduced[big] + gaps[big]):.4g}; give b(θ) over all of [0, 2π)")
         uniform = np.allclose(gaps, TWO_PI / n, rtol=0, atol=1e-9)
+        harmonics = None if uniform else (max_harmonics or max(1, min(n // 3, _MAX_LSQ_HARMONICS)))
         if uniform:
-            # trigonometric interpolation; shift the phase so the grid may start anywhere
-            spectrum = np.fft.rfft(values) / n
-            k = np.arange(spectrum.size)
-            spectrum = spectrum * np.exp(-1j * k * reduced[0])
-            a0 = spectrum[0].real
-            cos = 2 * spectrum[1:].real
-            sin = -2 * spectrum[1:].imag
-            if n % 2 == 0:  # the Nyquist mode is shared by ±n/2: halve it, and drop its sine part
-                cos[-1] /= 2
-                sin[-1] = 0.0
-            # harmonics below rounding change no value: drop the tail, so that smooth data (whose
-            # coefficients decay fast) evaluate as fast as a short series
-            size = np.hypot(cos, sin)
-            significant = np.flatnonzero(size > 4 * np.finfo(float).eps * scale)
-            cos, sin = cos[: significant[-1] + 1 if significant.size else 0], sin[: significant[-1] + 1 if significant.size else 0]
             desc = f"uniform samples (n={n})"
         else:
-            harmonics = max_harmonics or max(1, min(n // 3, _MAX_LSQ_HARMONICS))
-            kk = np.arange(1, harmonics + 1)
-            arg = np.outer(reduced, kk)
-            design = np.hstack([np.ones((n, 1)), np.cos(arg), np.sin(arg)])
-            coef, *_ = np.linalg.lstsq(design, values, rcond=None)
-            a0, cos, sin = coef[0], coef[1:harmonics + 1], coef[harmonics + 1:]
             desc = f"non-uniform samples (n={n}, {harmonics} harmonics, least squares)"
         reduced.setflags(write=False)
         values.setflags(write=False)
-        wall = cls(_FourierBackend(a0, cos, sin), desc, "samples", samples=(reduced, values))
+        # the interpolant is made on first use: the data's own geometry (critical offset, half-plane body)
+        # never needs it, and a least-squares fit of many non-uniform samples costs n·k²
+        wall = cls(_SampledBackend(reduced, values, harmonics, scale), desc, "samples", samples=(reduced, values))
         if rounding is not None:
             # per sample (in the input order) or one number for all; kept in the sorted order
             spread = np.broadcast_to(np.asarray(rounding, dtype=float), b.shape) if np.ndim(rounding) <= 1 \
@@ -419,7 +358,7 @@ class Wall:
         # b'' extrapolated linearly from δ and 2δ: error O(δ²)
         return float(b[0]), float(d1[1] - side * delta * d2[1]), float(2 * d2[1] - d2[2])
 
-    def scaled(self, factor: float) -> "Wall":
+    def scaled(self, factor: float) -> Wall:
         """The wall ``factor · b(θ)``, of the same kind, with exact derivatives.
 
         Used to change the length unit: a wall given in millimetres, for a body
@@ -440,6 +379,8 @@ class Wall:
             return Wall(_ArcsBackend(backend.angles, backend.centres * factor, backend.radii * factor), description,
                         self.kind, self.params)
         samples = None if self.samples is None else (self.samples[0], self.samples[1] * factor)
+        if isinstance(backend, _SampledBackend):
+            return Wall(backend.scaled(factor), description, self.kind, self.params, samples=samples)
         return Wall(_FourierBackend(backend.a0 * factor, backend.cos * factor, backend.sin * factor), description,
                     self.kind, self.params, samples=samples)
 
@@ -474,14 +415,22 @@ class Wall:
             raise InvalidWall(
                 f"wall {self.description!r}: b(θ) is not finite at θ = {special[bad[0]]:.6g} "
                 f"(b = {values[bad[0]]}); the wall must be finite everywhere")
+        check_magnitude(self.description, theta, b, d1)
         object.__setattr__(self, "_scale", max(1.0, float(np.max(np.abs(b)))))
-        shifted = self._backend.values(theta + TWO_PI)
-        diff = np.abs(shifted - b)
+        with np.errstate(all="ignore"):  # a non-periodic formula may overflow one period on: judged below
+            shifted = self._backend.values(theta + TWO_PI)
+            diff = np.abs(shifted - b)
+        diff[~np.isfinite(diff)] = np.inf
         worst = int(np.argmax(diff))
         if diff[worst] > 1e-9 * self._scale:
             raise InvalidWall(
                 f"wall {self.description!r} is not 2π-periodic: b(θ + 2π) − b(θ) = {shifted[worst] - b[worst]:.3g} "
                 f"at θ = {theta[worst]:.6g}")
+        if isinstance(self._backend, _ExpressionBackend):  # a series or arcs with finite numbers has no pole
+            from .singularities import check_singularities
+
+            # after the periodicity check: the interval after the last check angle wraps to the first
+            check_singularities(self.description, self._backend.derivatives, theta, (b, d1, d2))
 
     def _find_kinks(self):
         from scipy.optimize import brentq

@@ -100,6 +100,31 @@ class Body:
     accuracy: float = 0.0
     warnings: tuple = field(default=())
 
+    def __post_init__(self):
+        """Refuse a body with a non-finite number: it would be written to files and reported as an answer.
+
+        ``K`` may be ``inf`` (a corner) and ``b_c`` may be ``inf`` (a concave kink), never ``nan``.
+        """
+        from coinwall.forward.errors import InvalidWall
+
+        description = getattr(self.wall, "description", "?")
+        with np.errstate(invalid="ignore"):
+            bad = ~(np.isfinite(self.x) & np.isfinite(self.y) & np.isfinite(self.phi_in) & np.isfinite(self.phi_out)
+                    & ~np.isnan(self.K))
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            angle = self.phi_in[i] if np.isfinite(self.phi_in[i]) else float(i) * TWO_PI / max(1, bad.size)
+            raise InvalidWall(f"wall {description!r} at b0 = {self.b0:g}: the body is not finite near the normal angle "
+                              f"θ = {float(np.mod(angle, TWO_PI)):.6g} (x = {self.x[i]:.6g}, y = {self.y[i]:.6g}, "
+                              f"curvature {self.K[i]:.6g}); no body is given for a wall that is not finite")
+        outline_ok = all(np.all(np.isfinite(getattr(self.outline, name, 0.0))) for name in ("nodes", "controls"))
+        numbers = {"b0": self.b0, "max_wall_error": self.max_wall_error}
+        bad_number = next((name for name, value in numbers.items() if not math.isfinite(value)), None)
+        if not outline_ok or bad_number or math.isnan(self.b_c):
+            what = "its outline" if not outline_ok else f"`{bad_number or 'b_c'}`"
+            raise InvalidWall(f"wall {description!r} at b0 = {self.b0:g}: {what} is not finite; no body is given for "
+                              "a wall that is not finite")
+
     # What follows from the fields is derived, not stored: a Body keeps only what it cannot derive.
     @property
     def alpha(self) -> np.ndarray:

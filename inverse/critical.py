@@ -113,6 +113,13 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
             if abs(theta[i] - k.angle) < 1e-12 or abs(abs(theta[i] - k.angle) - TWO_PI) < 1e-12:
                 b, _, _ = wall.one_sided(k.angle, -1)
                 rho[i] = b + min(k.curvature_left, k.curvature_right)
+    bad = np.flatnonzero(~np.isfinite(rho))
+    if bad.size:  # a wall passed its checks but not here: say where, never report b_c = nan
+        from coinwall.forward.errors import InvalidWall
+
+        where = float(np.mod(theta[bad[0]], TWO_PI))
+        raise InvalidWall(f"wall {wall.description!r}: b + b'' is not finite at θ = {where:.6g}; "
+                          "the critical offset needs a finite wall with finite slopes")
     low = float(np.min(rho))
     spread = float(np.max(rho) - low)
     tol = 1e-9 * max(wall.scale, spread)

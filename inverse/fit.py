@@ -33,7 +33,7 @@ from coinwall.forward.angles import TWO_PI
 from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument, InvalidWall
 
-__all__ = ["FitResult", "fit_convex", "MAX_DIRECTIONS"]
+__all__ = ["MAX_DIRECTIONS", "FitResult", "fit_convex"]
 
 #: Most distinct measured directions a fit takes (NNLS is dense: ~0.6 s at 1,000, ~26 s at 3,000).
 MAX_DIRECTIONS = 2000
@@ -105,7 +105,7 @@ class FitResult:
 
 def _curvature_matrix(theta):
     """The discrete radius of curvature ρ = A p as a sparse matrix (inverse.discrete.discrete_curvature)."""
-    import scipy.sparse as sparse
+    from scipy import sparse
 
     n = theta.size
     after = np.diff(np.append(theta, theta[0] + TWO_PI))
@@ -123,7 +123,7 @@ def _polish(curvature, weights, target, support, active):
     banded).  NNLS leaves ``ρ_j`` of order its own tolerance on the active set, which the discrete
     geometry, with its rounding-level test for vertex windows, would read as small cuts.  The polished
     solution is kept only if every constraint still holds."""
-    import scipy.sparse as sparse
+    from scipy import sparse
     from scipy.sparse.linalg import spsolve
 
     if not active.any():
@@ -166,11 +166,11 @@ def fit_convex(theta, b, b0: float = 0.0) -> FitResult:
 
     theta = np.asarray(theta, dtype=float).ravel()
     b = np.asarray(b, dtype=float).ravel()
-    b0 = check_offset(b0)
     if theta.size != b.size:
         raise InvalidWall(f"samples: {theta.size} angles but {b.size} wall values")
     if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(b))):
         raise InvalidWall("samples: every angle and wall value must be finite")
+    b0 = check_offset(b0, float(np.max(np.abs(b))) if b.size else 1.0)
     reduced = np.mod(theta, TWO_PI)
     reduced[reduced >= TWO_PI] = 0.0
     directions, index, counts = np.unique(np.round(reduced, 12), return_inverse=True, return_counts=True)

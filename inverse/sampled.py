@@ -29,7 +29,7 @@ from .corners import Corner
 from .critical import regime_of
 from .discrete import discrete_support, halfspace_polygon, sampled_critical_offset, support_polygon
 
-__all__ = ["solve_samples", "interpolant_agrees"]
+__all__ = ["interpolant_agrees", "solve_samples"]
 
 
 def interpolant_agrees(wall, support) -> bool:
@@ -39,9 +39,13 @@ def interpolant_agrees(wall, support) -> bool:
     A Fourier interpolant rings at every kink and vertex window (``b + b''`` overshoots by O(1) next to
     them); for smooth data the two agree to ``Δ²ρ''/12``, which the spacing error estimates.
     """
+    from coinwall.forward.wallbackends import MAX_LSQ_SAMPLES
+
     theta, b = support.theta, support.b
     n = theta.size
     uniform = np.allclose(np.diff(theta), TWO_PI / n, rtol=0, atol=1e-9)
+    if not uniform and n > MAX_LSQ_SAMPLES:
+        return False  # no interpolant is made of so many: the half-plane body, exact for the data, is used
     if uniform:
         # b'' of the interpolant at the grid points, by FFT (the interpolant of Wall.from_samples)
         k = np.arange(n // 2 + 1)

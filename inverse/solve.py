@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.errors import InvalidArgument, InvalidWall
 from coinwall.forward.outline import support_function
 
 from .body import Body
@@ -18,7 +18,8 @@ from .envelope import envelope_nodes
 from .polar import polar_nodes
 from .support import check_offset, check_points, sample_support
 
-__all__ = ["solve_body", "solve_smooth", "body_warnings", "outline_support", "shape_check", "METHODS", "DEFAULT_POINTS", "WALL_ACCURACY"]
+__all__ = ["DEFAULT_POINTS", "METHODS", "MIN_BODY_SIZE", "WALL_ACCURACY", "body_warnings", "outline_support", "shape_check", "solve_body",
+           "solve_smooth"]
 
 DEFAULT_POINTS = 1024
 #: Largest wall error and solver disagreement (relative to the wall's scale) of a formula wall's body
@@ -88,13 +89,29 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
     started = time.perf_counter()
     if method not in METHODS:
         raise InvalidArgument(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
-    b0 = check_offset(b0)
+    b0 = check_offset(b0, wall.scale)
     points = check_points(points)
+    _check_size(wall, b0)
     if wall.samples is not None:
         from .sampled import solve_samples
 
         return solve_samples(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
     return solve_smooth(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
+
+
+#: Smallest ``max(b0 + b)`` a body is solved for (units of κ).  Every body reaches at least κ from its
+#: centre of mass (κ² = J/M ≤ R_max²), and the solvers' tolerances are absolute near 1e-9 κ: a body
+#: below 1e-6 κ is unphysical and lost in them (1e-300·cos t gave NaN in the polar solver).
+MIN_BODY_SIZE = 1e-6
+
+
+def _check_size(wall, b0):
+    values = wall.samples[1] if wall.samples is not None else wall(np.linspace(0.0, TWO_PI, 256, endpoint=False))
+    top = b0 + float(np.max(values))
+    if b0 + float(np.min(values)) >= 0 and top < MIN_BODY_SIZE:  # (below 0: the centre-of-mass check speaks)
+        raise InvalidWall(f"b0 + b(θ) is at most {top:.3g}: the body would be smaller than {MIN_BODY_SIZE:g} κ, but every "
+                          "body reaches at least κ from its centre of mass (κ² = J/M ≤ R_max²); give the wall in units "
+                          "of κ")
 
 
 def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float,

@@ -8,33 +8,61 @@ kink stands for appears as two outline points at the same normal angle.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidParameter, InvalidWall
-from coinwall.forward.validation import check_count
+from coinwall.forward.validation import check_count, check_memory, check_range
 
-__all__ = ["SupportSamples", "sample_support", "check_offset", "envelope_point"]
+__all__ = [
+    "BYTES_PER_POINT",
+    "MAX_OFFSET_RATIO",
+    "MAX_POINTS",
+    "SupportSamples",
+    "check_offset",
+    "check_points",
+    "envelope_point",
+    "sample_support",
+]
+
+#: Largest ``|b0|`` in units of the wall's scale ``max(1, max|b|)``.  Every value of ``h = b0 + b`` is
+#: rounded by ``|b0|·eps/2`` (eps = 2.2e-16) and the construction and its check amplify that about
+#: 16-fold; beyond ``1e8·scale`` that rounding alone (16·2.2e-16·1e8 ≈ 3.6e-7·scale) approaches the
+#: accuracy ``1e-6·scale`` every body is checked to (inverse.solve.WALL_ACCURACY), so the wall ``b``
+#: would be drowned in the rounding of the offset and no body could be the answer.  (Far below it, at
+#: 1024 points, the discretisation error ``1.3e-12·b0`` already earns a warning above b0 ≈ 1e6: more
+#: points help there, nothing helps beyond the bound.)
+MAX_OFFSET_RATIO = 1e8
+
+#: Largest outline resolution, and the memory a solve needs per node: 1,045 bytes per point measured
+#: with tracemalloc at 1e5 points (envelope with the polar cross-check, the command line's default);
+#: counted as 1,536 for the C allocations of casadi and shapely that tracemalloc does not see.
+MAX_POINTS = 5_000_000
+BYTES_PER_POINT = 1536
 
 
-
-def check_offset(b0) -> float:
-    """Validate an offset ``b0`` (a finite real number) and return it as float."""
+def check_offset(b0, scale: float = 1.0) -> float:
+    """Validate an offset ``b0``: a finite real number with ``|b0| ≤ MAX_OFFSET_RATIO·max(1, scale)``
+    (``scale``: the wall's, ``Wall.scale``; see :data:`MAX_OFFSET_RATIO` for why)."""
+    if isinstance(b0, (bool, str, bytes)):
+        raise InvalidParameter(f"`b0` must be a real number, got {b0!r}")
     try:
         value = float(b0)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidParameter(f"`b0` must be a real number, got {b0!r}") from None
-    if not math.isfinite(value):
-        raise InvalidParameter(f"`b0` must be finite, got {value}")
-    return value
+    limit = MAX_OFFSET_RATIO * max(1.0, float(scale))
+    return check_range("b0", value, -limit, limit, error=InvalidParameter,
+                       why=f"{MAX_OFFSET_RATIO:g} times the wall's scale {max(1.0, float(scale)):.6g}: beyond it the "
+                           "rounding of b0 + b exceeds the accuracy the body is checked to")
 
 
 def check_points(points) -> int:
-    """Validate an outline resolution."""
-    return check_count("points", points, minimum=16, maximum=5_000_000)
+    """Validate an outline resolution: 16 to :data:`MAX_POINTS`, and within memory."""
+    points = check_count("points", points, minimum=16, maximum=MAX_POINTS)
+    check_memory(f"`points` = {points} ({BYTES_PER_POINT} bytes per point)", points * BYTES_PER_POINT)
+    return points
 
 
 @dataclass(frozen=True, repr=False)

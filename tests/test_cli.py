@@ -199,7 +199,7 @@ def test_help_explains_then_gives_an_example(command, capsys):
 # --------------------------------------------------------------------------- library errors in the words of the CLI
 
 @pytest.mark.parametrize("args,flag", [
-    (["solve", "1", "--kappa", "-1", "--units", "mm"], "--kappa must be positive, got -1"),
+    (["solve", "1", "--kappa", "-1", "--units", "mm"], "--kappa must be between 1e-06 and 1e+06"),
     (["solve", "1", "--tolerance", "0"], "--tolerance must be positive"),
     (["solve", "1", "--points", "2"], "--points"),
     (["wall", "--polar", "1", "--samples", "3"], "--samples must be an integer >= 8, got 3"),

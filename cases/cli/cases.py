@@ -85,13 +85,13 @@ def run(args):
     if args.name is not None:
         case = get_case(args.name)
         if args.json:
-            print(json.dumps(_document(case), indent=1))
+            print(json.dumps(_document(case), indent=1, allow_nan=False))
         else:
             _show(case)
         return 0
     cases = all_cases()
     if args.json:
-        print(json.dumps([_document(c) for c in cases.values()], indent=1))
+        print(json.dumps([_document(c) for c in cases.values()], indent=1, allow_nan=False))
         return 0
     width = max(len(n) for n in cases)
     for case in cases.values():

@@ -6,11 +6,33 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import sys
 
-__all__ = ["add_command", "wall_arguments", "table_arguments", "load_table", "load_wall", "progress_bar",
-           "parse_com", "describe_written", "written_lines", "check_positive_count", "check_seed",
-           "ANGLE_TOLERANCE", "format_angles"]
+__all__ = [
+    "ANGLE_TOLERANCE",
+    "add_command",
+    "check_body_finite",
+    "check_positive_count",
+    "check_seed",
+    "count",
+    "describe_written",
+    "format_angles",
+    "load_table",
+    "load_wall",
+    "number",
+    "parse_com",
+    "parse_params",
+    "progress_bar",
+    "table_arguments",
+    "wall_arguments",
+    "written_lines",
+]
+
+# what a number flag accepts: ASCII decimal notation as in --param (not 0x10, 1_000 or Arabic-Indic digits, which
+# float() takes), and inf/nan, so that the check that follows refuses them with its reason instead of argparse
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+_DECIMAL = re.compile(r"[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|inf|infinity|nan)", re.IGNORECASE | re.ASCII)
 
 #: How far from the true angle ``critical_offset`` may report the minimum of b + b'': its docstring
 #: says ~1e-8 rad (the minimum is flat, so Brent's search stops within about sqrt(machine epsilon)
@@ -46,6 +68,59 @@ def format_angles(angles, tolerance=ANGLE_TOLERANCE):
     return ", ".join(shown) or "—"
 
 
+def number(text: str) -> float:
+    """The ``type`` of the number flags: a decimal number (``-1e-3``, ``.5``; ``inf`` and ``nan`` are left
+    to the range checks, which say why they are refused).  argparse reports "invalid number value"."""
+    if not _DECIMAL.fullmatch(text.strip()):
+        raise ValueError(text)
+    return float(text)
+
+
+def count(text: str) -> int:
+    """The ``type`` of the integer flags: an ASCII decimal whole number with an optional sign, in plain or
+    exponent notation (``100000``, ``1e8``, ``2.5e3``; ``int()`` would also take ``1_000`` and other scripts'
+    digits, ``١``, and would refuse ``1e8``, the way the docs write large counts).  A value that is not a
+    whole number (``1.5``, ``1e-3``) is refused; the range is the subcommand's check.  argparse reports
+    "invalid count value"."""
+    import decimal
+
+    text = text.strip()
+    if _INTEGER.fullmatch(text):
+        return int(text)
+    if not _DECIMAL.fullmatch(text) or not any(c.isdigit() for c in text):  # no inf/nan
+        raise ValueError(text)
+    value = decimal.Decimal(text)
+    # a count beyond 10^30 is refused by every range; Decimal keeps "1e400" exact, so cap before int()
+    if abs(value) > decimal.Decimal("1e30") or value != value.to_integral_value():
+        raise ValueError(text)
+    return int(value)
+
+
+def parse_params(params) -> dict:
+    """``--param NAME=VALUE`` options as ``{name: value}``; a name given twice is refused (the last one
+    used to win silently, hiding a typo in a long command line)."""
+    from coinwall.forward.errors import InvalidParameter
+    from coinwall.forward.expression import parse_param
+
+    values = {}
+    for text in params:
+        name, value = parse_param(text)
+        if name in values:
+            raise InvalidParameter(f"--param {name} given twice ({values[name]:g} and {value:g}); give it once")
+        values[name] = value
+    return values
+
+
+def check_body_finite(body, what="the body") -> None:
+    """Before writing a solved body: its nodes and Bézier controls are finite numbers, and so is ``b_c``
+    unless it is ``inf`` (a concave kink, which the files record as such).  A NaN body must never reach
+    a file (forward.formats.output.refuse_non_finite)."""
+    from coinwall.forward.formats.output import refuse_non_finite
+
+    refuse_non_finite(what, nodes=body.outline.nodes, controls=body.outline.controls, x=body.x, y=body.y,
+                      b0=body.b0, b_c=0.0 if math.isinf(body.b_c) else body.b_c)
+
+
 def wall_arguments(parser, optional=False):
     """Add the positional WALL argument and ``--param`` to a subcommand parser."""
     parser.add_argument("wall", nargs="?" if optional else None,
@@ -60,10 +135,10 @@ def wall_arguments(parser, optional=False):
 def table_arguments(parser):
     """Add WALL, ``--param``, ``--H``, ``--b0`` and ``--kappa``: the billiard table of the dynamics subcommands."""
     wall_arguments(parser)
-    parser.add_argument("--H", type=float, required=True,
+    parser.add_argument("--H", type=number, required=True,
                         help="distance between the walls (units of κ, or of --kappa's length unit)")
-    parser.add_argument("--b0", type=float, default=0.0, help="offset added to the wall (default 0)")
-    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+    parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
+    parser.add_argument("--kappa", type=number, default=None, metavar="VALUE",
                         help="radius of gyration of a physical body, in the length unit of the wall, --H and --b0 "
                              "(all three are divided by it; results are in units of κ). Default: they already are "
                              "in units of κ")
@@ -94,10 +169,9 @@ def load_wall(text, params, degrees=False):
     """The :class:`forward.Wall` named on the command line: ``case:NAME``, or what
     :func:`coinwall.forward.formats.load_wall` reads (expression, .csv samples, .json Fourier)."""
     from coinwall.forward.errors import InvalidWall
-    from coinwall.forward.expression import parse_param
     from coinwall.forward.formats import load_wall as load_wall_text
 
-    values = dict(parse_param(p) for p in params)
+    values = parse_params(params)
     if text.startswith("case:"):
         from ..catalog import get_case
 

@@ -5,8 +5,16 @@ from __future__ import annotations
 import json
 import os
 
-from .common import (add_command, check_positive_count, check_seed, load_table, progress_bar, table_arguments,
-                     written_lines)
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    load_table,
+    progress_bar,
+    table_arguments,
+    written_lines,
+)
 
 __all__ = ["register"]
 
@@ -28,12 +36,12 @@ def register(subparsers):
     corr = add_command(subparsers, "correlation", help="heads/tails correlation P(n), decay time τ, bounces needed",
                        description=DESCRIPTION, example=EXAMPLE)
     table_arguments(corr)
-    corr.add_argument("--bounces", type=int, default=1_000_000, help="counted collisions in total (default 1e6)")
-    corr.add_argument("--max-lag", type=int, default=40, help="largest n (default 40)")
-    corr.add_argument("--orbits", type=int, default=100, help="independent orbits (default 100)")
+    corr.add_argument("--bounces", type=count, default=1_000_000, help="counted collisions in total (default 1e6)")
+    corr.add_argument("--max-lag", type=count, default=40, help="largest n (default 40)")
+    corr.add_argument("--orbits", type=count, default=100, help="independent orbits (default 100)")
     corr.add_argument("--count", choices=["bottom", "all"], default="bottom",
                       help="n counts bottom collisions (default) or collisions with either wall")
-    corr.add_argument("--seed", type=int, default=None, help="seed of the random start states")
+    corr.add_argument("--seed", type=count, default=None, help="seed of the random start states")
     corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                       help="figure (.png, .svg, .pdf) or .json (repeatable)")
     corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, describe_written
+from .common import add_command, describe_written, number
 
 __all__ = ["register"]
 
@@ -22,14 +22,14 @@ class _StoredBody:
 def _stored_body(path):
     from coinwall.forward.errors import InvalidOutline
     from coinwall.forward.formats import load_outline
+    from coinwall.forward.formats.inputfile import read_json
 
     if not path.lower().endswith(".json"):
         raise InvalidOutline(f"body file {path!r}: export reads the .json written by 'coinwall solve -o BODY.json'")
     outline, note = load_outline(path)
     if not note.startswith("exact"):
         raise InvalidOutline(f"body file {path!r}: no Bézier 'controls'; write it with 'coinwall solve -o BODY.json'")
-    with open(path, encoding="utf-8") as fh:
-        doc = json.load(fh)
+    doc = read_json(path, what="body file", error=InvalidOutline)
     b0 = doc.get("b0", 0.0)
     if not isinstance(b0, (int, float)) or not math.isfinite(b0):
         raise InvalidOutline(f"body file {path!r}: 'b0' must be a finite number, got {b0!r}")
@@ -63,8 +63,7 @@ def _physical(outline):
 def run(args):
     """Read the body, write the drawings, print what was written."""
     from coinwall.forward.errors import InvalidArgument
-
-    from coinwall.forward.formats.output import check_paths, existing_files
+    from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
@@ -77,6 +76,7 @@ def run(args):
             f"`kappa`: no mass distribution inside this body gives it κ = 1 (κ_max = {kmax:.4g} κ), so a part cut "
             "at this size would not have this wall; solve it again with --b0 self-consistent, or pass "
             "--allow-unrealizable")
+    refuse_non_finite(f"the body of {args.body!r}", nodes=body.outline.nodes, controls=body.outline.controls)
     check_paths(args.output, _REEXPORT)  # creates missing folders, now that the input is known to be good
     check_outputs(args.output)
     replaced = existing_files(args.output)
@@ -85,7 +85,7 @@ def run(args):
     if args.json:
         print(json.dumps({"outputs": result.paths, "reports": result.reports, "kappa_uniform": kappa_uniform,
                           "kappa_max": kmax if math.isfinite(kmax) else None,
-                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)}, indent=1))
+                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)}, indent=1, allow_nan=False))
         return 0
     scale = f"kappa = {args.kappa:g} {args.units}" if args.kappa else "units of kappa (no physical scale)"
     print(f"body       {args.body} (b0 = {body.b0:g}, regime {body.regime}); {scale}")
@@ -114,10 +114,10 @@ def register(subparsers):
     parser.add_argument("body", help="BODY.json written by 'coinwall solve -o BODY.json'")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="output .dxf or .svg (repeatable; missing folders are created)")
-    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+    parser.add_argument("--kappa", type=number, default=None, metavar="VALUE",
                         help="radius of gyration in --units: draw at real size (default: units of kappa)")
     parser.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
-    parser.add_argument("--tolerance", type=float, default=None, metavar="T",
+    parser.add_argument("--tolerance", type=number, default=None, metavar="T",
                         help="largest deviation of the DXF polyline from the exact outline, in output units "
                              "(default 1e-4 x largest diameter)")
     parser.add_argument("--dimension", action="store_true", help="draw the largest diameter (SVG)")

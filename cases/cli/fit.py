@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command
+from .common import add_command, number
 
 __all__ = ["register"]
 
@@ -28,7 +28,7 @@ def register(subparsers):
     parser = add_command(subparsers, "fit", help="least-squares convex fit of measured (noisy) wall samples",
                          description=_DESCRIPTION, example=_EXAMPLE)
     parser.add_argument("samples", help="wall samples: .csv (theta,b; theta_deg for degrees) or .json {theta, b}")
-    parser.add_argument("--b0", type=float, default=0.0, help="offset added to the samples (default 0)")
+    parser.add_argument("--b0", type=number, default=0.0, help="offset added to the samples (default 0)")
     parser.add_argument("--degrees", action="store_true", help="the angles of the sample file are in degrees")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="the body (.json .svg .dxf .csv .png .pdf, as solve) or, for a file whose name "
@@ -43,7 +43,7 @@ def _wall_document(fit, path):
     if path.lower().endswith(".json"):
         doc = {"theta": fit.theta.tolist(), "b": fit.fitted.tolist(),
                "note": f"coinwall fit: least-squares convex fit at b0 = {fit.b0:g}"}
-        return (json.dumps(doc, indent=1) + "\n").encode()
+        return (json.dumps(doc, indent=1, allow_nan=False) + "\n").encode()
     rows = "\n".join(f"{t!r},{b!r}" for t, b in zip(fit.theta.tolist(), np.asarray(fit.fitted).tolist()))
     return f"# coinwall fit: least-squares convex fit at b0 = {fit.b0:g}\ntheta,b\n{rows}\n".encode()
 
@@ -53,12 +53,12 @@ def run(args):
     import sys
 
     from coinwall.forward.errors import OutputError
-    from coinwall.forward.formats.output import check_paths, existing_files, write_all
+    from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
     from coinwall.inverse.export import check_outputs, export_body, exporters
     from coinwall.inverse.fit import fit_convex
 
-    from .common import describe_written, written_lines
+    from .common import check_body_finite, describe_written, written_lines
 
     wall_outputs = [p for p in args.output if "wall" in p.rsplit("/", 1)[-1].lower()]
     body_outputs = [p for p in args.output if p not in wall_outputs]
@@ -76,9 +76,13 @@ def run(args):
     theta, values = wall.samples
     fit = fit_convex(theta, values, args.b0)
     body = fit.body
+    if args.output:
+        refuse_non_finite("the fitted wall", b=fit.fitted)
+        check_body_finite(body, "the fitted body")
     replaced = existing_files(args.output)
-    written = write_all({p: _wall_document(fit, p) for p in wall_outputs}) if wall_outputs else []
-    result = export_body(body, body_outputs) if body_outputs else None
+    with transaction():  # the wall files and the body files are one all-or-nothing commit
+        written = write_all({p: _wall_document(fit, p) for p in wall_outputs}) if wall_outputs else []
+        result = export_body(body, body_outputs) if body_outputs else None
     status = 1 if body.warnings else 0
     if args.json:
         doc = fit.to_dict()

@@ -6,7 +6,7 @@ import json
 import math
 import os
 
-from .common import add_command, check_positive_count, check_seed, progress_bar, written_lines
+from .common import add_command, check_positive_count, check_seed, count, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -30,12 +30,12 @@ def register(subparsers):
     kam = add_command(subparsers, "kam", help="KAM boundary ε_c(H) of the elliptic billiard vs the paper's 1/H + 17/H²",
                       description=DESCRIPTION, example=EXAMPLE)
     kam.add_argument("--H", required=True, metavar="H1,H2,...", help="comma-separated wall distances (units of κ)")
-    kam.add_argument("--orbits", type=int, default=100, help="orbits per (ε, H) (default 100)")
-    kam.add_argument("--collisions", type=int, default=1000, help="collisions per orbit (default 1000)")
-    kam.add_argument("--steps", type=int, default=7, help="bisection steps in log ε (default 7)")
+    kam.add_argument("--orbits", type=count, default=100, help="orbits per (ε, H) (default 100)")
+    kam.add_argument("--collisions", type=count, default=1000, help="collisions per orbit (default 1000)")
+    kam.add_argument("--steps", type=count, default=7, help="bisection steps in log ε (default 7)")
     kam.add_argument("--regular-max", type=float, default=0.01, help="criterion: regular fraction below this (0.01)")
     kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
-    kam.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    kam.add_argument("--seed", type=count, default=0, help="seed (default 0)")
     kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                      help="figure (.png, .svg, .pdf) or .json (repeatable)")
     kam.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
@@ -55,8 +55,8 @@ def _floats(text, name):
 
 
 def _cmd_kam(args):
-    from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.dynamics.kam import kam_boundary
+    from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 

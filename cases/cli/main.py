@@ -2,6 +2,30 @@
 
 Bad input (any :class:`coinwall.forward.CoinwallError`) becomes one line on stderr and exit status 2;
 outputs are written all-or-nothing.  The subcommands are listed in :mod:`.parser`, one module each.
+
+:func:`main` is also the last line of defence: whatever escapes a subcommand ends as at most two lines
+on stderr (the line below and at most one ``note:`` line), never a traceback (``COINWALL_DEBUG=1``
+re-raises everything, bad input included, and leaves warnings to Python, for a developer):
+
+========================== ======================================================== ======
+what escaped               stderr                                                   status
+========================== ======================================================== ======
+CoinwallError (bad input)  ``coinwall: error: MESSAGE``                             2
+OSError (a file, the disk) ``coinwall: error: cannot read or write 'PATH': REASON`` 2
+MemoryError                ``coinwall: error: not enough memory: ...; ask for less`` 2
+RecursionError             ``coinwall: error: the input is nested too deeply ...``  2
+KeyboardInterrupt          ``coinwall: interrupted``                                130
+any other exception        ``coinwall: internal error: TYPE: MESSAGE -- this is a   70
+                           bug ...`` (asks for a report; EX_SOFTWARE of sysexits.h)
+========================== ======================================================== ======
+
+Warnings (NumPy's RuntimeWarnings such as "invalid value encountered in divide", a library's
+UserWarning) never reach the terminal as raw warning text: they are recorded while the command runs
+and summarised in *one* ``coinwall: note:`` line at the end, with how many there were.  They are not
+silenced: such a warning means a step produced a NaN or an infinity that the library did not check
+for; the results themselves are checked (no file is ever written with a non-finite number, see
+:func:`coinwall.forward.formats.output.refuse_non_finite`), so the note reports an unexpected event,
+and asks for a report, rather than a wrong result.  The exit status is not changed by it.
 """
 
 from __future__ import annotations
@@ -10,10 +34,17 @@ import os
 import re
 import sys
 
-__all__ = ["main", "flag_message"]
+__all__ = ["EX_INTERRUPTED", "EX_SOFTWARE", "flag_message", "main"]
+
+#: exit status for a bug in coinwall (sysexits.h: "an internal software error has been detected")
+EX_SOFTWARE = 70
+#: exit status after Ctrl-C: 128 + SIGINT, what a shell reports for a program killed by it
+EX_INTERRUPTED = 130
 
 # a library message names an argument in backticks: "`max_lag` must be ..."
 _ARGUMENT = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)`")
+# warnings meant for developers (hidden by Python's default filters too)
+_DEVELOPER_WARNINGS = (DeprecationWarning, PendingDeprecationWarning, ImportWarning)
 
 
 def flag_message(message: str, flags: dict) -> str:
@@ -23,11 +54,79 @@ def flag_message(message: str, flags: dict) -> str:
     return _ARGUMENT.sub(lambda match: flags.get(match.group(1), match.group(0)), message)
 
 
+def _debug() -> bool:
+    return os.environ.get("COINWALL_DEBUG", "").strip() not in ("", "0")
+
+
+def _one_line(text: str, limit: int = 400) -> str:
+    """``text`` on one line, shortened to ``limit`` characters (an exception message can be a page)."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _error(message: str) -> None:
+    print(f"coinwall: error: {_one_line(message, 1000)}", file=sys.stderr)
+
+
+def _note_warnings(caught) -> None:
+    """At most one line for the warnings recorded while the command ran (module docstring)."""
+    caught = [w for w in caught if not issubclass(w.category, _DEVELOPER_WARNINGS)]
+    if not caught:
+        return
+    counts = {}
+    for w in caught:
+        text = f"{w.category.__name__}: {_one_line(w.message, 120)}"
+        counts[text] = counts.get(text, 0) + 1
+    shown = [text + (f" (x{n})" if n > 1 else "") for text, n in counts.items()]
+    more = f"; and {len(shown) - 2} other kind(s)" if len(shown) > 2 else ""
+    print(f"coinwall: note: unexpected warning from a library: {'; '.join(shown[:2])}{more}. No file is written "
+          "with a NaN or an infinity, but please report this (COINWALL_DEBUG=1 shows where)", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     """Entry point of the ``coinwall`` command; returns the exit status.
 
     Without a subcommand it prints the help and returns 0 (a request for help, not an error).
+    Usage errors of the argument parser raise ``SystemExit(2)`` after one line, as argparse does.
     """
+    import warnings
+
+    if _debug():  # the developer's view: warnings and tracebacks as Python shows them
+        return _run(argv)
+    with warnings.catch_warnings(record=True) as caught:
+        try:
+            return _guarded(argv)
+        finally:
+            _note_warnings(caught)
+
+
+def _guarded(argv) -> int:
+    """:func:`_run`, with whatever escapes it turned into an exit status and a line (module docstring)."""
+    try:
+        return _run(argv)
+    except MemoryError as exc:
+        detail = f" ({_one_line(exc, 200)})" if str(exc) else ""
+        _error(f"not enough memory for this request{detail}; ask for less (fewer points, samples or collisions)")
+        return 2
+    except RecursionError:
+        _error("the input is nested too deeply to process (Python's recursion limit was reached); "
+               "simplify the expression or the file")
+        return 2
+    except KeyboardInterrupt:
+        print("coinwall: interrupted", file=sys.stderr)
+        return EX_INTERRUPTED
+    except OSError as exc:  # an input or output the library did not map: a file, a folder, the disk
+        where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        _error(f"cannot read or write{where}: {exc.strerror or exc}")
+        return 2
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: a bug, reported in one line
+        print(f"coinwall: internal error: {type(exc).__name__}: {_one_line(exc)} -- this is a bug in coinwall; "
+              "please report it, with the command and the traceback that COINWALL_DEBUG=1 prints", file=sys.stderr)
+        return EX_SOFTWARE
+
+
+def _run(argv) -> int:
+    """Parse and run the subcommand; bad input (CoinwallError) is one line and status 2."""
     from coinwall.forward.errors import CoinwallError
 
     from .parser import build_parser
@@ -40,8 +139,9 @@ def main(argv=None) -> int:
     try:
         return args.run(args)
     except CoinwallError as exc:
-        message = flag_message(str(exc), parser.commands[args.command].flags)
-        print(f"coinwall: error: {message}", file=sys.stderr)
+        if _debug():
+            raise
+        _error(flag_message(str(exc), parser.commands[args.command].flags))
         return 2
     except BrokenPipeError:  # the reader went away (`coinwall cases --json | head`): not an error of ours
         # Python would report the pipe again when it flushes stdout at exit; point stdout at nothing

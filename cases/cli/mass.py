@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, parse_com
+from .common import add_command, number, parse_com, parse_params
 
-__all__ = ["register", "POSITION_TOLERANCE"]
+__all__ = ["POSITION_TOLERANCE", "register"]
 
 #: the moments are exact to rounding (Green's theorem on the Bézier outline): a centre-of-mass
 #: coordinate within 1e-12 of the body's size of zero is rounding and prints as 0
@@ -37,7 +37,7 @@ def register(subparsers):
                         help="parameter of the density (repeatable)")
     parser.add_argument("--layer", default=None, help="DXF layer to read")
     parser.add_argument("--com", default=None, metavar="X,Y", help="centre of mass in drawing coordinates")
-    parser.add_argument("--kappa", type=float, default=None, help="radius of gyration in drawing units")
+    parser.add_argument("--kappa", type=number, default=None, help="radius of gyration in drawing units")
     parser.add_argument("--json", action="store_true", help="print JSON (full precision)")
     parser.set_defaults(run=run)
 
@@ -47,22 +47,21 @@ def run(args):
     import numpy as np
 
     from coinwall.forward.display import format_number
-    from coinwall.forward.expression import parse_param
     from coinwall.forward.formats import load_outline
     from coinwall.forward.massprops import mass_properties, outline_moments
     from coinwall.inverse.realizability import kappa_max
 
-    params = dict(parse_param(p) for p in args.param)
+    params = parse_params(args.param)
     outline, note = load_outline(args.body, layer=args.layer, com=parse_com(args.com), kappa=args.kappa)
     exact = outline_moments(outline)
-    props = mass_properties(outline, args.density, params) if args.density else None
+    props = mass_properties(outline, args.density, params) if args.density is not None else None
     kmax, support = kappa_max(outline)
     if args.json:
         print(json.dumps({"body": args.body, "note": note, "uniform": exact.to_dict(),
                           "density": props.to_dict() if props else None,
                           "kappa_max": kmax if math.isfinite(kmax) else None,
                           "kappa_max_support": support.tolist(),
-                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0)}, indent=1))
+                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0)}, indent=1, allow_nan=False))
         return 0
     size = max(1.0, float(np.max(np.hypot(*outline.nodes.T))))
 

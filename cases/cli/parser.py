@@ -8,6 +8,7 @@ order of ``coinwall --help``; adding a subcommand is adding a module and a line 
 from __future__ import annotations
 
 import argparse
+import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
 from . import cases, correlation, critical, export, fit, kam, mass, section, simulate, solve, verify, wall
@@ -31,8 +32,26 @@ SUBCOMMANDS = {
 }
 
 
+#: a negative number in any notation float() reads: -1e-3, -.5, -1., -inf, -Infinity, -nan
+_NEGATIVE_NUMBER = re.compile(r"-(\d+\.?\d*(e[+-]?\d+)?|\.\d+(e[+-]?\d+)?|inf|infinity|nan)",
+                              re.IGNORECASE | re.ASCII)
+#: what an option name can consist of; an argument with anything else before its '=' is not an option
+_OPTION_NAME = re.compile(r"-{1,2}[A-Za-z0-9_][A-Za-z0-9_-]*")
+
+
 class CommandParser(argparse.ArgumentParser):
-    """An ``ArgumentParser`` that reports usage errors in one line and remembers its flags.
+    """An ``ArgumentParser`` that reports usage errors in one line, remembers its flags and reads a
+    leading minus sign the way a user means it.
+
+    argparse takes every argument that starts with '-' for an option unless it matches its narrow
+    negative-number pattern (``-1``, ``-.5``), so ``--b0 -1e-3``, ``--H -inf`` and the wall
+    ``"-cos(t)+2"`` were refused ("expected one argument").  :meth:`_parse_optional` reads as a value
+    (for the option before it, or as the positional) an argument that is not one of the parser's
+    options and either is a negative number in any notation or contains a character no option name
+    has (parentheses, operators, spaces, '.', ...).  Everything else is left to argparse: ``--help``,
+    abbreviations (``--poin`` for ``--points``), ``-ofile.svg`` (an attached value), ``--b0=-1`` and
+    the error for an unknown option (``--bogus``, ``-x``).  A wall that starts with ``-o`` or ``-h``
+    followed by letters reads as that short option; write it after ``--`` (``-- "-omega*cos(t)"``).
 
     Attributes
     ----------
@@ -51,6 +70,35 @@ class CommandParser(argparse.ArgumentParser):
             longest = max(action.option_strings, key=len)
             self.flags.setdefault(action.dest, longest)
         return action
+
+    def _parse_optional(self, arg_string):
+        # argparse's only hook for "is this an option?": narrowed for negative numbers and expressions
+        if self._reads_as_value(arg_string):
+            return None
+        return super()._parse_optional(arg_string)
+
+    def _reads_as_value(self, text: str) -> bool:
+        """True for an argument starting with '-' that cannot be one of this parser's options."""
+        if not text.startswith("-") or text == "--" or text in self._option_string_actions:
+            return False
+        if _NEGATIVE_NUMBER.fullmatch(text):
+            return not self._has_negative_number_optionals  # no option of ours looks like a number
+        head = text.split("=", 1)[0]
+        if head in self._option_string_actions:  # --b0=-1e-3
+            return False
+        if text[1:2] != "-" and text[:2] in self._option_string_actions:  # -ofile.svg: a short option's value
+            return False
+        return not _OPTION_NAME.fullmatch(head)
+
+    def _get_values(self, action, arg_strings):
+        # Python 3.11's argparse removes a '--' even when it is an option's own value (`--H=--`) and then
+        # hands the option an empty list (a TypeError later, in our code): a '--' attached with '=' is the
+        # value given, checked like any other ("invalid number value: '--'")
+        if arg_strings == ["--"] and action.nargs in (None, argparse.OPTIONAL):
+            value = self._get_value(action, "--")
+            self._check_value(action, value)
+            return value
+        return super()._get_values(action, arg_strings)
 
     def error(self, message):  # one line, exit status 2, as for every bad input
         self.exit(2, f"coinwall: error: {message}\n")

@@ -5,8 +5,16 @@ from __future__ import annotations
 import json
 import os
 
-from .common import (add_command, check_positive_count, check_seed, load_table, progress_bar, table_arguments,
-                     written_lines)
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    load_table,
+    progress_bar,
+    table_arguments,
+    written_lines,
+)
 
 __all__ = ["register"]
 
@@ -27,9 +35,9 @@ def register(subparsers):
     section = add_command(subparsers, "section", help="bottom-wall Poincaré section θ_c vs φ_c of many orbits",
                           description=DESCRIPTION, example=EXAMPLE)
     table_arguments(section)
-    section.add_argument("--orbits", type=int, default=60, help="number of orbits (default 60)")
-    section.add_argument("--collisions", type=int, default=2000, help="collisions per orbit (default 2000)")
-    section.add_argument("--seed", type=int, default=None, help="seed of the random start states")
+    section.add_argument("--orbits", type=count, default=60, help="number of orbits (default 60)")
+    section.add_argument("--collisions", type=count, default=2000, help="collisions per orbit (default 2000)")
+    section.add_argument("--seed", type=count, default=None, help="seed of the random start states")
     section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                          help="figure (.png, .svg, .pdf), .csv (theta_c,phi_c,orbit) or .json (repeatable)")
     section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
@@ -45,6 +53,7 @@ def _cmd_section(args):
     check_positive_count("--collisions", args.collisions)
     check_seed(args.seed)
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
+    _check_section_memory(args, FIGURE_FORMATS)
     _, table = load_table(args)
     bar = progress_bar(args, args.orbits, "orbit")
     try:
@@ -75,3 +84,22 @@ def _cmd_section(args):
             for line in written_lines(written, written.replaced):
                 print(line)
     return 0
+
+
+# bytes per point of the section while it is written, by output kind (measured layouts, rounded up): the
+# arrays themselves (θ_c, φ_c, orbit: 24), CSV text (~45 characters a row, held as text, its copy and its
+# bytes), JSON (three Python floats and list slots per point, 96, and ~60 characters twice) and a figure
+# (matplotlib copies each orbit's points into its line and path, ~100)
+_POINT_BYTES = {"arrays": 24, ".csv": 135, ".json": 220, "figure": 100}
+
+
+def _check_section_memory(args, figure_formats):
+    """Refuse before any work a section whose points (at most one per collision) and outputs would not fit."""
+    from coinwall.forward.validation import check_memory
+
+    kinds = {os.path.splitext(path)[1].lower() for path in args.output}
+    per_point = _POINT_BYTES["arrays"] + sum(_POINT_BYTES[k] for k in (".csv", ".json") if k in kinds)
+    per_point += _POINT_BYTES["figure"] if kinds & set(figure_formats) else 0
+    check_memory(f"--orbits {args.orbits} × --collisions {args.collisions} (up to one point per collision, "
+                 f"{per_point} bytes per point with the outputs asked for)", float(per_point) * args.orbits
+                 * args.collisions)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import time
 
-from .common import add_command, check_positive_count, check_seed, load_table, progress_bar, table_arguments
+from .common import add_command, check_positive_count, check_seed, count, load_table, progress_bar, table_arguments
 
 __all__ = ["register"]
 
@@ -27,8 +27,8 @@ def register(subparsers):
     parser = add_command(subparsers, "simulate", help="run the equivalent billiard (numba kernel) for one orbit",
                          description=DESCRIPTION, example=EXAMPLE)
     table_arguments(parser)
-    parser.add_argument("--collisions", type=int, default=100_000, help="number of collisions (default 100000)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the random start state (Liouville measure)")
+    parser.add_argument("--collisions", type=count, default=100_000, help="number of collisions (default 100000)")
+    parser.add_argument("--seed", type=count, default=None, help="seed of the random start state (Liouville measure)")
     parser.add_argument("--method", choices=["kernel", "reference"], default="kernel",
                         help="numba kernel (default) or the slow plain-numpy reference stepper")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
@@ -37,9 +37,11 @@ def register(subparsers):
 
 def _cmd_simulate(args):
     from coinwall.forward.dynamics.billiard import compile_kernel, random_states
-    from coinwall.forward.dynamics.orbitstats import CHUNK, orbit_statistics
+    from coinwall.forward.dynamics.orbitstats import CHUNK, MAX_COLLISIONS, orbit_statistics
+    from coinwall.forward.validation import check_count
 
     check_positive_count("--collisions", args.collisions)
+    check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # streamed: memory is bounded, time is not
     check_seed(args.seed)
     wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]

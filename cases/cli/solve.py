@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, describe_written, format_angles, wall_arguments
+from .common import add_command, count, describe_written, format_angles, number, wall_arguments
 
-__all__ = ["register", "OFFSET_TOLERANCE", "AREA_TOLERANCE", "DEFICIT_TOLERANCE", "DIRECTION_TOLERANCE"]
+__all__ = ["AREA_TOLERANCE", "DEFICIT_TOLERANCE", "DIRECTION_TOLERANCE", "OFFSET_TOLERANCE", "register"]
 
 # The tolerances solve_body itself works to; a number below its own tolerance prints as 0.
 #: regime_of: b0 within 1e-9·max(1, wall scale) of b_c is the critical case
@@ -50,15 +50,15 @@ def register(subparsers):
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="write the body; format by extension: .svg .dxf .json .csv .png .pdf (repeatable); "
                              "missing folders are created")
-    parser.add_argument("--points", type=int, default=DEFAULT_POINTS,
+    parser.add_argument("--points", type=count, default=DEFAULT_POINTS,
                         help=f"outline nodes (default {DEFAULT_POINTS})")
     parser.add_argument("--method", choices=["envelope", "polar"], default="envelope",
                         help="solver (default envelope; the other one is the cross-check)")
     parser.add_argument("--no-cross-check", action="store_true", help="skip the cross-check with the other solver")
-    parser.add_argument("--kappa", type=float, default=None, metavar="VALUE",
+    parser.add_argument("--kappa", type=number, default=None, metavar="VALUE",
                         help="radius of gyration in --units: .svg/.dxf drawn at real size (default: units of kappa)")
     parser.add_argument("--units", choices=["mm", "cm", "in"], default=None, help="unit of --kappa")
-    parser.add_argument("--tolerance", type=float, default=None, metavar="T",
+    parser.add_argument("--tolerance", type=number, default=None, metavar="T",
                         help="largest deviation of approximated outlines (DXF polyline) in output units")
     parser.add_argument("--cut", action="store_true",
                         help="cut-ready .svg/.dxf: one closed contour on one layer (CUT), no marks or notes")
@@ -87,7 +87,7 @@ def _offset(text, wall):
                                   f"(searched b0 in [{found.searched[0]:.6g}, {found.searched[1]:.6g}])")
         return float(found.b0)
     try:
-        return float(text)
+        return number(text)
     except ValueError:
         raise InvalidArgument(f"`b0` must be a number or 'self-consistent', got {text!r}") from None
 
@@ -110,12 +110,12 @@ def _wall_and_offset(args):
 def run(args):
     """Solve, write the outputs, print the summary."""
     from coinwall.forward.display import format_number
-    from coinwall.forward.formats.output import check_paths, existing_files
     from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.formats.output import check_paths, existing_files
     from coinwall.inverse import realizability, solve_body
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
 
-    from .common import load_wall
+    from .common import check_body_finite, load_wall
 
     wall_text, params, b0 = _wall_and_offset(args)
     if args.wall is None and not args.json:
@@ -131,6 +131,8 @@ def run(args):
     fit = None
     if args.nearest == "least-squares" and body.regime == "corner":
         body, fit = _nearest_least_squares(wall, body)
+    if args.output:  # before anything else uses the body: a NaN never reaches a file
+        check_body_finite(body)
     physical = realizability(body)
     if args.kappa is not None and not physical.realizable and not args.allow_unrealizable and any(
             path.lower().endswith((".svg", ".dxf", ".pdf")) for path in args.output):

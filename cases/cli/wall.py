@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, parse_com, written_lines
+from .common import add_command, count, number, parse_com, parse_params, written_lines
 
-__all__ = ["register", "WALL_TOLERANCE"]
+__all__ = ["BODY_SIZE", "MAX_H", "MAX_SAMPLES", "SAMPLE_BYTES", "WALL_TOLERANCE", "register"]
 
 #: the support function is exact to rounding: a value within 1e-12 of the largest |b| of zero is
 #: rounding and prints as 0 (a centre of mass on the boundary gives b = 0 there); the scale solve_body
@@ -15,6 +15,16 @@ __all__ = ["register", "WALL_TOLERANCE"]
 WALL_TOLERANCE = 1e-12
 
 _TABLES = (".csv", ".json")
+
+#: --samples: at least 8 angles; at most 10⁷ (about 2.6 GB and 70 s; measured 260 bytes and 7 µs per angle
+#: for `coinwall wall --polar 1 --samples 1000000 -o w.csv`: 350 MB peak, of which 90 MB is the interpreter)
+MAX_SAMPLES = 10_000_000
+SAMPLE_BYTES = 300
+#: the largest distance of the body from its centre of mass, in units of κ: from 1e-6 to 1e6 (a physical
+#: body has at least 1, since κ never exceeds it; far outside, squares of coordinates overflow or vanish)
+BODY_SIZE = (1e-6, 1e6)
+#: --H: a wall distance in units of κ; beyond 1e15 the upper wall H − b(θ+π) keeps no digit of b
+MAX_H = 1e15
 
 _DESCRIPTION = """\
 The forward direction: the wall function b(θ) of a body, i.e. its support function about the
@@ -50,7 +60,7 @@ def register(subparsers):
     parser.add_argument("--element", default=None, metavar="ID", help="SVG: read only the element with this id")
     parser.add_argument("--com", default=None, metavar="X,Y",
                         help="centre of mass in drawing coordinates (default: as recorded by coinwall, else centroid)")
-    parser.add_argument("--kappa", type=float, default=None,
+    parser.add_argument("--kappa", type=number, default=None,
                         help="radius of gyration in --units (default: as recorded by coinwall, else 1 drawing unit)")
     parser.add_argument("--units", choices=["mm", "cm", "m", "in", "pt", "px"], default=None,
                         help="unit of --kappa (default: the drawing's own unit, from SVG width/height and viewBox "
@@ -58,8 +68,10 @@ def register(subparsers):
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help=".csv (theta,b[,t]: feeds 'coinwall solve'), .json, or a figure of the body and its "
                              "wall: .png, .svg or .pdf (repeatable; missing folders are created)")
-    parser.add_argument("--H", type=float, default=None, help="wall distance: also write the upper wall t(θ)")
-    parser.add_argument("--samples", type=int, default=720, help="number of angles (default 720)")
+    parser.add_argument("--H", type=number, default=None,
+                        help="wall distance, > 0 and at most 1e15: also write the upper wall t(θ)")
+    parser.add_argument("--samples", type=count, default=720,
+                        help=f"number of angles, 8 to {MAX_SAMPLES:,} (default 720)")
     parser.add_argument("--json", action="store_true", help="print JSON (full precision)")
     parser.set_defaults(run=run)
 
@@ -67,7 +79,6 @@ def register(subparsers):
 def _load(args):
     """The outline named on the command line, its note and a description of where it came from."""
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.expression import parse_param
     from coinwall.forward.formats import outline_from_polar
     from coinwall.forward.formats.load import read_outline
 
@@ -77,7 +88,7 @@ def _load(args):
     if args.polar is not None:
         if any(v is not None for v in (args.layer, args.kappa, args.units, args.element)):
             raise InvalidArgument("--layer, --element, --kappa and --units apply to body files, not to --polar")
-        outline, note = outline_from_polar(args.polar, dict(parse_param(p) for p in args.param), com=com)
+        outline, note = outline_from_polar(args.polar, parse_params(args.param), com=com)
         return outline, note, f"R(α) = {args.polar}", []
     if args.param:
         raise InvalidArgument("--param applies to --polar expressions, not to a body file")
@@ -101,7 +112,7 @@ def _table_bytes(path, theta, lower, upper, H, note):
     doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
     if upper is not None:
         doc.update(H=H, t=upper.tolist())
-    return json.dumps(doc).encode()
+    return json.dumps(doc, allow_nan=False).encode()
 
 
 def run(args):
@@ -110,18 +121,25 @@ def run(args):
 
     from coinwall.forward.display import format_number
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes, new_figure
-    from coinwall.forward.formats.output import check_paths, write_all
+    from coinwall.forward.formats.output import check_paths, refuse_non_finite, write_all
     from coinwall.forward.support import wall_functions
-    from coinwall.forward.validation import check_count, check_positive
+    from coinwall.forward.validation import check_count, check_memory, check_positive, check_range
 
-    H = None if args.H is None else check_positive("H", args.H)
-    samples = check_count("samples", args.samples, minimum=8)
+    if args.H is not None:
+        check_range("H", check_positive("H", args.H), 0.0, MAX_H, why="a wall distance in units of κ")
+    H = args.H
+    samples = check_count("samples", args.samples, minimum=8)  # "at least 8" for a small request, as before
+    samples = check_count("samples", samples, minimum=8, maximum=MAX_SAMPLES)
+    check_memory(f"`samples` = {samples} ({SAMPLE_BYTES} bytes per angle)", samples * SAMPLE_BYTES)
     if args.kappa is not None:
         check_positive("kappa", args.kappa)
     check_paths(args.output, _TABLES + FIGURE_FORMATS)
     outline, note, source, warnings = _load(args)
+    _check_size(outline, args.kappa)
     theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, H)
+    # a body read from a file is checked by its reader; this is the last guard before a file of nan rows
+    refuse_non_finite("the wall", b=lower, **({} if upper is None else {"t": upper}))
     files = {}
     for path in args.output:
         if path.lower().endswith(_TABLES):
@@ -135,7 +153,8 @@ def run(args):
     written = write_all(files)
     if args.json:
         print(json.dumps({"body": source, "note": note, "samples": int(theta.size), "b_min": float(lower.min()),
-                          "b_max": float(lower.max()), "outputs": args.output, "warnings": warnings}, indent=1))
+                          "b_max": float(lower.max()), "outputs": args.output, "warnings": warnings},
+                         indent=1, allow_nan=False))
         _print_warnings(warnings)
         return 0
     tolerance = WALL_TOLERANCE * max(1.0, float(np.max(np.abs(lower))))
@@ -146,6 +165,24 @@ def run(args):
         print(line)
     _print_warnings(warnings)
     return 0
+
+
+def _check_size(outline, kappa):
+    """The body, in units of κ, measures between 1e-6 and 1e6 from its centre of mass (``BODY_SIZE``).
+
+    ``--kappa`` divides a drawing's coordinates; a tiny or huge κ gives numbers whose squares overflow or
+    vanish (``--kappa 1e-300`` gave coordinates near 1e300 and overflowing squares).
+    """
+    import numpy as np
+
+    from coinwall.forward.errors import InvalidArgument
+
+    size = float(np.max(np.hypot(*np.asarray(outline.nodes, float).T)))
+    low, high = BODY_SIZE
+    if not low <= size <= high:
+        scale = f" with --kappa {kappa:g}" if kappa is not None else ""
+        raise InvalidArgument(f"the body reaches {size:.3g} radii of gyration from its centre of mass{scale}; "
+                              f"it must be between {low:g} and {high:g} κ (a physical body: at least 1)")
 
 
 def _print_warnings(warnings):

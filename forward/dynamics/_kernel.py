@@ -113,7 +113,8 @@ from numba.extending import intrinsic
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.kernel
 
-OPTIONS = dict(cache=True, error_model='numpy')
+CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
+OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 
 def wall_b1(phi, c):
@@ -136,6 +137,13 @@ ROUND_T = 1e-15  # a time interval this small (relative) is rounding
 # columns of the cell table (one row per cell, see _cell_table)
 LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS = range(16)
 POS_TOL = 0.01  # a second-order contact is taken unconfirmed when its Taylor remainder is below POS_TOL·tol
+# Budgets (why an orbit may stop instead of looping; the notes are kernel.NOTES 4 and 5).  θ is reduced mod 2π
+# after every flight; a flight that carries it beyond MAX_ANGLE (2^44 ≈ 1.8e13 rad, where one ulp is 0.004 rad)
+# leaves nothing of the contact angle, and a cell index computed from it would be garbage.  A search that
+# walks more than CELL_BUDGET cells (2^27 ≈ 10^6 turns of θ at 128 cells a turn, ~1 s) is a ray so nearly
+# parallel to the walls that following it is pointless.
+MAX_ANGLE = 17592186044416.0
+CELL_BUDGET = 134217728
 
 
 @intrinsic
@@ -188,8 +196,7 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
         t_hi = INF
         if vt != 0.0:  # horizontal ray: one period of θ decides
             t_hi = 1.01 * TWO_PI / abs(vt) + 1.0
-    if tcap < t_hi:
-        t_hi = tcap
+    t_hi = min(t_hi, tcap)
     if not (t_lo < t_hi):
         return INF, 0.0
     if vt == 0.0:  # vertical ray: g is linear
@@ -214,9 +221,13 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
     elif x < 0.0:
         x += TWO_PI
         off -= TWO_PI
+    if not (0.0 <= x < TWO_PI):  # nan, or an angle beyond float64's reach: never index with it
+        return -4.0, 0.0
     i = int(x * (nunif * INV_TWO_PI))
     if i >= nunif:
         i = nunif - 1
+    elif i < 0:
+        i = 0
     j = lookup[i]
     while j < m - 1 and cells[j, RIGHT] <= x:
         j += 1
@@ -232,10 +243,13 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
     start = off - phi0
     t_in = t_lo
     at_edge = False
+    walked = 0
     while True:
+        walked += 1
+        if walked > CELL_BUDGET:
+            return -3.0, 0.0
         t_out = (cells[j, edge] + start) * ivt
-        if t_out > t_hi:
-            t_out = t_hi
+        t_out = min(t_out, t_hi)
         if B >= 0.0:
             lmin = A + B * t_in
         else:
@@ -247,7 +261,7 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
             if leaving and t == 0.0:
                 # on the wall just left: g = 0 there (the collision already processed), g' > 0;
                 # the certified step 2 g'/K away from it (g' from the reflection when known)
-                if g1_leave == g1_leave:
+                if not math.isnan(g1_leave):
                     g1 = g1_leave
                 else:
                     b, d1 = wall_b1(phi0, c)
@@ -300,7 +314,7 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
                     if it == 0 and at_edge and t == t_in:
                         # entering through a kink: its one-sided slope, never the other side's
                         slope = cells[j, SLOPE_FWD] if vt > 0.0 else cells[j, SLOPE_BWD]
-                        if slope == slope:
+                        if not math.isnan(slope):
                             d1 = slope
                             second = False
                     g0 = A + B * t - b
@@ -371,8 +385,10 @@ def _first_hit(phi0, A, B, vt, iB, ivt, tcap, leaving, g1_leave, c, cells, looku
 
 
 @njit(**OPTIONS)
-def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
-         out_time, out_theta, out_eta, out_vt, out_ve, out_side):
+def _run(state, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
+         out_time, out_theta, out_eta, out_vt, out_ve, out_side, last):
+    # state[0] is θ reduced mod 2π by the caller and ``turns`` its whole turns (θ = state[0] + 2π·turns), so an
+    # orbit continues exactly however far it has turned; last = [θ mod 2π, turns] after the last collision
     theta = state[0]
     eta = state[1]
     vt = state[2]
@@ -382,6 +398,9 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
     lookup = carray(_data_pointer(lookup), lookup.shape)
     wraps = math.floor(theta / TWO_PI)
     th = theta - wraps * TWO_PI
+    wraps += turns
+    last[0] = th
+    last[1] = wraps
     time = 0.0
     g1_leave = math.nan  # g' of the wall just left (unknown for a start on a wall)
     for i in range(n):
@@ -415,6 +434,10 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
                 tl, dl = tk, dk
         if tl == -2.0 or tu == -2.0:
             return i, 3
+        if tl == -3.0 or tu == -3.0:
+            return i, 5
+        if tl == -4.0 or tu == -4.0:
+            return i, 4
         if tl < 0.0 or tu < 0.0:
             return i, 2
         if tu < tl:
@@ -427,6 +450,8 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
             s = dl
         if t == INF:
             return i, 1
+        if not (abs(vt * t) < MAX_ANGLE):
+            return i, 4
         th += vt * t
         eta += ve * t
         time += t
@@ -451,15 +476,17 @@ def _run(state, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
         out_vt[i] = vt
         out_ve[i] = ve
         out_side[i] = side
+        last[0] = th
+        last[1] = wraps
         leaving = side
     return n, 0
 
 
-@njit(cache=True, parallel=True)
-def _run_many(states, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
-              out_time, out_theta, out_eta, out_vt, out_ve, out_side, done, status):
+@njit(cache=CACHE, parallel=True)
+def _run_many(states, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
+              out_time, out_theta, out_eta, out_vt, out_ve, out_side, done, status, last):
     for k in prange(states.shape[0]):
-        d, s = _run(states[k], leaving[k], n, H, b0, c, cells, lookup, wmin, wmax, tol,
-                    out_time[k], out_theta[k], out_eta[k], out_vt[k], out_ve[k], out_side[k])
+        d, s = _run(states[k], turns[k], leaving[k], n, H, b0, c, cells, lookup, wmin, wmax, tol,
+                    out_time[k], out_theta[k], out_eta[k], out_vt[k], out_ve[k], out_side[k], last[k])
         done[k] = d
         status[k] = s

@@ -28,18 +28,23 @@ import numpy as np
 from ..angles import TWO_PI
 from ..display import safe_repr
 from ..errors import InvalidArgument, InvalidWall
-from ..validation import check_choice, check_count, is_integer
+from ..validation import check_choice, check_count, check_memory, check_range, is_integer
 from ..wall import Wall
 from .cellbounds import CELLS, SAMPLES
 from .kernel import compiled, run, run_many
 from .reference import reference_run
 
-__all__ = ["Billiard", "Trajectory", "simulate", "random_states", "ensemble", "compile_kernel", "METHODS",
-           "CELLS", "SAMPLES", "HIT_TOL"]
+__all__ = ["BYTES_PER_COLLISION", "CELLS", "HEIGHT_MAX", "HIT_TOL", "METHODS", "MIN_OPENING", "SAMPLES", "Billiard",
+           "Trajectory", "compile_kernel", "ensemble", "random_states", "simulate"]
 
 METHODS = ("kernel", "reference")
 HIT_TOL = 1e-13      # a gap below tol·max(1, H, scale) is a contact
 _GAP_GRID = 4096
+HEIGHT_MAX = 1e6     # largest |b0| and wall size max|b| (units of κ); H up to 4·HEIGHT_MAX (Billiard docstring)
+MIN_OPENING = 1e4    # the widest opening of the strip must be at least this many contact tolerances
+BYTES_PER_COLLISION = 41   # five float64 columns and one int8 (Trajectory)
+_DRAWS_MIN_FRACTION = 1e-6  # random_states refuses a table where fewer draws than this fall inside
+_DRAW_BUDGET_MIN = 2e6      # random_states draws at least this many (~0.5 s) before it gives up
 
 
 # ---------------------------------------------------------------------------------------------------- table
@@ -60,6 +65,20 @@ class Billiard:
         ``upper(θ) − lower(θ) = H − 2 b0 − b(θ) − b(θ + π)`` (on a 4096-point
         grid).  ``gap_min < 0`` means some angles are out of reach (the coin
         cannot turn over); ``gap_max ≤ 0`` is refused.
+
+    Valid range (why: the kernel's arithmetic must stay meaningful in float64, unit roundoff u = 1.1e-16).
+    Heights (η, H, b0, b) enter the kernel as absolute numbers: the gap ``A + B t − b`` of a flight is formed
+    with an error of about u·H, and a flight that crosses the strip carries θ by about H·|v_θ/v_η|, so the
+    contact angle after reduction mod 2π is known to about u·H per unit of |v_θ/v_η|.  With
+    ``|b0| ≤ HEIGHT_MAX = 1e6``, ``max|b| ≤ 1e6`` and ``H ≤ 4e6`` (room for both at their limits) that error
+    is below u·4e6 ≈ 4.4e-10 (κ, or rad per unit of |v_θ/v_η|), and the contact tolerance
+    ``tol = 1e-13·max(1, H, scale)`` is at most 4e-7 of a unit: contacts and cell indices stay meaningful.
+    Far beyond (H = 1e50, 1e100) θ loses every digit in one flight, its cell index is garbage and the
+    search would loop or read outside its table; those values are refused here.  At the other end, the
+    widest opening ``gap_max`` must be at least ``MIN_OPENING = 1e4`` contact tolerances: a strip narrower
+    than that is within a few thousand tolerances of both walls everywhere and the kernel cannot tell a
+    bounce from rounding (``random_states`` also keeps 1e3 tolerances from each wall).  The lower end is
+    therefore ``H ≥ min_θ(2 b0 + b(θ) + b(θ+π)) + 1e4·tol``; the message of a refused H names that value.
     """
 
     wall: Wall
@@ -80,6 +99,12 @@ class Billiard:
             if isinstance(value, bool) or not math.isfinite(number):
                 raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
             object.__setattr__(self, name, number)
+        precision = "so that float64 keeps the contact angle to 1e-9 in one flight (Billiard docstring)"
+        if not self.wall.scale <= HEIGHT_MAX:
+            raise InvalidWall(f"wall {self.wall.description!r} reaches |b| = {self.wall.scale:.3g}; the billiard "
+                              f"needs max |b| <= {HEIGHT_MAX:g} (units of κ), {precision}")
+        check_range("b0", self.b0, -HEIGHT_MAX, HEIGHT_MAX, why=precision)
+        check_range("H", self.H, -4 * HEIGHT_MAX, 4 * HEIGHT_MAX, why=precision)
         theta = np.linspace(0.0, TWO_PI, _GAP_GRID, endpoint=False)
         gap = self.upper(theta) - self.lower(theta)
         object.__setattr__(self, "gap_min", float(gap.min()))
@@ -88,6 +113,11 @@ class Billiard:
             need = self.H - self.gap_max
             raise InvalidArgument(f"`H` = {self.H:g} leaves no room for motion (the walls overlap at every angle); "
                                   f"need H > {need:.6g} = min over θ of 2·b0 + b(θ) + b(θ+π)")
+        if self.gap_max < MIN_OPENING * self.tol:
+            need = self.H - self.gap_max + MIN_OPENING * self.tol
+            raise InvalidArgument(f"`H` = {self.H!r} opens the strip by only {self.gap_max:.3g} at its widest; the "
+                                  f"billiard needs at least {MIN_OPENING:g} contact tolerances ({MIN_OPENING * self.tol:.3g}) "
+                                  f"to tell a bounce from rounding: use H >= {need:.12g}")
 
     def lower(self, theta):
         """Lower wall ``b0 + b(θ)`` (numpy, vectorised)."""
@@ -151,6 +181,10 @@ class Trajectory:
         Empty when all requested collisions were computed; otherwise why the
         orbit stopped early (a free flight parallel to the walls that never
         collides again, or a stepper that did not converge).
+    end_angle, end_turns : float, int
+        The last contact angle as the kernel holds it: reduced to [0, 2π), and its whole turns
+        (``theta[-1] ≈ end_angle + 2π·end_turns``).  :meth:`resume_state` continues from these exactly;
+        the unwrapped ``theta[-1]`` loses precision as it grows (one ulp is 3.6e-12 at 2e4 rad).
     """
 
     time: np.ndarray
@@ -163,6 +197,8 @@ class Trajectory:
     table: Billiard
     method: str = "kernel"
     note: str = ""
+    end_angle: float = math.nan
+    end_turns: int = 0
 
     def __len__(self) -> int:
         return int(self.time.size)
@@ -173,6 +209,17 @@ class Trajectory:
         if self.time.size == 0:
             return self.start.copy()
         return np.array([self.theta[-1], self.eta[-1], self.v_theta[-1], self.v_eta[-1]])
+
+    def resume_state(self):
+        """``(state, turns)``: the state after the last collision with θ in [0, 2π) exactly as the kernel
+        holds it, and the whole turns to add; ``simulate(table, state, n, turns=turns)`` continues the orbit
+        exactly however long it has run (and reports the same unwrapped θ)."""
+        if self.time.size == 0 or not math.isfinite(self.end_angle):
+            state = self.final_state
+            turns = math.floor(state[0] / TWO_PI)
+            state[0] -= turns * TWO_PI
+            return state, int(turns)
+        return (np.array([self.end_angle, self.eta[-1], self.v_theta[-1], self.v_eta[-1]]), int(self.end_turns))
 
     @safe_repr
     def __repr__(self) -> str:
@@ -203,7 +250,13 @@ def _check_method(method):
 
 
 def _check_states(table: Billiard, states, name="state"):
-    """Validate states (m, 4); return (unit-speed states, speeds, leaving side per state: -1/0/1)."""
+    """Validate states (m, 4); return (unit-speed states with θ reduced to [0, 2π), speeds, leaving side per
+    state: -1/0/1, whole turns of θ per state).
+
+    A state with |θ| ≥ 2π (e.g. an unwrapped :attr:`Trajectory.final_state`) carries an error of a few ulp
+    of θ (3.6e-12 at 2e4 rad), which moves the wall under it by |b'| times that: the tolerance for "on the
+    wall" is widened by that much, so such a state is still read as the contact it came from.
+    """
     try:
         arr = np.array(states, dtype=float)
     except (TypeError, ValueError):
@@ -220,12 +273,23 @@ def _check_states(table: Billiard, states, name="state"):
     if np.any(speed == 0):
         i = int(np.flatnonzero(speed == 0)[0])
         raise InvalidArgument(f"`{name}` {arr[i].tolist()} has zero velocity; the particle must move")
-    lower = table.lower(arr[:, 0])
-    upper = table.upper(arr[:, 0])
-    tol = 10 * table.tol
+    turns = np.floor(arr[:, 0] / TWO_PI)
+    reduced = arr[:, 0] - turns * TWO_PI  # the kernel's own reduction, done here so the checks use it too
+    over, under = reduced >= TWO_PI, reduced < 0.0
+    reduced[over], turns[over] = reduced[over] - TWO_PI, turns[over] + 1
+    reduced[under], turns[under] = reduced[under] + TWO_PI, turns[under] - 1
+    lower = table.lower(reduced)
+    upper = table.upper(reduced)
+    tols = np.full(arr.shape[0], 10 * table.tol)
+    far = np.abs(arr[:, 0]) >= TWO_PI
+    if far.any():
+        slopes = np.abs(table.wall.derivatives(np.concatenate([reduced[far], reduced[far] + math.pi]))[1])
+        slope = np.maximum(slopes[:far.sum()], slopes[far.sum():])
+        tols[far] += 8 * np.spacing(np.abs(arr[far, 0])) * (1.0 + np.nan_to_num(slope, nan=0.0, posinf=0.0))
     leaving = np.full(arr.shape[0], -1, dtype=np.int64)
     for i in range(arr.shape[0]):
-        th, eta, vt, ve = arr[i]
+        _, eta, vt, ve = arr[i]
+        th, tol = reduced[i], tols[i]
         if not (math.isfinite(lower[i]) and math.isfinite(upper[i])):
             raise InvalidWall(f"wall {table.wall.description!r} is not finite at θ = {th:.9g} or θ + π, where "
                               f"`{name}` {arr[i].tolist()} starts; the billiard needs a finite wall")
@@ -242,8 +306,9 @@ def _check_states(table: Billiard, states, name="state"):
                                       f"wall and moves out of the strip; reverse its velocity or move it inside")
             leaving[i] = side
     unit = arr.copy()
+    unit[:, 0] = reduced
     unit[:, 2:] /= speed[:, None]
-    return unit, speed, leaving
+    return unit, speed, leaving, turns.astype(np.int64)
 
 
 def random_states(table: Billiard, n: int, seed=None) -> np.ndarray:
@@ -260,21 +325,54 @@ def random_states(table: Billiard, n: int, seed=None) -> np.ndarray:
     """
     _check_table(table)
     n = check_count("n", n)
+    check_memory(f"`n` = {n} start states (about 100 bytes each while they are drawn)", 100.0 * n)
     rng = np.random.default_rng(seed)
     theta_grid = np.linspace(0.0, TWO_PI, _GAP_GRID, endpoint=False)
     lo = float(np.min(table.lower(theta_grid)))
     hi = float(np.max(table.upper(theta_grid)))
+    margin = 1e3 * table.tol  # a safety distance so a state is never "on" a wall
+    fraction = _inside_fraction(table, table.H, theta_grid, margin)
+    if not fraction >= _DRAWS_MIN_FRACTION:
+        raise InvalidArgument(_too_narrow(table, fraction, theta_grid, margin))
+    # rejection sampling: about n/fraction draws; the budget is 20 times that and at least 2e6 draws (~0.2 s;
+    # the grid estimate can be far too high for a sliver narrower than its spacing), so a table where almost
+    # nothing is accepted ends with a message instead of looping
+    budget = _DRAW_BUDGET_MIN + 20.0 * n / fraction
     out = np.empty((0, 2))
+    draws = 0
     while out.shape[0] < n:
-        batch = max(64, 2 * (n - out.shape[0]))
+        if draws >= budget:
+            raise InvalidArgument(_too_narrow(table, out.shape[0] / max(draws, 1), theta_grid, margin,
+                                              f"{out.shape[0]} of {draws} random draws"))
+        batch = int(min(max(64, 2 * (n - out.shape[0]) / fraction), 1_000_000))
+        draws += batch
         theta = rng.uniform(0.0, TWO_PI, batch)
         eta = rng.uniform(lo, hi, batch)
-        # keep a safety distance so a state is never "on" a wall
-        inside = (eta > table.lower(theta) + 1e3 * table.tol) & (eta < table.upper(theta) - 1e3 * table.tol)
+        inside = (eta > table.lower(theta) + margin) & (eta < table.upper(theta) - margin)
         out = np.vstack([out, np.column_stack([theta[inside], eta[inside]])])
     out = out[:n]
     angle = rng.uniform(0.0, TWO_PI, n)
     return np.column_stack([out, np.cos(angle), np.sin(angle)])
+
+
+def _inside_fraction(table, H, theta, margin):
+    """Share of the box [0, 2π) × [min lower, max upper] farther than ``margin`` from both walls (grid estimate)."""
+    lower = table.lower(theta)
+    upper = table.upper(theta) + (H - table.H)
+    height = float(np.max(upper) - np.min(lower))
+    return float(np.mean(np.clip(upper - lower - 2 * margin, 0.0, None))) / height if height > 0 else 0.0
+
+
+def _too_narrow(table, fraction, theta, margin, measured="a grid of 4096 angles"):
+    """The message of :func:`random_states` for a strip that (almost) never accepts a draw, with an H that would."""
+    low, high = table.H, table.H + 4.0 * max(1.0, table.wall.scale)
+    for _ in range(100):  # bisection for the H where a fraction 1e-3 of the box is inside
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if _inside_fraction(table, mid, theta, margin) < 1e-3 else (low, mid)
+    return (f"cannot draw {'enough ' if measured != 'a grid of 4096 angles' else ''}start states: only a fraction "
+            f"{fraction:.3g} of the box θ in [0, 2π), η in [min lower wall, max upper wall] lies inside the strip "
+            f"(at least {margin:.3g} from both walls; from {measured}) at `H` = {table.H!r}; H >= {high:.6g} would "
+            f"put 1e-3 of it inside")
 
 
 def compile_kernel(table: Billiard) -> float:
@@ -296,15 +394,24 @@ def compile_kernel(table: Billiard) -> float:
 
 
 # ---------------------------------------------------------------------------------------------------- API
-def _trajectory(table, start, speed, rows, note, method):
+def _trajectory(table, start, speed, rows, note, method, end=(math.nan, 0)):
     time, theta, eta, vt, ve, side = rows
     return Trajectory(time=np.asarray(time, dtype=float) / speed, theta=np.asarray(theta, dtype=float),
                       eta=np.asarray(eta, dtype=float), v_theta=np.asarray(vt, dtype=float) * speed,
                       v_eta=np.asarray(ve, dtype=float) * speed, side=np.asarray(side, dtype=np.int8),
-                      start=np.array(start, dtype=float), table=table, method=method, note=note)
+                      start=np.array(start, dtype=float), table=table, method=method, note=note,
+                      end_angle=float(end[0]) if len(time) else math.nan, end_turns=int(end[1]) if len(time) else 0)
 
 
-def simulate(table: Billiard, state, collisions: int, method: str = "kernel") -> Trajectory:
+def _check_turns(turns, m):
+    """Whole turns to add to the start angles: an integer or one per state."""
+    arr = np.broadcast_to(np.asarray(turns), (m,)) if np.ndim(turns) else np.full(m, turns, dtype=object)
+    if not all(is_integer(t) for t in arr.tolist()) or any(abs(int(t)) > 2 ** 50 for t in arr.tolist()):
+        raise InvalidArgument(f"`turns` must be whole numbers of turns (integers up to 2^50), got {turns!r}")
+    return np.array([int(t) for t in arr.tolist()], dtype=np.int64)
+
+
+def simulate(table: Billiard, state, collisions: int, method: str = "kernel", turns: int = 0) -> Trajectory:
     """Follow one orbit for ``collisions`` collisions.
 
     Parameters
@@ -312,11 +419,17 @@ def simulate(table: Billiard, state, collisions: int, method: str = "kernel") ->
     table : Billiard
     state : array_like (4,)
         ``[theta, eta, v_theta, v_eta]``: inside the strip, or on a wall moving
-        into the strip (e.g. :attr:`Trajectory.final_state`, to continue an orbit).
+        into the strip (e.g. :attr:`Trajectory.final_state`, to continue an orbit; for an
+        exact continuation however long the orbit, use :meth:`Trajectory.resume_state`).
     collisions : int
-        Number of collisions (> 0).
+        Number of collisions (> 0); the kernel holds them all (41 bytes each; refused up front
+        when that exceeds half the available memory: use :func:`.orbitstats.orbit_statistics`
+        to stream a long orbit).
     method : {"kernel", "reference"}
         The numba kernel, or the plain-numpy reference stepper (slow).
+    turns : int
+        Whole turns added to the start angle (θ = state θ + 2π·turns), as returned by
+        :meth:`Trajectory.resume_state`; the reported θ continue the earlier piece's.
 
     Returns
     -------
@@ -325,16 +438,21 @@ def simulate(table: Billiard, state, collisions: int, method: str = "kernel") ->
     _check_table(table)
     _check_method(method)
     collisions = _check_collisions(collisions)
-    unit, speed, leaving = _check_states(table, state)
+    extra = _check_turns(turns, 1)[0]
+    per = BYTES_PER_COLLISION if method == "kernel" else 400  # the reference keeps Python floats in lists
+    check_memory(f"`collisions` = {collisions} ({per} bytes per collision)", float(per) * collisions)
+    unit, speed, leaving, whole = _check_states(table, state)
+    start = np.asarray(state, dtype=float).ravel()
     if method == "reference":
         rows, note = reference_run(table, unit[0], int(leaving[0]), collisions)
-        cols = list(zip(*rows)) if rows else [[] for _ in range(6)]
-        return _trajectory(table, np.asarray(state, dtype=float).ravel(), speed[0], cols, note, method)
-    rows, note = run(compiled(table), table, unit[0], int(leaving[0]), collisions)
-    return _trajectory(table, np.asarray(state, dtype=float).ravel(), speed[0], rows, note, method)
+        cols = [list(c) for c in zip(*rows)] if rows else [[] for _ in range(6)]
+        cols[1] = np.asarray(cols[1], dtype=float) + TWO_PI * float(whole[0] + extra)
+        return _trajectory(table, start, speed[0], cols, note, method)
+    rows, note, end = run(compiled(table), table, unit[0], int(leaving[0]), collisions, int(whole[0] + extra))
+    return _trajectory(table, start, speed[0], rows, note, method, end)
 
 
-def ensemble(table: Billiard, states, collisions: int, method: str = "kernel", workers=None) -> list:
+def ensemble(table: Billiard, states, collisions: int, method: str = "kernel", workers=None, turns=0) -> list:
     """Follow many orbits in parallel (numba threads over orbits).
 
     Each orbit is computed by the same sequential code whatever the number of
@@ -351,19 +469,28 @@ def ensemble(table: Billiard, states, collisions: int, method: str = "kernel", w
         ``"reference"`` runs the orbits one after the other.
     workers : int, optional
         Number of threads (default: numba's default, all cores).
+    turns : int or array_like of int
+        Whole turns added to the start angles (see :func:`simulate`).
 
     Returns
     -------
     list of Trajectory
+        All held in memory: 41 bytes per collision and orbit (refused up front when that exceeds half
+        the available memory).
     """
     _check_table(table)
     _check_method(method)
     collisions = _check_collisions(collisions)
-    unit, speed, leaving = _check_states(table, states, "states")
+    m = int(np.size(states) // 4) if np.ndim(states) else 0
+    check_memory(f"{m} orbits × `collisions` = {collisions} ({BYTES_PER_COLLISION} bytes per collision)",
+                 float(BYTES_PER_COLLISION) * collisions * max(m, 1))
+    unit, speed, leaving, whole = _check_states(table, states, "states")
     starts = np.array(states, dtype=float).reshape(-1, 4)
+    extra = _check_turns(turns, starts.shape[0])
     if method == "reference":
-        return [simulate(table, s, collisions, method) for s in starts]
+        return [simulate(table, s, collisions, method, turns=int(k)) for s, k in zip(starts, extra)]
     if workers is not None:
         workers = check_count("workers", workers)
-    runs = run_many(compiled(table), table, unit, leaving, collisions, workers)
-    return [_trajectory(table, starts[k], speed[k], rows, note, method) for k, (rows, note) in enumerate(runs)]
+    runs = run_many(compiled(table), table, unit, leaving, collisions, workers, whole + extra)
+    return [_trajectory(table, starts[k], speed[k], rows, note, method, end)
+            for k, (rows, note, end) in enumerate(runs)]

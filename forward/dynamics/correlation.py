@@ -48,15 +48,16 @@ import numpy as np
 
 from ..display import safe_repr
 from ..errors import InvalidArgument
-from ..validation import check_choice, check_count, is_integer
+from ..validation import check_choice, check_count, check_memory, is_integer
 from .billiard import Billiard, ensemble, random_states, simulate
 
-__all__ = ["heads", "Correlation", "correlation", "fit_decay", "TauLaw", "fit_tau_law", "COUNTS"]
+__all__ = ["COUNTS", "Correlation", "TauLaw", "correlation", "fit_decay", "fit_tau_law", "heads"]
 
 COUNTS = ("bottom", "all")
 THRESHOLD = 0.01        # |P(n) − ½| below this: the paper's "non-asymptotic part reduced to 0.01"
 _CHUNK_COLLISIONS = 2_000_000   # collisions held in memory at once
 _GROUPS = 20            # jackknife groups
+LAG_WORK_MAX = 2e11     # max_lag × (bounces + 1000·orbits) comparisons at most (a few minutes; see correlation)
 
 
 def heads(theta):
@@ -267,6 +268,15 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     Returns
     -------
     Correlation
+
+    Notes
+    -----
+    Bounds, checked before any work.  Memory: one group of orbits is held at a time (at most 2·10^6
+    collisions, or one orbit of 2·bounces/orbits collisions if longer, 41 bytes each, plus ~100 bytes per
+    collision of one orbit for its analysis) and P(n) per orbit (8·orbits·(max_lag + 1) bytes, three times
+    over for the jackknife); refused when that exceeds half the available memory.  Work: the lag loop costs
+    about max_lag × (bounces + 1000·orbits) comparisons (1000: the cost of one numpy call, per lag and
+    orbit); refused above :data:`LAG_WORK_MAX` = 2e11 (a few minutes).
     """
     bounces = _positive_int("bounces", bounces)
     max_lag = _positive_int("max_lag", max_lag)
@@ -279,10 +289,19 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     if max_lag >= per_orbit:
         raise InvalidArgument(f"`max_lag` = {max_lag} must be smaller than the bounces per orbit "
                               f"({bounces} bounces / {orbits} orbits = {per_orbit}); raise bounces or lower max_lag")
-    starts = random_states(table, orbits, seed)
+    work = max_lag * (bounces + 1000.0 * orbits)
+    if work > LAG_WORK_MAX:
+        raise InvalidArgument(f"`max_lag` = {max_lag} with `bounces` = {bounces} in `orbits` = {orbits} needs about "
+                              f"{work:.3g} comparisons (max_lag × (bounces + 1000·orbits)), more than the "
+                              f"{LAG_WORK_MAX:g} (a few minutes) one run does; lower max_lag (P(n) reaches ½ "
+                              f"within a few τ) or bounces")
     # bottom collisions are about half of all; ask for a margin and continue the few orbits that fall short
     collisions = 2 * per_orbit + burn + 2 * max_lag + 64
     group = max(1, min(orbits, _CHUNK_COLLISIONS // collisions))
+    check_memory(f"`bounces` = {bounces} in `orbits` = {orbits} with `max_lag` = {max_lag} ({group} orbits of "
+                 f"{collisions} collisions at a time, 141 bytes per collision; 24·(max_lag + 1) bytes per orbit)",
+                 141.0 * group * collisions + 100.0 * collisions + orbits * (32.0 + 24.0 * (max_lag + 1)))
+    starts = random_states(table, orbits, seed)
     agreements, heads_fractions, notes = [], [], []
     for first in range(0, orbits, group):
         trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
@@ -290,7 +309,8 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
             agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
             tries = 0
             while agree is None and not traj.note and tries < 4:  # rare: an orbit with few bottom hits
-                more = simulate(table, traj.final_state, collisions)
+                state, turns = traj.resume_state()  # exact continuation (θ mod 2π and its turns)
+                more = simulate(table, state, collisions, turns=turns)
                 traj = _join(traj, more)
                 agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
                 tries += 1
@@ -344,7 +364,9 @@ def _join(a, b):
     t0 = a.time[-1] if a.time.size else 0.0
     return replace(a, time=np.concatenate([a.time, b.time + t0]), theta=np.concatenate([a.theta, b.theta]),
                    eta=np.concatenate([a.eta, b.eta]), v_theta=np.concatenate([a.v_theta, b.v_theta]),
-                   v_eta=np.concatenate([a.v_eta, b.v_eta]), side=np.concatenate([a.side, b.side]), note=b.note)
+                   v_eta=np.concatenate([a.v_eta, b.v_eta]), side=np.concatenate([a.side, b.side]), note=b.note,
+                   end_angle=b.end_angle if b.time.size else a.end_angle,
+                   end_turns=b.end_turns if b.time.size else a.end_turns)
 
 
 @dataclass(frozen=True, repr=False)
@@ -394,7 +416,7 @@ def fit_tau_law(H, tau, tau_stderr, D) -> TauLaw:
     c_stderr = float(1.0 / math.sqrt(np.sum(w * x * x)))
     chi2 = float(np.sum(w * (tau - c * x) ** 2))
     chi2_dof = chi2 / max(H.size - 1, 1)
-    (logc, p), cov = curve_fit(lambda h, a, q: a - q * np.log(h - D), H, np.log(tau), sigma=err / tau,
+    (_logc, p), cov = curve_fit(lambda h, a, q: a - q * np.log(h - D), H, np.log(tau), sigma=err / tau,
                                absolute_sigma=True, p0=(math.log(c), 1.0))
     return TauLaw(c=c, c_stderr=c_stderr, chi2_dof=chi2_dof, power=float(p), power_stderr=float(math.sqrt(cov[1, 1])),
                   D=float(D))

@@ -35,9 +35,11 @@ from ..wall import Wall
 from .billiard import Billiard
 from .lyapunov import chaotic_fraction
 
-__all__ = ["KamBoundary", "kam_boundary", "paper_boundary", "ELLIPSE_WALL"]
+__all__ = ["ELLIPSE_WALL", "KamBoundary", "kam_boundary", "paper_boundary"]
 
 ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+KAM_WORK_MAX = 1e10   # collision-equivalents one kam_boundary call may take (about an hour; see kam_boundary)
+_ROUND_COST = 2000    # one renormalisation round's Python overhead, in collisions (~0.7 ms at 3e6 collisions/s)
 
 
 def paper_boundary(H):
@@ -160,6 +162,14 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
     workers : int, optional
     progress : callable, optional
         Called after each evaluation with no argument.
+
+    Notes
+    -----
+    Work bound, checked before any work: each of the ``len(H_values)·(steps + 2)`` evaluations follows
+    ``orbits`` orbits and their companions through ``collisions/10 + 3`` renormalisation rounds of 12
+    collisions each (:func:`.lyapunov.lyapunov_many`, ``every = 10``), and each round costs about
+    2000 collisions of Python overhead; a request above :data:`KAM_WORK_MAX` = 1e10 of those (about an
+    hour at 3·10^6 collisions/s) is refused.
     """
     H_values = np.atleast_1d(np.asarray(H_values, dtype=float))
     if H_values.size == 0 or np.any(~np.isfinite(H_values)) or np.any(H_values <= 0.0):
@@ -167,9 +177,18 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
     lo0, hi0 = (float(v) for v in bracket)
     if not (0 < lo0 < hi0 and math.isfinite(hi0)):
         raise InvalidArgument(f"`bracket` must be two numbers 0 < low < high, got {bracket!r}")
+    steps = check_count("steps", steps, minimum=0)
+    orbits = check_count("orbits", orbits)
+    collisions = check_count("collisions", collisions)
+    evaluations = H_values.size * (steps + 2)
+    work = evaluations * (-(-collisions // 10) + 3) * (24.0 * orbits + _ROUND_COST)
+    if work > KAM_WORK_MAX:
+        raise InvalidArgument(f"`collisions` = {collisions} with `orbits` = {orbits} over {evaluations} evaluations "
+                              f"({H_values.size} H × (steps + 2)) is about {work:.3g} collisions of work (each orbit "
+                              f"with its companion, plus {_ROUND_COST} a renormalisation round), more than the "
+                              f"{KAM_WORK_MAX:g} (about an hour) one run does; lower collisions, orbits or steps")
     for H in H_values:  # the narrowest table is the one at the smallest ε: refuse before any work
         Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": lo0}), float(H))
-    steps = check_count("steps", steps, minimum=0)
     if not (0 < regular_max < 1):
         raise InvalidArgument(f"`regular_max` must be in (0, 1), got {regular_max!r}")
 

@@ -3,8 +3,9 @@
 The kernel itself is the real module :mod:`._kernel` (read it for the algorithm).  numba cannot call
 casadi, so each wall is written out as plain Python (:mod:`.wallcode`); the text of ``_kernel.py``
 below its marker line (:data:`KERNEL_SOURCE`) is appended to that code and the whole is loaded as a
-module from a file named after its hash (:func:`.wallcode.load_module`), which lets numba's
-``cache=True`` reuse the machine code in the next process.  Walls that differ only in parameter
+module from a file named after its hash (:func:`.wallcode.load_module`: verified bytes in a trusted
+folder, or compiled in memory when there is none), which lets numba's ``cache=True`` reuse the machine
+code in the next process.  Walls that differ only in parameter
 values share one source, hence one compiled kernel.
 """
 
@@ -18,7 +19,7 @@ import numpy as np
 from ..wall import Wall
 from .cellbounds import cell_bounds, cell_table
 
-__all__ = ["KERNEL_SOURCE", "HEADER", "NOTES", "CompiledKernel", "compiled", "run", "run_many"]
+__all__ = ["HEADER", "KERNEL_SOURCE", "NOTES", "CompiledKernel", "compiled", "run", "run_many"]
 
 _MARKER = "# ---- kernel: the text from the line after this one to the end of the file is joined to the wall code ----\n"
 
@@ -26,22 +27,27 @@ _MARKER = "# ---- kernel: the text from the line after this one to the end of th
 def _kernel_text() -> str:
     """The part of ``_kernel.py`` that is compiled: everything after the marker line."""
     text = importlib.resources.files(__package__).joinpath("_kernel.py").read_text(encoding="utf-8")
-    head, marker, kernel = text.partition(_MARKER)
+    _head, marker, kernel = text.partition(_MARKER)
     if not marker:  # a guard for whoever edits _kernel.py: without the marker the join is undefined
         raise RuntimeError("_kernel.py has lost its marker line; kernel.py cannot find the kernel's text")
     return kernel
 
 
 KERNEL_SOURCE = _kernel_text()
-# the imports and options the kernel's text expects (_kernel.py has the same lines above its marker)
+# the imports and options the kernel's text expects (_kernel.py has the same lines above its marker);
+# CACHE is set by wallcode.load_module before the text runs (False: compiled in memory, nothing on disk)
 HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, prange, types\n"
           "from numba.extending import intrinsic\n\n"
-          "OPTIONS = dict(cache=True, error_model='numpy')\n\n")
+          "OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}\n\n")
 # why an orbit stopped early, by the kernel's status code (0: all collisions computed)
 NOTES = {1: "free flight: the particle moves parallel to the walls in an open channel and never collides again",
          2: "the kernel's root search did not converge (a near-tangent graze?)",
          3: "the wall evaluated to nan or infinity where the particle met it (a pole or a domain error of the "
-            "expression between the angles it was checked on)"}
+            "expression between the angles it was checked on)",
+         4: "a flight carried θ beyond 1.8e13 rad, where float64 no longer resolves the contact angle (a ray "
+            "almost parallel to the walls); the orbit stops there",
+         5: "the search for the next collision walked more than 2^27 cells (about 10^6 turns of θ) without "
+            "deciding (a ray almost parallel to the walls); the orbit stops there"}
 
 
 class CompiledKernel:
@@ -67,6 +73,23 @@ class CompiledKernel:
         self.constants = np.ascontiguousarray(constants, dtype=float)
         self.bounds = cell_bounds(wall)
         self.cells = cell_table(self.bounds)
+        if not np.all(np.isfinite(self.constants)) or np.any(np.isinf(self.cells)):
+            # (NaN in the table marks "no kink at this edge"; cellbounds refuses NaN bounds of a wall)
+            from ..errors import InvalidWall
+
+            raise InvalidWall(f"wall {wall.description!r}: its constants or cell bounds are not finite numbers")
+        self.sealed = set()  # kernel functions whose numba cache files were recorded (wallcode.seal)
+
+    def call(self, name, *args):
+        """Call the kernel function ``name``; after its first call (compiled or loaded) record numba's cache
+        files, so that the next process loads only files whose checksum matches (:func:`.wallcode.seal`)."""
+        result = getattr(self.module, name)(*args)
+        if name not in self.sealed:
+            from .wallcode import seal
+
+            self.sealed.add(name)
+            seal(self.module)
+        return result
 
     def args(self, table):
         """The run-time arguments after the state: H, b0, constants, cell table, lookup, band, tol."""
@@ -75,7 +98,7 @@ class CompiledKernel:
                 float(table.tol))
 
 
-_KERNELS: "weakref.WeakKeyDictionary[Wall, CompiledKernel]" = weakref.WeakKeyDictionary()
+_KERNELS: weakref.WeakKeyDictionary[Wall, CompiledKernel] = weakref.WeakKeyDictionary()
 
 
 def compiled(table) -> CompiledKernel:
@@ -87,16 +110,18 @@ def compiled(table) -> CompiledKernel:
     return comp
 
 
-def run(comp: CompiledKernel, table, state, leaving: int, collisions: int):
-    """One orbit of unit speed from ``state``; returns the six columns (time, θ, η, v_θ, v_η, side) and a note."""
+def run(comp: CompiledKernel, table, state, leaving: int, collisions: int, turns: int = 0):
+    """One orbit of unit speed from ``state`` (θ in [0, 2π), ``turns`` whole turns on top); returns the six
+    columns (time, θ, η, v_θ, v_η, side), a note and ``(θ mod 2π, turns)`` after the last collision."""
     out = [np.empty(collisions) for _ in range(5)] + [np.empty(collisions, dtype=np.int8)]
-    done, status = comp.module._run(np.ascontiguousarray(state, dtype=float), int(leaving), collisions,
-                                    *comp.args(table), *out)
-    return [o[:done] for o in out], NOTES.get(int(status), "")
+    last = np.empty(2)
+    done, status = comp.call("_run", np.ascontiguousarray(state, dtype=float), int(turns), int(leaving), collisions,
+                             *comp.args(table), *out, last)
+    return [o[:done] for o in out], NOTES.get(int(status), ""), (float(last[0]), int(last[1]))
 
 
-def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, workers=None):
-    """Many orbits of unit speed in parallel (numba threads); returns per orbit its columns and note.
+def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, workers=None, turns=None):
+    """Many orbits of unit speed in parallel (numba threads); returns per orbit its columns, note and end angle.
 
     ``workers`` threads (a positive int, at most numba's thread count; default: numba's default, all
     cores); each orbit runs the same sequential code, so the result does not depend on it.
@@ -109,11 +134,14 @@ def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, work
     out = [np.empty((m, collisions)) for _ in range(5)] + [np.empty((m, collisions), dtype=np.int8)]
     done = np.zeros(m, dtype=np.int64)
     status = np.zeros(m, dtype=np.int64)
+    last = np.empty((m, 2))
+    turns = np.zeros(m, dtype=np.int64) if turns is None else np.ascontiguousarray(turns, dtype=np.int64)
     previous = numba.get_num_threads()
     try:
         if workers is not None:
             numba.set_num_threads(workers)
-        comp.module._run_many(states, leaving, collisions, *comp.args(table), *out, done, status)
+        comp.call("_run_many", states, turns, leaving, collisions, *comp.args(table), *out, done, status, last)
     finally:
         numba.set_num_threads(previous)
-    return [([o[k, :done[k]] for o in out], NOTES.get(int(status[k]), "")) for k in range(m)]
+    return [([o[k, :done[k]] for o in out], NOTES.get(int(status[k]), ""), (float(last[k, 0]), int(last[k, 1])))
+            for k in range(m)]

@@ -35,13 +35,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..angles import TWO_PI
 from ..display import safe_repr
 from ..errors import InvalidArgument
-from ..validation import check_count
+from ..validation import check_count, check_memory
 from .billiard import Billiard, ensemble, random_states
 
-__all__ = ["LyapunovResult", "lyapunov", "lyapunov_many", "ChaoticFraction", "chaotic_fraction",
-           "default_threshold"]
+__all__ = [
+    "ChaoticFraction",
+    "LyapunovResult",
+    "chaotic_fraction",
+    "default_threshold",
+    "lyapunov",
+    "lyapunov_many",
+]
 
 
 def default_threshold(collisions: int) -> float:
@@ -166,6 +173,8 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
         raise InvalidArgument("`states` must hold at least one state")
     ref[:, 2:] /= np.hypot(ref[:, 2], ref[:, 3])[:, None]
     m = ref.shape[0]
+    check_memory(f"{m} orbits ((every + 2) collisions of 41 bytes for each orbit and its companion, and 300 bytes "
+                 f"of bookkeeping per orbit)", m * (2.0 * 41 * (every + 2) + 300.0))
     rng = np.random.default_rng(seed)
     direction = rng.normal(size=(m, 4))
     direction /= np.linalg.norm(direction, axis=1)[:, None]
@@ -201,6 +210,9 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
                 log_sum[i] += math.log(d / d0)
                 time[i] += t_star
                 used[i] += every
+            # carry θ reduced mod 2π (never the unwrapped angle, whose precision falls as it grows); the
+            # companion is rebuilt from x below, so both keep the same turns and the separation is unchanged
+            x[0] -= TWO_PI * math.floor(x[0] / TWO_PI)
             ref[i] = x
             xs.append(x)
             deltas.append(delta / d)

@@ -12,9 +12,12 @@ from ..display import safe_repr
 from ..validation import check_count
 from .billiard import Billiard, simulate
 
-__all__ = ["OrbitStatistics", "orbit_statistics"]
+__all__ = ["MAX_COLLISIONS", "OrbitStatistics", "orbit_statistics"]
 
-CHUNK = 200_000  # collisions per kernel call: bounded memory, and a progress report after each
+CHUNK = 200_000  # collisions per kernel call: memory bounded by 41·CHUNK bytes (8 MB), a progress report after each
+#: the longest orbit one call follows: ~10 days at 10^7 collisions/s (a year at the 3·10^5/s of the reference
+#: stepper's worst case is not meant), and far inside int64 and float64's exact integers (2^53 ≈ 9·10^15)
+MAX_COLLISIONS = 10 ** 13
 
 
 @dataclass(frozen=True, repr=False)
@@ -27,7 +30,8 @@ class OrbitStatistics:
     method : str
         ``"kernel"`` or ``"reference"``.
     start, final_state : ndarray (4,)
-        ``[theta, eta, v_theta, v_eta]`` at the start and after the last collision.
+        ``[theta, eta, v_theta, v_eta]`` at the start and after the last collision (θ unwrapped:
+        continuous with the start, ``final_angle + 2π·final_turns``).
     collisions : int
         Collisions computed (fewer than asked when the orbit stopped early: see ``note``).
     total_time : float
@@ -36,6 +40,9 @@ class OrbitStatistics:
         Collisions with the bottom wall.
     note : str
         Empty, or why the orbit stopped early (:attr:`Trajectory.note`).
+    final_angle, final_turns : float, int
+        The last contact angle reduced to [0, 2π), as the kernel carries it from piece to piece, and its
+        whole turns (the pieces continue exactly: θ is never re-checked at its unwrapped value).
     """
 
     table: Billiard
@@ -46,6 +53,8 @@ class OrbitStatistics:
     total_time: float
     bottom: int
     note: str = ""
+    final_angle: float = math.nan
+    final_turns: int = 0
 
     @property
     def mean_free_time(self) -> float:
@@ -84,6 +93,11 @@ class OrbitStatistics:
 def orbit_statistics(table: Billiard, state, collisions: int, method: str = "kernel", progress=None) -> OrbitStatistics:
     """Follow one orbit for ``collisions`` collisions in pieces of :data:`CHUNK`, keeping only its statistics.
 
+    Memory is bounded by one piece (41 bytes per collision, 8 MB), whatever ``collisions``; time is not,
+    so ``collisions`` is at most :data:`MAX_COLLISIONS` (10^13, days of work).  Each piece
+    starts from the previous one's :meth:`~.billiard.Trajectory.resume_state` (θ mod 2π and its whole
+    turns), so the pieces join exactly and a run of 10^8 collisions equals one long run.
+
     Parameters
     ----------
     table : Billiard
@@ -99,22 +113,26 @@ def orbit_statistics(table: Billiard, state, collisions: int, method: str = "ker
     -------
     OrbitStatistics
     """
-    collisions = check_count("collisions", collisions)
+    collisions = check_count("collisions", collisions, maximum=MAX_COLLISIONS)
     start = np.array(state, dtype=float).ravel()
-    current = start
+    current, turns, final = start, 0, start.copy()
+    angle = math.nan
     done, total_time, bottom, note = 0, 0.0, 0, ""
     while done < collisions:
-        traj = simulate(table, current, min(CHUNK, collisions - done), method=method)
+        traj = simulate(table, current, min(CHUNK, collisions - done), method=method, turns=turns)
         got = len(traj)
         if got:
             total_time += float(traj.time[-1])
             bottom += int(np.count_nonzero(traj.side == 0))
-            current = traj.final_state
+            final = traj.final_state
+            current, turns = traj.resume_state()
+            angle = float(current[0])
         done += got
         if progress is not None:
             progress(got)
         if traj.note:
             note = traj.note
             break
-    return OrbitStatistics(table=table, method=method, start=start, final_state=np.array(current, dtype=float),
-                           collisions=done, total_time=total_time, bottom=bottom, note=note)
+    return OrbitStatistics(table=table, method=method, start=start, final_state=np.array(final, dtype=float),
+                           collisions=done, total_time=total_time, bottom=bottom, note=note, final_angle=angle,
+                           final_turns=int(turns))

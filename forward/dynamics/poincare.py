@@ -30,12 +30,13 @@ import numpy as np
 from ..angles import TWO_PI
 from ..display import safe_repr
 from ..errors import InvalidArgument
-from ..validation import check_count
-from .billiard import Billiard, ensemble, random_states
+from ..validation import check_count, check_memory
+from .billiard import Billiard, ensemble, random_states, simulate
 
-__all__ = ["PoincareSection", "poincare_section", "incidence_angle"]
+__all__ = ["PoincareSection", "incidence_angle", "poincare_section"]
 
 _CHUNK_COLLISIONS = 2_000_000   # collisions (41 bytes each) held in memory at once
+BYTES_PER_POINT = 24            # θ_c, φ_c and the orbit index of one point of the section
 
 
 def incidence_angle(table: Billiard, theta, v_theta, v_eta, side=0):
@@ -176,9 +177,11 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
                      workers=None, progress=None) -> PoincareSection:
     """Bottom-wall Poincaré section of ``orbits`` orbits.
 
-    The orbits are followed in groups of at most ``_CHUNK_COLLISIONS`` collisions in all, so memory
-    stays bounded by the group plus the section's points (24 bytes each); every orbit is computed
-    from its own start state by the same code, so the result does not depend on the grouping.
+    The orbits are followed in groups of at most ``_CHUNK_COLLISIONS`` collisions in all (an orbit longer
+    than that alone, in pieces continued exactly), so memory stays bounded by 82 MB plus the section's
+    points (24 bytes each, at most one per collision); a request whose points would not fit in half the
+    available memory is refused before any work.  Every orbit is computed from its own start state by the
+    same code, so the result does not depend on the grouping.
 
     Parameters
     ----------
@@ -201,8 +204,11 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     PoincareSection
     """
     collisions = check_count("collisions", collisions)
+    count = check_count("orbits", orbits) if states is None else int(np.size(states) // 4)
+    check_memory(f"{count} orbits × `collisions` = {collisions} (up to {BYTES_PER_POINT} bytes per collision for "
+                 f"the section's points)", float(BYTES_PER_POINT) * count * collisions + 41.0 * _CHUNK_COLLISIONS)
     if states is None:
-        states = random_states(table, check_count("orbits", orbits), seed)
+        states = random_states(table, count, seed)
     starts = np.array(states, dtype=float).reshape(-1, 4)
     n = starts.shape[0]
     if n == 0:
@@ -210,6 +216,16 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     group = max(1, min(n, _CHUNK_COLLISIONS // collisions))
     thetas, phis, counts, notes = [], [], [], []
     for first in range(0, n, group):
+        if collisions > _CHUNK_COLLISIONS:  # one long orbit, in pieces
+            theta, phi, note = _long_orbit(table, starts[first], collisions)
+            thetas.append(theta)
+            phis.append(phi)
+            counts.append(theta.size)
+            if note:
+                notes.append(f"orbit {first}: {note}")
+            if progress is not None:
+                progress(first + 1)
+            continue
         trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
         theta, v_theta, v_eta = [], [], []
         for k, traj in enumerate(trajs, start=first):
@@ -238,3 +254,22 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     orbit = np.repeat(np.arange(n, dtype=np.int64), counts)
     return PoincareSection(theta=theta, phi=phi, orbit=orbit, starts=starts, collisions=collisions, table=table,
                            notes=tuple(notes))
+
+
+def _long_orbit(table, start, collisions):
+    """Bottom-wall points (θ_c mod 2π, φ_c) of one orbit longer than a group, followed in pieces of
+    ``_CHUNK_COLLISIONS`` continued exactly (:meth:`~.billiard.Trajectory.resume_state`); and its note."""
+    thetas, phis = [], []
+    state, turns, done, note = start, 0, 0, ""
+    while done < collisions:
+        traj = simulate(table, state, min(_CHUNK_COLLISIONS, collisions - done), turns=turns)
+        bottom = traj.side == 0
+        thetas.append(np.mod(traj.theta[bottom], TWO_PI))
+        phis.append(incidence_angle(table, traj.theta[bottom], traj.v_theta[bottom], traj.v_eta[bottom]))
+        done += len(traj)
+        note = traj.note
+        if note or not len(traj):
+            break
+        state, turns = traj.resume_state()
+        del traj, bottom
+    return np.concatenate(thetas), np.concatenate(phis), note

@@ -16,7 +16,7 @@ import numpy as np
 from ..angles import TWO_PI
 from ..wall import Wall
 
-__all__ = ["sample_bounds", "reference_run"]
+__all__ = ["reference_run", "sample_bounds"]
 
 _REFERENCE_MAX_STEPS = 200_000
 

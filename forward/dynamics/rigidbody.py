@@ -69,13 +69,13 @@ from ..validation import check_count, check_positive
 from .shapes import EllipseShape, PolygonShape
 
 __all__ = [
-    "PolygonShape",
     "EllipseShape",
+    "PolygonShape",
     "RigidBody",
     "RigidBodyTrajectory",
-    "simulate_rigid_body",
-    "body_to_billiard",
     "billiard_to_body",
+    "body_to_billiard",
+    "simulate_rigid_body",
 ]
 
 _MAX_STEPS = 200_000  # safe steps per flight before a stall is reported (grazing contact)
@@ -284,7 +284,7 @@ def _next_collision(body, y0, psi0, ydot, omega, tol):
                 if gk <= 0.0:
                     return t, k, ""
 
-                def gap(s, k=k):
+                def gap(s, k=k, t=t):
                     gg, _ = _all_gaps(body, y0 + ydot * (t + s), psi0 + omega * (t + s), ydot, omega)
                     return float(gg[k])
 

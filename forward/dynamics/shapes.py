@@ -18,7 +18,7 @@ from ..display import safe_repr
 from ..errors import InvalidOutline
 from ..validation import check_positive
 
-__all__ = ["PolygonShape", "EllipseShape"]
+__all__ = ["EllipseShape", "PolygonShape"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -46,7 +46,7 @@ class PolygonShape:
         object.__setattr__(self, "vertices", pts)
 
     @classmethod
-    def stick(cls, half_length: float = 1.0) -> "PolygonShape":
+    def stick(cls, half_length: float = 1.0) -> PolygonShape:
         """The paper's stick: end points ``(±L, 0)``; its wall is ``(L/κ)|cos θ|`` (paper eq. 5)."""
         L = check_positive("half_length", half_length, error=InvalidOutline)
         return cls(np.array([[-L, 0.0], [L, 0.0]]))

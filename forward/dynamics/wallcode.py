@@ -20,22 +20,30 @@ The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, d
 (the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics._kernel`);
 it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
+
+The second half of the module is the on-disk cache of compiled kernels (:func:`cache_dir`,
+:func:`load_module`, :func:`seal`): used only in a folder the user alone can write, modules executed only
+from verified bytes, numba's files loaded only when their checksums match; otherwise the kernel is
+compiled in memory (the comment above :func:`cache_dir` says why).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
-import importlib.util
+import json
 import math
 import os
+import stat
 import sys
 import tempfile
+import types
 
 import numpy as np
 
 from ..errors import InvalidWall
 
-__all__ = ["wall_source", "python_wall", "load_module", "cache_dir"]
+__all__ = ["cache_dir", "discard", "load_module", "python_wall", "seal", "wall_source"]
 
 FOURIER_SOURCE = '''
 {decorator}def wall_b2(phi, c):
@@ -170,57 +178,273 @@ def python_wall(wall, order: int = 1):
     """
     source, constants = wall_source(wall)
     namespace = {"math": math}
-    exec(compile(source, "<coinwall wall code>", "exec"), namespace)  # our own generated source, not user text
+    exec(compile(source, "<coinwall wall code>", "exec"), namespace)  # noqa: S102 -- our own generated source
     func = namespace["wall_b1" if order == 1 else "wall_b2"]
     return lambda phi: func(float(phi), constants)
 
 
-def cache_dir() -> str:
-    """Folder for generated modules and numba's on-disk cache.
+# ---------------------------------------------------------------------------------------------------- the cache
+# Trust.  Generated modules are executed and numba's cache files are pickles (and machine code): whoever
+# can write into the cache folder can run code as the user.  So the cache is used only in a folder the
+# user owns and nobody else can write (checked on the folder and on the one that holds it, every level
+# coinwall creates is made 0700), a module is executed only from bytes equal to the source we generated
+# (its name is the hash of that source), and numba's files are loaded only when their SHA-256 matches the
+# manifest written after they were made (a truncated, emptied or garbled file, e.g. from a full disk or an
+# interrupted write, is discarded and rebuilt: garbled machine code would otherwise crash with SIGILL,
+# which no exception handler can catch).  Otherwise the kernel is compiled in memory (numba cache=False):
+# nothing is read from or written to disk, at the price of compiling in every process.
 
-    ``$COINWALL_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/coinwall`` (``~/.cache/coinwall``);
-    falls back to the system temporary folder when that is not writable.
-    """
+_NOTED: set = set()
+
+
+def _note(text: str) -> None:
+    """One ``coinwall: note: ...`` line on stderr, once per process and text (the CLI's style of notice)."""
+    if text not in _NOTED:
+        _NOTED.add(text)
+        print(f"coinwall: note: {text}", file=sys.stderr)
+
+
+def _untrusted(path: str) -> str:
+    """Why ``path`` cannot hold the cache ('' when it can): a directory of ours that no one else can write."""
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        return f"cannot use it ({exc.strerror or exc})"
+    if not stat.S_ISDIR(info.st_mode):
+        return "it is not a folder"
+    if hasattr(os, "getuid") and info.st_uid != os.getuid():
+        return f"it belongs to user id {info.st_uid}, not to this user ({os.getuid()})"
+    if info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        return f"others can write to it (mode {stat.S_IMODE(info.st_mode):o}; fix: chmod go-w {path})"
+    if not os.access(path, os.W_OK | os.X_OK):
+        return "it is not writable"
+    return ""
+
+
+def _private_folder(path: str) -> None:
+    """Create ``path`` and each missing level above it with mode 0700 (existing levels are left as they are)."""
+    missing = []
+    while not os.path.lexists(path):
+        missing.append(path)
+        parent = os.path.dirname(path)
+        if parent == path:
+            break
+        path = parent
+    for level in reversed(missing):
+        try:
+            os.mkdir(level, 0o700)
+        except FileExistsError:  # another process made it a moment ago: checked like any other folder
+            pass
+
+
+def _trusted(base: str) -> tuple:
+    """``(folder, '')`` for the versioned cache folder under ``base`` if it and ``base`` can be trusted,
+    else ``(folder, why not)``.  Nothing is created inside a ``base`` that fails the checks."""
     import numba
 
-    base = os.environ.get("COINWALL_CACHE_DIR") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "coinwall")
     folder = os.path.join(base, f"billiard-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
-    try:
-        os.makedirs(folder, exist_ok=True)
-        if os.access(folder, os.W_OK):
+    levels = (base, folder, os.path.join(folder, "__pycache__"))  # numba's own folder too, before numba makes it
+    for level in levels:
+        try:
+            _private_folder(level)
+        except OSError as exc:
+            return folder, f"cannot create {level} ({exc.strerror or exc})"
+        why = _untrusted(level)
+        if why:
+            return folder, f"{level}: {why}"
+    return folder, ""
+
+
+def cache_dir():
+    """Folder for generated modules and numba's on-disk cache, or ``None`` when no trusted folder is available.
+
+    ``$COINWALL_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/coinwall`` (``~/.cache/coinwall``), each with a
+    subfolder per numba and Python version.  Trusted only if this user owns it and the folder above it and
+    neither is writable by group or others (levels coinwall creates are made 0700).  When the default
+    folder cannot be used, ``<temp>/coinwall-<uid>`` is tried under the same checks (never for an explicit
+    ``$COINWALL_CACHE_DIR``: the user chose that place).  ``None`` (after one ``coinwall: note:`` line on
+    stderr) means: compile in memory.
+    """
+    chosen = os.environ.get("COINWALL_CACHE_DIR")
+    default = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
+                           "coinwall")
+    candidates = [chosen] if chosen else [default, os.path.join(
+        tempfile.gettempdir(), f"coinwall-{os.getuid() if hasattr(os, 'getuid') else 0}")]
+    reasons = []
+    for base in candidates:
+        folder, why = _trusted(os.path.abspath(base))
+        if not why:
             return folder
+        reasons.append(why)
+    _note(f"not using the kernel cache ({'; '.join(reasons)}); compiling in memory (slower start, nothing "
+          f"read from or written to disk)")
+    return None
+
+
+def _write_atomic(folder: str, name: str, data: bytes) -> None:
+    """Write ``data`` to ``folder/name`` through a temporary file and a rename: readers (other processes
+    compiling the same wall) see the old file or the whole new one, never a part."""
+    fd, temp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".part")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(temp, os.path.join(folder, name))
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temp)
+        raise
+
+
+def _numba_files(folder: str, name: str) -> list:
+    """numba's index and data files of module ``name`` (``__pycache__/<name>.<function>-<line>.pyXY[.k].nb?``)."""
+    pycache = os.path.join(folder, "__pycache__")
+    try:
+        entries = os.listdir(pycache)
     except OSError:
-        pass
-    folder = os.path.join(tempfile.gettempdir(), f"coinwall-{os.getuid() if hasattr(os, 'getuid') else 0}",
-                          os.path.basename(folder))
-    os.makedirs(folder, exist_ok=True)
-    return folder
+        return []
+    return sorted(os.path.join(pycache, e) for e in entries
+                  if e.startswith(name + ".") and e.endswith((".nbi", ".nbc")))
+
+
+def _digest(path: str) -> str:
+    with open(path, "rb") as fh:
+        return hashlib.sha256(fh.read()).hexdigest()
+
+
+def _check_numba_files(folder: str, name: str) -> None:
+    """Delete numba's files of ``name`` unless every one is listed, with its SHA-256, in ``<name>.sums``."""
+    files = _numba_files(folder, name)
+    if not files:
+        return
+    try:
+        with open(os.path.join(folder, name + ".sums"), encoding="utf-8") as fh:
+            sums = json.load(fh)
+        if not isinstance(sums, dict):
+            sums = {}
+    except (OSError, ValueError):
+        sums = {}
+    if all(sums.get(os.path.basename(f)) == _digest(f) for f in files):
+        return
+    discard(folder, name, keep_source=True)
+    _note(f"discarded damaged or unverified compiled-kernel cache files of {name} in {folder}; compiling again")
+
+
+def seal(module) -> None:
+    """Record the SHA-256 of numba's cache files of ``module`` (call after its functions were compiled).
+
+    Only these recorded files are loaded later (:func:`load_module`); a file numba writes afterwards,
+    or one that changed, is discarded and rebuilt.  Does nothing for a module compiled in memory.
+    """
+    folder = getattr(module, "COINWALL_CACHE_FOLDER", None)
+    if folder is None:
+        return
+    name = module.__name__
+    try:
+        sums = json.dumps({os.path.basename(f): _digest(f) for f in _numba_files(folder, name)}, indent=0,
+                          sort_keys=True).encode()
+        path = os.path.join(folder, name + ".sums")
+        try:
+            with open(path, "rb") as fh:
+                unchanged = fh.read() == sums
+        except FileNotFoundError:
+            unchanged = False
+        if not unchanged:  # (a process that only loaded the kernel has nothing new to record)
+            _write_atomic(folder, name + ".sums", sums)
+    except OSError:
+        pass  # unsealed files are simply rebuilt by the next process
+
+
+def discard(folder: str, name: str, keep_source: bool = False) -> None:
+    """Delete module ``name``'s numba files and manifest (and its source unless ``keep_source``)."""
+    paths = _numba_files(folder, name) + [os.path.join(folder, name + ".sums")]
+    if not keep_source:
+        paths.append(os.path.join(folder, name + ".py"))
+    for path in paths:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(path)
+
+
+def _sweep_temporaries(folder: str, age: float = 3600.0) -> None:
+    """Remove our own temporary files (``.tmp-*``) older than ``age`` seconds (left by a killed process)."""
+    import time
+
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(folder):
+            if entry.name.startswith(".tmp-") and entry.is_file(follow_symlinks=False) \
+                    and now - entry.stat(follow_symlinks=False).st_mtime > age:
+                with contextlib.suppress(OSError):
+                    os.unlink(entry.path)
+
+
+def _stored(folder: str, name: str, data: bytes) -> str:
+    """Path of ``folder/name.py`` holding exactly ``data``: a file with other content (damaged, or planted by
+    someone) is replaced, with its numba files, before anything of it is used."""
+    path = os.path.join(folder, name + ".py")
+    try:
+        with open(path, "rb") as fh:
+            stored = fh.read(len(data) + 1)
+    except FileNotFoundError:
+        stored = None
+    if stored != data:  # equal bytes ⇔ equal SHA-256, which is the module's name: the file is what we made
+        if stored is not None:
+            _note(f"discarded {path}: its content does not match its name (damaged or foreign); writing it again")
+        discard(folder, name, keep_source=True)
+        _sweep_temporaries(folder)
+        _write_atomic(folder, name + ".py", data)
+    return path
+
+
+def _confine(module, folder) -> None:
+    """Turn off numba's disk cache for any function of ``module`` whose cache would live outside ``folder``
+    (``NUMBA_CACHE_DIR`` or a fallback locator would put it elsewhere, where we cannot vouch for it)."""
+    from numba.core.caching import NullCache
+
+    inside = os.path.realpath(os.path.join(folder, "__pycache__")) if folder else None
+    for value in list(vars(module).values()):
+        cache = getattr(value, "_cache", None)
+        path = getattr(cache, "cache_path", None)
+        if path is not None and (inside is None or os.path.realpath(path) != inside):
+            value._cache = NullCache()
+            if folder is not None:
+                _note(f"numba would cache compiled code in {path} (NUMBA_CACHE_DIR?), outside the trusted folder "
+                      f"{folder}; compiling without a disk cache")
 
 
 _MODULES: dict = {}
 
 
 def load_module(source: str, prefix: str = "coinwall_gen"):
-    """Import generated ``source`` as a module from a file (so numba's ``cache=True`` works).
+    """Execute generated ``source`` as a module, from a file in the trusted cache folder when there is one.
 
-    The file name is the hash of the source: the same source is written once and
-    its compiled functions are reused across processes.
+    The module's name is ``<prefix>_<first 20 hex digits of the SHA-256 of source>``.  In the cache folder
+    its file is checked to hold exactly ``source`` (else rewritten) and the *verified bytes* are compiled
+    with the file's path as their file name (so numba's ``cache=True`` finds its machine code again in the
+    next process); the file is never imported by path, so nothing written between the check and the
+    execution can run.  The source reads a global ``CACHE``: True with a trusted folder, False in memory
+    (:func:`cache_dir` returned None, or the folder could not be written), where nothing touches the disk.
     """
-    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
-    name = f"{prefix}_{digest}"
+    data = source.encode()
+    name = f"{prefix}_{hashlib.sha256(data).hexdigest()[:20]}"
     if name in _MODULES:
         return _MODULES[name]
     folder = cache_dir()
-    path = os.path.join(folder, name + ".py")
-    if not os.path.exists(path):
-        fd, temp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".py")
-        with os.fdopen(fd, "w") as fh:
-            fh.write(source)
-        os.replace(temp, path)  # atomic: parallel processes never see half a file
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
+    filename = f"<coinwall generated {name}>"
+    if folder is not None:
+        try:
+            filename = _stored(folder, name, data)
+            _check_numba_files(folder, name)
+        except OSError as exc:
+            _note(f"cannot write the kernel cache in {folder} ({exc.strerror or exc}); compiling in memory")
+            folder, filename = None, f"<coinwall generated {name}>"
+    module = types.ModuleType(name)
+    module.__file__ = filename
+    module.CACHE = folder is not None
+    module.COINWALL_CACHE_FOLDER = folder
     sys.modules[name] = module  # numba's cache locates functions through their module
-    spec.loader.exec_module(module)
+    exec(compile(data, filename, "exec"), module.__dict__)  # noqa: S102 -- our own generated source, verified above
+    _confine(module, folder)
     _MODULES[name] = module
     return module

@@ -11,5 +11,14 @@ from .load import OUTLINE_FORMATS, load_outline, outline_from_polar
 from .output import check_paths, write_all
 from .wallfile import WALL_FORMATS, load_wall, load_wall_file
 
-__all__ = ["load_outline", "outline_from_polar", "wall_functions", "load_wall", "load_wall_file",
-           "OUTLINE_FORMATS", "WALL_FORMATS", "check_paths", "write_all"]
+__all__ = [
+           "OUTLINE_FORMATS",
+           "WALL_FORMATS",
+           "check_paths",
+           "load_outline",
+           "load_wall",
+           "load_wall_file",
+           "outline_from_polar",
+           "wall_functions",
+           "write_all",
+]

@@ -9,15 +9,25 @@ list of ``[x, y]`` is read as points.
 
 from __future__ import annotations
 
-import json
+import math
+import reprlib
 from typing import NamedTuple
 
 import numpy as np
 
 from ..errors import InvalidOutline
 
-__all__ = ["OUTLINE_KEY", "POINTS_KEY", "CONTROLS_KEY", "UNITS_KEY", "UNITS_VALUE", "B0_KEY", "REGIME_KEY",
-           "BodyJson", "read_body_json"]
+__all__ = [
+    "B0_KEY",
+    "CONTROLS_KEY",
+    "OUTLINE_KEY",
+    "POINTS_KEY",
+    "REGIME_KEY",
+    "UNITS_KEY",
+    "UNITS_VALUE",
+    "BodyJson",
+    "read_body_json",
+]
 
 #: outline nodes ``[[x, y], …]``
 OUTLINE_KEY = "outline"
@@ -30,6 +40,8 @@ UNITS_KEY = "units"
 UNITS_VALUE = "radius of gyration (kappa)"
 #: the offset and the regime of the solved body (``coinwall export`` reads them back)
 B0_KEY = "b0"
+#: the scale of a points file: κ in the units of its coordinates (optional; coinwall's bodies are in units of κ)
+KAPPA_KEY = "kappa"
 REGIME_KEY = "regime"
 
 
@@ -54,27 +66,66 @@ class BodyJson(NamedTuple):
     what: str
 
 
+def _pairs(value, path, key, shape):
+    """``value`` as a finite float array of ``shape`` (None: any count), refusing strings, booleans, NaN and
+    ragged lists with a message naming ``key`` and the index."""
+    import math
+    import numbers
+    import reprlib
+
+    def check(item, where, depth):
+        if depth == len(shape):
+            if isinstance(item, bool) or not isinstance(item, numbers.Real):
+                raise InvalidOutline(f"body file {path!r}: {where} must be a number, got {reprlib.repr(item)}")
+            try:
+                number = float(item)
+            except OverflowError:
+                number = math.inf
+            if not math.isfinite(number):
+                raise InvalidOutline(f"body file {path!r}: {where} must be a finite number, got {item!r:.30} "
+                                     "(NaN and Infinity are not coordinates)")
+            return
+        size = shape[depth]
+        if not isinstance(item, list) or (size is not None and len(item) != size):
+            wanted = f"a list of {size}" if size is not None else "a list"
+            raise InvalidOutline(f"body file {path!r}: {where} must be {wanted}, got {reprlib.repr(item)}")
+        for index, inner in enumerate(item):
+            check(inner, f"{where}[{index}]", depth + 1)
+
+    check(value, f"`{key}`", 0)
+    return np.asarray(value, dtype=float).reshape((-1,) + tuple(s for s in shape[1:]))
+
+
 def read_body_json(path: str) -> BodyJson:
-    """Read a body JSON file.
+    """Read a body JSON file (through :mod:`.inputfile`: a regular file of at most 64 MiB, nested at most
+    :data:`~.inputfile.MAX_NESTING` deep).
 
     Raises
     ------
     InvalidOutline
-        No ``outline`` or ``points`` list.
-    OSError, ValueError, TypeError
-        Unreadable file, invalid JSON or numbers (the caller names the file).
+        No ``outline`` or ``points`` list; a point that is not two finite numbers (the message names its
+        index); ``controls`` that do not match the outline; more than :data:`~.geometry.MAX_POINTS` points.
     """
-    with open(path, encoding="utf-8") as fh:
-        doc = json.load(fh)
+    from .geometry import MAX_POINTS
+    from .inputfile import read_json
+
+    doc = read_json(path, what="body file", error=InvalidOutline)
     key = OUTLINE_KEY if isinstance(doc, dict) and OUTLINE_KEY in doc else POINTS_KEY
-    if not isinstance(doc, dict) or key not in doc:
+    if not isinstance(doc, dict) or key not in doc or not isinstance(doc[key], list):
         raise InvalidOutline(f"body file {path!r}: no {OUTLINE_KEY!r} or {POINTS_KEY!r} list of [x, y] points")
-    points = np.asarray(doc[key], dtype=float)
+    if len(doc[key]) > MAX_POINTS:
+        raise InvalidOutline(f"body file {path!r}: `{key}` holds {len(doc[key])} points; at most {MAX_POINTS} are read")
+    points = _pairs(doc[key], path, key, (None, 2))
     controls = doc.get(CONTROLS_KEY)
     recorded = {"com": (0.0, 0.0)} if controls is not None else {}
     if controls is not None:
-        controls = np.asarray(controls, dtype=float)
-        valid = controls.shape == (len(points), 2, 2) and np.all(np.isfinite(controls)) \
-            and np.all(np.isfinite(points))
-        controls = controls if valid else None
+        # a coinwall body: the controls must be those of this outline, else the file was damaged
+        controls = _pairs(controls, path, CONTROLS_KEY, (len(points), 2, 2))
+    if KAPPA_KEY in doc:
+        # the scale, κ in the file's units, as SVG and DXF drawings record it: a wrong one is refused, never used
+        kappa = doc[KAPPA_KEY]
+        if isinstance(kappa, bool) or not isinstance(kappa, (int, float)) or not 0 < kappa < math.inf:
+            raise InvalidOutline(f"body file {path!r} records \"{KAPPA_KEY}\": {reprlib.repr(kappa)}; it must be a "
+                                 "positive finite number (pass --kappa to override)")
+        recorded["kappa"] = float(kappa)
     return BodyJson(points, controls, recorded, "JSON points")

@@ -22,10 +22,31 @@ import numpy as np
 
 from ..angles import TWO_PI
 from ..errors import InvalidOutline
-from .geometry import CHAIN_TOLERANCE, FLATNESS, UNIT_LENGTHS, Drawing, join_chains
+from .geometry import (
+    CHAIN_TOLERANCE,
+    FLATNESS,
+    MAX_COORDINATE,
+    MIN_SIZE,
+    UNIT_LENGTHS,
+    Drawing,
+    PointBudget,
+    check_coordinates,
+    join_chains,
+)
+from .inputfile import read_bytes
 
-__all__ = ["DXF_ENTITIES", "CHAIN_ENTITIES", "LAYERS", "INSUNITS", "KAPPA_KEY", "UNITS_KEY", "B0_KEY", "COM_KEY",
-           "read_dxf"]
+__all__ = [
+    "B0_KEY",
+    "CHAIN_ENTITIES",
+    "COM_KEY",
+    "DXF_ENTITIES",
+    "INSUNITS",
+    "KAPPA_KEY",
+    "LAYERS",
+    "MAX_ENTITIES",
+    "UNITS_KEY",
+    "read_dxf",
+]
 
 #: DXF entity types read as outline
 DXF_ENTITIES = ("LWPOLYLINE", "POLYLINE", "SPLINE", "CIRCLE", "ELLIPSE", "LINE", "ARC")
@@ -44,6 +65,13 @@ KAPPA_KEY = "coinwall_kappa"
 UNITS_KEY = "coinwall_units"
 B0_KEY = "coinwall_b0"
 COM_KEY = "coinwall_com"
+#: entities (of any type) a DXF file may hold, counted in its text before ezdxf parses it: ezdxf takes
+#: ~140 µs and ~1 kB per entity (2·10⁵ circles: 28 s, 0.24 GB), so this bound is ~3 s and ~25 MB
+MAX_ENTITIES = 20_000
+#: errors ezdxf (and the Python underneath it) raises on damaged files: truncated (StopIteration,
+#: EOFError), bad numbers (ValueError), missing structure (KeyError, IndexError, DXFStructureError)
+_PARSE_ERRORS = (StopIteration, EOFError, ValueError, TypeError, KeyError, IndexError, AttributeError,
+                 UnicodeError, OverflowError, RecursionError)
 
 def _dxf_points(entity, sagitta):
     """Points along a DXF entity (curves flattened on the exact geometry) and its closed flag.
@@ -91,17 +119,55 @@ def _chains(path, pieces):
     return loops
 
 
+def _count_entities(data: bytes) -> int:
+    """Structures in DXF text: lines holding group code 0 followed by a name (an upper bound on entities)."""
+    import re
+
+    return len(re.findall(rb"(?m)^[ \t]*0\r?\n[ \t]*[A-Z_][A-Z_0-9]*\r?$", data))
+
+
+def _load(path):
+    """The ezdxf document of the DXF file ``path``, read through :mod:`.inputfile`; damaged files and
+    files of more than MAX_ENTITIES entities are refused with one line."""
+    import io
+
+    import ezdxf
+
+    data = read_bytes(path, what="body file", error=InvalidOutline)
+    binary = data.startswith(b"AutoCAD Binary DXF")
+    count = data.count(b"\x00") // 8 if binary else _count_entities(data)  # binary: a generous lower estimate
+    if count > MAX_ENTITIES:
+        raise InvalidOutline(f"body file {path!r} holds about {count} DXF entities; coinwall reads drawings of at "
+                             f"most {MAX_ENTITIES} (pick the outline's layer into a file of its own)")
+    try:
+        if binary:
+            from ezdxf.document import Drawing as Document
+            from ezdxf.lldxf.tagger import binary_tags_loader
+
+            return Document.load(binary_tags_loader(data, errors="surrogateescape"))
+        if not data.lstrip()[:1].isdigit():
+            raise InvalidOutline(f"body file {path!r} is not a DXF file (a DXF file starts with a group code, "
+                                 "e.g. \"0\" then \"SECTION\")")
+        from ezdxf.lldxf.validator import dxf_info
+
+        # the header names the encoding of DXF R2004 and older; it is ASCII, so read it as UTF-8 first
+        encoding = dxf_info(io.StringIO(data.decode("utf-8", errors="ignore"))).encoding or "utf-8"
+        return ezdxf.read(io.StringIO(data.decode(encoding, errors="surrogateescape")))
+    except InvalidOutline:
+        raise
+    except (ezdxf.DXFError, LookupError, *_PARSE_ERRORS) as exc:
+        detail = str(exc).splitlines()[0][:160] if str(exc) else "the file ends too early"
+        if not detail.startswith(type(exc).__name__):
+            detail = f"{type(exc).__name__}: {detail}"
+        raise InvalidOutline(f"body file {path!r} is not a valid DXF file: {detail}") from None
+
+
 def read_dxf(path, layer=None) -> Drawing:
     """The outline entities of a DXF file (on ``layer`` if given), and what coinwall's export recorded."""
     import ezdxf
     from ezdxf import bbox
 
-    try:
-        doc = ezdxf.readfile(path)
-    except IOError as exc:
-        raise InvalidOutline(f"body file {path!r} is not readable: {exc}") from None
-    except ezdxf.DXFError as exc:
-        raise InvalidOutline(f"body file {path!r} is not a valid DXF file: {exc}") from None
+    doc = _load(path)
     msp = doc.modelspace()
     candidates = [e for e in msp if e.dxftype() in DXF_ENTITIES]
     if layer is not None:
@@ -116,14 +182,30 @@ def read_dxf(path, layer=None) -> Drawing:
     if not chosen:
         raise InvalidOutline(f"body file {path!r}: the DXF has no {', '.join(DXF_ENTITIES)} entity")
     shapes, loose, pieces = [], [], []
+    budget = PointBudget(path)
     for entity in chosen:
+        where = f"{entity.dxftype()} {entity.dxf.handle}"
+        budget.shape(where)
         try:
-            box = bbox.extents([entity])
-            size = max(box.size.x, box.size.y) if box.has_data else 1.0
-            pts, flagged = _dxf_points(entity, max(FLATNESS * size, 1e-300))
-        except (TypeError, ValueError, ZeroDivisionError, AttributeError) as exc:
-            raise InvalidOutline(f"body file {path!r}: cannot read {entity.dxftype()} {entity.dxf.handle}: "
-                                 f"{exc}") from None
+            with np.errstate(all="ignore"):
+                box = bbox.extents([entity])
+                size = max(box.size.x, box.size.y) if box.has_data else 1.0
+                if not (abs(box.extmin.x) <= MAX_COORDINATE and abs(box.extmin.y) <= MAX_COORDINATE
+                        and abs(box.extmax.x) <= MAX_COORDINATE and abs(box.extmax.y) <= MAX_COORDINATE) \
+                        and box.has_data:
+                    raise InvalidOutline(f"coordinates are not finite or larger than {MAX_COORDINATE:g}")
+                if 0 < size < MIN_SIZE:
+                    raise InvalidOutline(f"it measures {size:.3g} drawing units, less than {MIN_SIZE:g}")
+                pts, flagged = _dxf_points(entity, max(FLATNESS * size, 1e-300))
+                pts = check_coordinates(pts, "its points")
+                extent = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
+                if 0 < extent < MIN_SIZE:
+                    raise InvalidOutline(f"it measures {extent:.3g} drawing units, less than {MIN_SIZE:g}")
+        except InvalidOutline as exc:
+            raise InvalidOutline(f"body file {path!r}: {where}: {exc}") from None
+        except (ZeroDivisionError, ezdxf.DXFError, *_PARSE_ERRORS) as exc:
+            raise InvalidOutline(f"body file {path!r}: cannot read {where}: {exc}") from None
+        budget.take(len(pts), where)
         if len(pts) < 2:
             continue
         if entity.dxftype() in CHAIN_ENTITIES:
@@ -140,7 +222,8 @@ def read_dxf(path, layer=None) -> Drawing:
     points = [e for e in msp.query("POINT") if e.dxf.layer.upper() in (LAYERS["com"], _LEGACY_COM_LAYER)]
     if points:
         location = points[0].dxf.location
-        recorded["com"] = np.array([location.x, location.y], float)
+        recorded["com"] = check_coordinates([location.x, location.y], f"body file {path!r}: the centre-of-mass "
+                                            f"POINT {points[0].dxf.handle}")
     try:
         meta = doc.ezdxf_metadata()
         if KAPPA_KEY in meta:
@@ -149,7 +232,9 @@ def read_dxf(path, layer=None) -> Drawing:
         if COM_KEY in meta and "com" not in recorded:
             recorded["com"] = np.array([float(v) for v in meta[COM_KEY].split(",")], float).reshape(2)
     except (KeyError, ValueError, TypeError, AttributeError):
-        pass
+        pass  # metadata written by another program: the file records no scale or centre of mass
+    if "com" in recorded:
+        recorded["com"] = check_coordinates(recorded["com"], f"body file {path!r}: the recorded centre of mass")
     kinds = sorted({e.dxftype() for e in chosen})
     where = f"layer {layer!r}" if layer is not None else "all layers"
     return Drawing(shapes, loose, recorded, f"DXF: {len(chosen)} entities ({', '.join(kinds)}) on {where}")

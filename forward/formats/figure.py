@@ -7,7 +7,7 @@ import os
 
 from ..errors import OutputError
 
-__all__ = ["FIGURE_FORMATS", "figure_bytes", "new_figure", "axes_or_new"]
+__all__ = ["FIGURE_FORMATS", "axes_or_new", "figure_bytes", "new_figure"]
 
 FIGURE_FORMATS = (".png", ".svg", ".pdf")
 _DPI = 110

@@ -12,14 +12,45 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Drawing", "FLATNESS", "MAX_POINTS_PER_CURVE", "UNIT_LENGTHS", "CHAIN_TOLERANCE", "convex_hull",
-           "polygon_area_centroid", "shapes_area_centroid", "steps_for_curvature", "cubic_points",
-           "ellipse_points", "is_rectangle", "join_chains"]
+__all__ = [
+    "CHAIN_TOLERANCE",
+    "FLATNESS",
+    "MAX_COORDINATE",
+    "MAX_POINTS",
+    "MAX_POINTS_PER_CURVE",
+    "MAX_REPAIR_POINTS",
+    "MAX_SHAPES",
+    "MIN_SIZE",
+    "UNIT_LENGTHS",
+    "Drawing",
+    "PointBudget",
+    "check_coordinates",
+    "convex_hull",
+    "cubic_points",
+    "ellipse_points",
+    "is_rectangle",
+    "join_chains",
+    "polygon_area_centroid",
+    "shapes_area_centroid",
+    "steps_for_curvature",
+]
 
 #: chord error of flattened curves, relative to the size of the shape
 FLATNESS = 1e-8
 #: points per curve at most (a huge curvature bound must not exhaust memory)
 MAX_POINTS_PER_CURVE = 200_000
+#: flattened points per drawing at most (a full circle is ~22 000 points at FLATNESS): the reader, the hull
+#: and the union keep a few copies of them, ~0.5 GB at this bound (measured, docs/cli.md)
+MAX_POINTS = 2_000_000
+#: closed shapes and open curves per drawing at most (each is compared with the largest one's hull)
+MAX_SHAPES = 5_000
+#: a shape that crosses itself is repaired (shapely ``buffer(0)``) only up to this many points: the repair
+#: grows with the square of the crossings (1 000 random points: 3.7 s, 0.28 GB; 3 000: 31 s, 2.1 GB)
+MAX_REPAIR_POINTS = 1_000
+#: drawing coordinates at most this large in absolute value (areas and moments, which square them, stay finite)
+MAX_COORDINATE = 1e100
+#: shapes at least this large (a smaller one has an area that underflows)
+MIN_SIZE = 1e-100
 #: length of one unit in millimetres: the units a drawing may record (SVG ``width``/``height``, DXF
 #: ``$INSUNITS``) and a caller may give κ in; px and pt are the CSS units (1 px = 1/96 in, 1 pt = 1/72 in)
 UNIT_LENGTHS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "ft": 304.8, "pt": 25.4 / 72, "pc": 25.4 / 6,
@@ -49,6 +80,58 @@ class Drawing(NamedTuple):
     loose: list
     recorded: dict
     what: str
+
+
+class PointBudget:
+    """Counts the points and shapes a reader makes, and refuses the drawing once there are too many.
+
+    Parameters
+    ----------
+    path : str
+        The file, for the messages.
+    points, shapes : int
+        The bounds (default :data:`MAX_POINTS`, :data:`MAX_SHAPES`).
+    """
+
+    def __init__(self, path, points=MAX_POINTS, shapes=MAX_SHAPES):
+        self.path, self.max_points, self.max_shapes = path, int(points), int(shapes)
+        self.points = self.shapes = self.segments = 0  # segments: counted by the SVG path reader
+
+    def take(self, count, where=""):
+        """Count ``count`` more points; refuse once more than the bound were made."""
+        from ..errors import InvalidOutline
+
+        self.points += int(count)
+        if self.points > self.max_points:
+            raise InvalidOutline(f"body file {self.path!r}: more than {self.max_points} points after flattening "
+                                 f"curves{' (at ' + where + ')' if where else ''}; coinwall reads drawings of at "
+                                 "most that many points (a full circle or ellipse is ~22 000); simplify the "
+                                 "drawing or pick one shape")
+
+    def shape(self, where=""):
+        """Count one more shape; refuse once there are more than the bound."""
+        from ..errors import InvalidOutline
+
+        self.shapes += 1
+        if self.shapes > self.max_shapes:
+            raise InvalidOutline(f"body file {self.path!r}: more than {self.max_shapes} shapes"
+                                 f"{' (at ' + where + ')' if where else ''}; coinwall reads drawings of at most "
+                                 "that many; pick one shape (SVG `element`, DXF `layer`)")
+
+
+def check_coordinates(points, what):
+    """``points`` if every coordinate is finite and at most :data:`MAX_COORDINATE` in absolute value;
+    otherwise :class:`~coinwall.forward.errors.InvalidOutline` naming ``what``."""
+    from ..errors import InvalidOutline
+
+    pts = np.asarray(points, float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        bad = ~(np.abs(pts) <= MAX_COORDINATE)
+    if bad.any():
+        value = pts.flat[int(np.flatnonzero(bad.ravel())[0])]
+        reason = "not finite" if not math.isfinite(value) else f"larger than {MAX_COORDINATE:g} in absolute value"
+        raise InvalidOutline(f"{what}: a coordinate is {reason} ({value:g})")
+    return pts
 
 
 def convex_hull(points):
@@ -86,11 +169,17 @@ def shapes_area_centroid(shapes):
     from shapely.geometry import Polygon
     from shapely.ops import unary_union
 
+    from ..errors import InvalidOutline
+
     polys = []
-    for pts in shapes:
+    for k, pts in enumerate(shapes):
         if len(pts) >= 3:
             poly = Polygon(pts)
             if not poly.is_valid:
+                if len(pts) > MAX_REPAIR_POINTS:
+                    raise InvalidOutline(f"shape {k + 1} ({len(pts)} points) crosses itself; coinwall repairs "
+                                         f"self-crossing shapes of at most {MAX_REPAIR_POINTS} points (the repair "
+                                         "grows with the square of the crossings): fix the drawing or pick one shape")
                 poly = poly.buffer(0)
             if poly.area > 0:
                 polys.append(poly)
@@ -104,8 +193,11 @@ def steps_for_curvature(second_difference_bound, size):
     """Uniform steps of a polynomial curve so the chord error ≤ FLATNESS·size (error ≤ M Δ²/8)."""
     if size <= 0 or second_difference_bound <= 0:
         return 1
-    n = math.ceil(math.sqrt(second_difference_bound / (8 * FLATNESS * size)))
-    return int(min(max(n, 1), MAX_POINTS_PER_CURVE))
+    with np.errstate(over="ignore"):
+        steps = math.sqrt(second_difference_bound / (8 * FLATNESS * size))
+    if not steps <= MAX_POINTS_PER_CURVE:  # also inf (a curve vast next to its size estimate) and nan
+        return MAX_POINTS_PER_CURVE
+    return int(max(math.ceil(steps), 1))
 
 
 def cubic_points(p0, p1, p2, p3, size):

@@ -26,6 +26,7 @@ mass at the origin, and a note saying what was done.
 
 from __future__ import annotations
 
+import math
 import os
 from typing import NamedTuple
 
@@ -37,12 +38,29 @@ from ..outline import Outline
 from ..validation import check_choice, check_count, check_positive
 from .bodyjson import read_body_json
 from .dxf import read_dxf
-from .geometry import UNIT_LENGTHS, Drawing, convex_hull, is_rectangle, polygon_area_centroid, shapes_area_centroid
+from .geometry import (
+    MAX_COORDINATE,
+    MIN_SIZE,
+    UNIT_LENGTHS,
+    Drawing,
+    convex_hull,
+    is_rectangle,
+    polygon_area_centroid,
+    shapes_area_centroid,
+)
+from .inputfile import check_regular
 from .points import read_points_csv
 from .svg import read_svg
 
-__all__ = ["OUTLINE_FORMATS", "PAGE_FRACTION", "OutlineReading", "read_outline", "load_outline",
-           "outline_from_polar", "check_com"]
+__all__ = [
+    "OUTLINE_FORMATS",
+    "PAGE_FRACTION",
+    "OutlineReading",
+    "check_com",
+    "load_outline",
+    "outline_from_polar",
+    "read_outline",
+]
 
 #: file extensions load_outline reads
 OUTLINE_FORMATS = (".json", ".csv", ".svg", ".dxf")
@@ -50,6 +68,7 @@ _NON_CONVEX = 1e-7  # relative area excess of the hull that counts as "not conve
 #: an SVG rectangle covering at least this fraction of the page is a background, not the body
 PAGE_FRACTION = 0.9
 _ADDS_TO_HULL = 1e-6  # relative area a shape must add to the largest shape's hull to count as merged
+_COM_OUTSIDE = 1e-9  # a centre of mass this far outside the hull (relative to its size) is on its boundary
 
 
 class OutlineReading(NamedTuple):
@@ -147,11 +166,28 @@ def _merged(shapes, loose, notes, warnings, choose):
         notes.append(f"{inside} shape{'s' if inside != 1 else ''} inside the largest one (no effect on the hull)")
 
 
+def _check_inside(path, hull, hull_area, centre, given):
+    """Refuse a centre of mass outside the body: the centre of mass of any mass distribution lies in the
+    convex hull of the body (on its boundary at most, within ``_COM_OUTSIDE`` of its size)."""
+    if hull_area <= 0 or _inside_convex(hull, centre[None, :], tolerance=_COM_OUTSIDE):
+        return
+    where = f"({centre[0]:.6g}, {centre[1]:.6g})"
+    if given:
+        raise InvalidArgument(f"`com` {where} lies outside the body of {path!r}; the centre of mass of a body lies "
+                              "inside its outline")
+    raise InvalidOutline(f"body file {path!r} records a centre of mass at {where}, outside the body; the centre of "
+                         "mass of a body lies inside its outline")
+
+
 def _scale(path, recorded, kappa, units, notes):
     """Drawing coordinates per unit κ, by the module's one rule (see the module docstring)."""
     drawing_unit = recorded.get("unit")
     if kappa is None:
         if recorded.get("kappa") is not None:
+            value = recorded["kappa"]
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InvalidOutline(f"body file {path!r} records kappa = {value!r}; it must be a positive finite "
+                                     "number (pass --kappa to override)")
             notes.append(f"kappa = {float(recorded['kappa']):g} {recorded.get('units', '')} as recorded in the file"
                          .replace("  ", " "))
             return float(recorded["kappa"])
@@ -183,7 +219,10 @@ def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (S
         raise InvalidOutline(f"body file {path!r}: outline coordinates are not finite")
     hull, _ = convex_hull(points)
     hull_area = polygon_area_centroid(hull)[0] if len(hull) > 2 else 0.0
-    drawn = shapes_area_centroid(shapes) if shapes else None
+    try:
+        drawn = shapes_area_centroid(shapes) if shapes else None
+    except InvalidOutline as exc:
+        raise InvalidOutline(f"body file {path!r}: {exc}") from None
     if drawn is not None and hull_area > 0 and (hull_area - drawn[0]) > _NON_CONVEX * hull_area:
         notes.append(f"non-convex outline replaced by its convex hull (area {drawn[0]:.6g} -> {hull_area:.6g})")
     elif drawn is None and loose:
@@ -202,7 +241,14 @@ def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (S
         else:
             centre = hull.mean(axis=0)
         notes.append(f"centre of mass = centroid ({centre[0]:.6g}, {centre[1]:.6g}), uniform density")
+    _check_inside(path, hull, hull_area, centre, com is not None)
     scale = _scale(path, recorded, kappa, units, notes)
+    size = float(np.ptp(hull, axis=0).max()) / scale
+    if not MIN_SIZE <= size <= MAX_COORDINATE:
+        error = InvalidArgument if kappa is not None else InvalidOutline
+        raise error(f"body file {path!r}: the body measures {size:.3g} radii of gyration across"
+                    f"{' with this `kappa`' if kappa is not None else ''}; coinwall reads bodies from {MIN_SIZE:g} to "
+                    f"{MAX_COORDINATE:g} across")
     return OutlineReading(Outline.from_polygon((hull - centre) / scale), "; ".join(notes), warnings)
 
 
@@ -242,8 +288,8 @@ def read_outline(path: str, *, layer: str | None = None, element: str | None = N
     InvalidArgument
         A bad ``com``, ``kappa``, ``units``, ``layer`` or ``element``.
     """
-    if not isinstance(path, str) or not os.path.isfile(path):
-        raise InvalidOutline(f"body file {path!r} does not exist")
+    if not isinstance(path, str):
+        raise InvalidOutline(f"body file must be a file name, got {path!r}")
     ext = os.path.splitext(path)[1].lower()
     if ext not in OUTLINE_FORMATS:
         raise InvalidOutline(f"body file {path!r}: unsupported extension {ext or '(none)'!r}; "
@@ -263,7 +309,9 @@ def read_outline(path: str, *, layer: str | None = None, element: str | None = N
         check_choice("units", units, tuple(UNIT_LENGTHS))
         if kappa is None:
             raise InvalidArgument(f"`units` {units} needs `kappa` (the radius of gyration in {units})")
-    if os.path.getsize(path) == 0:
+    # a FIFO, a device or a folder is refused here, before any reader opens it; each reader reads through
+    # inputfile, which checks again on the open descriptor
+    if check_regular(path, what="body file", error=InvalidOutline) == 0:
         raise InvalidOutline(f"body file {path!r} is empty")
     try:
         if ext == ".svg":
@@ -273,6 +321,11 @@ def read_outline(path: str, *, layer: str | None = None, element: str | None = N
         if ext == ".json":
             points, controls, recorded, what = read_body_json(path)
             if controls is not None and com is None and kappa is None:
+                # the hull of nodes and control points holds the curve: lenient, never refuses a valid body
+                both = np.vstack([points, controls.reshape(-1, 2)])
+                hull, _ = convex_hull(both)
+                _check_inside(path, hull, polygon_area_centroid(hull)[0] if len(hull) > 2 else 0.0, np.zeros(2),
+                              False)
                 return OutlineReading(Outline(points, controls),
                                       "exact Bézier outline (coinwall JSON, units of kappa)", [])
         else:

@@ -5,6 +5,15 @@ the transforms of its groups; open paths and lines are counted and ignored.  Bé
 flattened on the exact geometry (arcs by the SVG 1.1 endpoint-to-centre conversion, implementation
 notes F.6.5).  SVG's y axis points down; the body frame's points up, so y is flipped.
 
+**Limits.**  The file is read by :mod:`.inputfile` (a regular file of at most 32 MiB) and parsed by
+``defusedxml`` with entities and external references forbidden (a DOCTYPE naming the SVG DTD is
+fine).  Elements nest at most :data:`~.inputfile.MAX_NESTING` deep; a drawing has at most
+``MAX_SEGMENTS`` path segments, :data:`~.geometry.MAX_POINTS` points once curves are flattened and
+:data:`~.geometry.MAX_SHAPES` shapes.  Every number must be finite and at most
+:data:`~.geometry.MAX_COORDINATE` in absolute value, a shape at least :data:`~.geometry.MIN_SIZE`
+across, every transform applied to a shape invertible, and path data must start with a moveto.
+Each violation is one :class:`~coinwall.forward.errors.InvalidOutline` naming the file and the element.
+
 **Units.**  ``width``/``height`` with an absolute unit (mm, cm, in, pt, pc, px, m) and a ``viewBox`` give
 the physical length of one drawing coordinate (the viewBox is fitted into the page uniformly, as
 ``preserveAspectRatio`` does by default); without a viewBox a coordinate is one px (1/96 in), as the
@@ -30,11 +39,33 @@ import numpy as np
 
 from ..angles import TWO_PI
 from ..errors import InvalidArgument, InvalidOutline
-from .geometry import UNIT_LENGTHS, Drawing, cubic_points, ellipse_points
+from .geometry import (
+    MAX_COORDINATE,
+    MIN_SIZE,
+    UNIT_LENGTHS,
+    Drawing,
+    PointBudget,
+    check_coordinates,
+    ellipse_points,
+)
+from .inputfile import MAX_NESTING, read_bytes
+from .svgpath import MAX_SEGMENTS, NUMBER, checked_number, svg_numbers, svg_path
 
-__all__ = ["SVG_NAMESPACE", "KAPPA_ATTRIBUTE", "UNITS_ATTRIBUTE", "COM_ATTRIBUTE", "ANNOTATION_CLASS",
-           "CENTRE_OF_MASS_ID", "svg_unit",
-           "OUTLINE_ID", "SKIPPED_ELEMENTS", "read_svg", "svg_transform", "svg_path"]
+__all__ = [
+    "ANNOTATION_CLASS",
+    "CENTRE_OF_MASS_ID",
+    "COM_ATTRIBUTE",
+    "KAPPA_ATTRIBUTE",
+    "MAX_SEGMENTS",
+    "OUTLINE_ID",
+    "SKIPPED_ELEMENTS",
+    "SVG_NAMESPACE",
+    "UNITS_ATTRIBUTE",
+    "read_svg",
+    "svg_path",
+    "svg_transform",
+    "svg_unit",
+]
 
 SVG_NAMESPACE = "http://www.w3.org/2000/svg"
 #: root attribute: the length of κ in drawing units (the drawing's scale)
@@ -53,12 +84,13 @@ OUTLINE_ID = "outline"
 SKIPPED_ELEMENTS = frozenset({"defs", "clipPath", "mask", "symbol", "marker", "pattern", "metadata", "title",
                               "desc", "style"})
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+#: a transform whose 2×2 part has a condition number above this flattens shapes: refused
+_SINGULAR = 1e12
+
+_NUMBER = NUMBER  # the number syntax of SVG attributes
+_checked, _numbers = checked_number, svg_numbers
+_NUMBER_AT = re.compile(_NUMBER)
 _TRANSFORM = re.compile(r"(matrix|translate|scale|rotate|skewX|skewY)\s*\(([^)]*)\)")
-
-
-def _numbers(text):
-    return [float(v) for v in re.findall(_NUMBER, text or "")]
 
 
 def svg_transform(text):
@@ -89,163 +121,46 @@ def svg_transform(text):
         except (IndexError, ValueError):
             raise InvalidOutline(f"SVG transform {text!r} is malformed") from None
         total = total @ m
+    if not np.all(np.abs(total) <= MAX_COORDINATE):
+        raise InvalidOutline(f"SVG transform {text!r} has entries that are not finite or larger than "
+                             f"{MAX_COORDINATE:g}")
     return total
 
 
-class _PathScanner:
-    """Tokens of SVG path data; arc flags may be written without separators ("a1 1 0 01.5.5")."""
-
-    def __init__(self, text):
-        self.text, self.pos = text, 0
-
-    def _skip(self):
-        while self.pos < len(self.text) and self.text[self.pos] in " \t\r\n,":
-            self.pos += 1
-
-    def command(self):
-        self._skip()
-        if self.pos < len(self.text) and self.text[self.pos].isalpha():
-            self.pos += 1
-            return self.text[self.pos - 1]
-        return None
-
-    def at_number(self):
-        self._skip()
-        return self.pos < len(self.text) and (self.text[self.pos] in "+-." or self.text[self.pos].isdigit())
-
-    def number(self):
-        self._skip()
-        m = re.compile(_NUMBER).match(self.text, self.pos)
-        if not m:
-            raise InvalidOutline(f"SVG path data is malformed near {self.text[self.pos:self.pos + 20]!r}")
-        self.pos = m.end()
-        return float(m.group())
-
-    def flag(self):
-        self._skip()
-        if self.pos < len(self.text) and self.text[self.pos] in "01":
-            self.pos += 1
-            return self.text[self.pos - 1] == "1"
-        raise InvalidOutline(f"SVG path data: arc flag expected near {self.text[self.pos:self.pos + 20]!r}")
+def _check_invertible(matrix, where):
+    """Refuse a transform that flattens shapes to a line or a point (``scale(0)``, a singular matrix)."""
+    linear = matrix[:2, :2]
+    with np.errstate(all="ignore"):
+        singular = not np.linalg.cond(linear) <= _SINGULAR
+    if singular:
+        raise InvalidOutline(f"the transform of {where} is singular (matrix {_matrix_text(linear)}): it flattens the "
+                             "shape to a line or a point, e.g. scale(0)")
 
 
-def _arc_points(p0, rx, ry, phi_deg, large, sweep, p1, size):
-    """SVG elliptical arc (endpoint parametrisation, SVG 1.1 implementation notes F.6.5)."""
-    if np.allclose(p0, p1):
-        return np.empty((0, 2))
-    rx, ry = abs(rx), abs(ry)
-    if rx == 0 or ry == 0:
-        return p1[None, :]
-    phi = math.radians(phi_deg % 360)
-    c, s = math.cos(phi), math.sin(phi)
-    dx, dy = (p0 - p1) / 2
-    x1, y1 = c * dx + s * dy, -s * dx + c * dy
-    lam = x1 * x1 / (rx * rx) + y1 * y1 / (ry * ry)
-    if lam > 1:
-        rx, ry = rx * math.sqrt(lam), ry * math.sqrt(lam)
-    num = rx * rx * ry * ry - rx * rx * y1 * y1 - ry * ry * x1 * x1
-    den = rx * rx * y1 * y1 + ry * ry * x1 * x1
-    coef = math.sqrt(max(num / den, 0.0)) * (-1 if large == sweep else 1)
-    cxp, cyp = coef * rx * y1 / ry, -coef * ry * x1 / rx
-    centre = np.array([c * cxp - s * cyp, s * cxp + c * cyp]) + (p0 + p1) / 2
-    t1 = math.atan2((y1 - cyp) / ry, (x1 - cxp) / rx)
-    t2 = math.atan2((-y1 - cyp) / ry, (-x1 - cxp) / rx)
-    dt = (t2 - t1) % TWO_PI
-    if not sweep and dt > 0:
-        dt -= TWO_PI
-    return ellipse_points(centre, rx, ry, phi, t1, dt, size)
+def _matrix_text(linear):
+    return "[" + ", ".join(f"{v:.6g}" for v in np.ravel(linear)) + "]"
 
 
-def svg_path(d):
-    """Subpaths of SVG path data as (points, closed) pairs."""
-    scan = _PathScanner(d or "")
-    subpaths, current, start, pos = [], [], np.zeros(2), np.zeros(2)
-    last_ctrl, last_cmd, cmd = None, "", None
-    size_guess = max(1e-300, max((abs(v) for v in _numbers(d)), default=1.0))
-
-    def close_subpath(closed):
-        if len(current) > 1:
-            subpaths.append((np.array(current), closed))
-
-    while True:
-        new = scan.command()
-        if new is None:
-            if not scan.at_number():
-                if scan.pos < len(scan.text.strip()) and scan.text[scan.pos:].strip():
-                    raise InvalidOutline(f"SVG path data is malformed near {scan.text[scan.pos:scan.pos + 20]!r}")
-                break
-            if cmd is None:
-                raise InvalidOutline("SVG path data must start with a moveto command")
-            new = {"M": "L", "m": "l"}.get(cmd, cmd)
-        cmd = new
-        rel = cmd.islower()
-        up = cmd.upper()
-        if up not in "MLHVCSQTAZ":
-            raise InvalidOutline(f"SVG path data: unknown command {cmd!r}")
-        base = pos if rel else np.zeros(2)
-        if up == "Z":
-            close_subpath(True)
-            current, pos = [], start.copy()
-            last_ctrl, last_cmd = None, "Z"
-            continue
-        if up == "M":
-            close_subpath(False)
-            pos = base + [scan.number(), scan.number()]
-            start, current = pos.copy(), [pos.copy()]
-            last_ctrl, last_cmd = None, "M"
-            continue
-        if not current:
-            current = [pos.copy()]
-            start = pos.copy()
-        if up == "L":
-            pos = base + [scan.number(), scan.number()]
-            current.append(pos.copy())
-            last_ctrl = None
-        elif up == "H":
-            pos = np.array([(pos[0] if rel else 0.0) + scan.number(), pos[1]])
-            current.append(pos.copy())
-            last_ctrl = None
-        elif up == "V":
-            pos = np.array([pos[0], (pos[1] if rel else 0.0) + scan.number()])
-            current.append(pos.copy())
-            last_ctrl = None
-        elif up in "CS":
-            if up == "C":
-                c1 = base + [scan.number(), scan.number()]
-            else:
-                c1 = 2 * pos - last_ctrl if last_ctrl is not None and last_cmd in "CS" else pos.copy()
-            c2 = base + [scan.number(), scan.number()]
-            end = base + [scan.number(), scan.number()]
-            current.extend(cubic_points(pos, c1, c2, end, size_guess))
-            pos, last_ctrl = end, c2
-        elif up in "QT":
-            if up == "Q":
-                q = base + [scan.number(), scan.number()]
-            else:
-                q = 2 * pos - last_ctrl if last_ctrl is not None and last_cmd in "QT" else pos.copy()
-            end = base + [scan.number(), scan.number()]
-            current.extend(cubic_points(pos, pos + 2 * (q - pos) / 3, end + 2 * (q - end) / 3, end, size_guess))
-            pos, last_ctrl = end, q
-        else:
-            rx, ry, rot = scan.number(), scan.number(), scan.number()
-            large, sweep = scan.flag(), scan.flag()
-            end = base + [scan.number(), scan.number()]
-            current.extend(_arc_points(pos, rx, ry, rot, large, sweep, end, size_guess))
-            pos, last_ctrl = end, None
-        last_cmd = up
-    close_subpath(False)
-    out = []
-    for pts, closed in subpaths:
-        span = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
-        if not closed and len(pts) > 2 and np.hypot(*(pts[0] - pts[-1])) <= 1e-9 * max(span, 1e-300):
-            closed = True
-        out.append((pts, closed))
-    return out
 
 
 def _length(value, default=0.0):
-    vals = _numbers(value) if value is not None else []
-    return vals[0] if vals else default
+    """A coordinate or length attribute (a number with an optional unit); absent → ``default``; anything
+    else (``nan``, ``inf``, text) is refused rather than read as the default."""
+    if value is None or not value.strip():
+        return default
+    match = _LENGTH.match(value)
+    if not match:
+        raise InvalidOutline(f"{value!r} is not a number (a length such as 12 or 12px)")
+    return _checked(float(match.group(1)), match.group(1))
+
+
+def _number_list(text, what):
+    """All numbers of a list attribute (``points``); text that is not numbers and separators is refused."""
+    values = _numbers(text)
+    rest = _NUMBER_AT.sub(" ", text or "").replace(",", " ").strip()
+    if rest:
+        raise InvalidOutline(f"{what} holds {rest.split()[0][:20]!r}, which is not a number")
+    return values
 
 
 _LENGTH = re.compile(r"^\s*(" + _NUMBER + r")\s*([a-zA-Z%]*)\s*$")
@@ -263,7 +178,7 @@ def svg_unit(root):
     sizes = {}
     for name in ("width", "height"):
         match = _LENGTH.match(root.get(name) or "")
-        if match and float(match.group(1)) > 0:
+        if match and 0 < float(match.group(1)) <= MAX_COORDINATE:  # inf or 1e999: no size
             sizes[name] = (float(match.group(1)), match.group(2).lower())
     box = _numbers(root.get("viewBox"))
     has_box = len(box) == 4 and box[2] > 0 and box[3] > 0
@@ -280,93 +195,178 @@ def svg_unit(root):
     return (units[0], min(per_coordinate)), page  # min: the viewBox is fitted in ("meet", the default)
 
 
+def _parse(path):
+    """The root element of the SVG file ``path``, parsed without entities or external references."""
+    import xml.etree.ElementTree as ET
+
+    import defusedxml
+    import defusedxml.ElementTree as DET
+
+    data = read_bytes(path, what="body file", error=InvalidOutline)
+    try:
+        # a DOCTYPE naming the SVG DTD is common (Inkscape, Illustrator) and harmless: it is not fetched
+        return DET.fromstring(data, forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    except defusedxml.EntitiesForbidden as exc:
+        raise InvalidOutline(f"body file {path!r}: the SVG declares the entity {exc.name!r}; coinwall reads no "
+                             "entity declarations (they can expand without bound or read other files)") from None
+    except defusedxml.DefusedXmlException as exc:
+        raise InvalidOutline(f"body file {path!r}: the SVG refers to something outside it ({exc}); coinwall "
+                             "reads self-contained SVG only") from None
+    except ET.ParseError as exc:
+        raise InvalidOutline(f"body file {path!r} is not valid SVG (XML error: {exc})") from None
+    except LookupError as exc:
+        raise InvalidOutline(f"body file {path!r}: the XML declaration names an encoding Python does not know "
+                             f"({exc}); save the file as UTF-8") from None
+    except (ValueError, RecursionError, MemoryError) as exc:
+        raise InvalidOutline(f"body file {path!r} is not valid SVG ({type(exc).__name__}: "
+                             f"{str(exc).splitlines()[0][:120] if str(exc) else 'no detail'})") from None
+
+
+def _describe(elem, tag):
+    return f"<{tag} id={elem.get('id')!r}>" if elem.get("id") else f"<{tag}>"
+
+
+def _recorded_number(root, attribute, path, positive=False):
+    """A number recorded on the root (``data-coinwall-kappa``): finite (and positive if asked), else refused."""
+    text = root.get(attribute)
+    if text is None:
+        return None
+    match = _LENGTH.match(text)
+    value = float(match.group(1)) if match else math.nan
+    if not math.isfinite(value) or (positive and value <= 0) or abs(value) > MAX_COORDINATE:
+        valid = "a positive finite number" if positive else "a finite number"
+        raise InvalidOutline(f"body file {path!r}: the root records {attribute}={text!r}; it must be {valid}")
+    return value
+
+
+def _shapes_of(elem, tag, matrix, add, budget, where):
+    """Add the closed shapes of one element (``add(matrix, points, where)``); returns its open shapes."""
+    open_count = 0
+    if tag == "path":
+        for pts, closed in svg_path(elem.get("d"), budget):
+            if closed:
+                add(matrix, pts, where)
+            else:
+                open_count += 1
+    elif tag in ("polygon", "polyline"):
+        v = _number_list(elem.get("points"), "points")
+        if len(v) % 2:
+            raise InvalidOutline(f"points holds {len(v)} numbers, an odd count: x and y must come in pairs")
+        budget.take(len(v) // 2, where)
+        pts = np.array(v[: len(v) // 2 * 2]).reshape(-1, 2)
+        closed = tag == "polygon" or (len(pts) > 2 and np.allclose(pts[0], pts[-1]))
+        if len(pts) >= 3 and closed:
+            add(matrix, pts, where)
+        elif len(pts):
+            open_count += 1
+    elif tag == "rect":
+        x, y = _length(elem.get("x")), _length(elem.get("y"))
+        w, h = _length(elem.get("width")), _length(elem.get("height"))
+        if w > 0 and h > 0:  # rounded corners (rx, ry) are ignored: the hull differs by < rx
+            budget.take(4, where)
+            add(matrix, [[x, y], [x + w, y], [x + w, y + h], [x, y + h]], where)
+    elif tag in ("circle", "ellipse"):
+        cx, cy = _length(elem.get("cx")), _length(elem.get("cy"))
+        if tag == "circle":
+            rx = ry = _length(elem.get("r"))
+        else:
+            rx, ry = _length(elem.get("rx")), _length(elem.get("ry"))
+        if rx > 0 and ry > 0:
+            if max(rx, ry) < MIN_SIZE:
+                raise InvalidOutline(f"radius {max(rx, ry):.3g} is smaller than {MIN_SIZE:g} drawing units")
+            pts = ellipse_points((cx, cy), rx, ry, 0.0, 0.0, TWO_PI, max(rx, ry))
+            budget.take(len(pts), where)
+            add(matrix, pts, where)
+    elif tag == "line":
+        open_count += 1
+    return open_count
+
+
 def read_svg(path, element=None) -> Drawing:
     """The closed shapes of an SVG file (of the element with id ``element`` if given), and what it records."""
     if element is not None and (not isinstance(element, str) or not element):
         raise InvalidArgument(f"`element` must be the id of an SVG element (a string), got {element!r}")
-    import xml.etree.ElementTree as ET
-
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise InvalidOutline(f"body file {path!r} is not valid SVG (XML error: {exc})") from None
+    root = _parse(path)
     if root.tag.rsplit("}", 1)[-1] != "svg":
         raise InvalidOutline(f"body file {path!r}: the root element is <{root.tag.rsplit('}', 1)[-1]}>, not <svg>")
+    with np.errstate(all="ignore"):  # overflow and nan are checked on every shape (check_coordinates)
+        return _read_root(path, root, element)
+
+
+def _read_root(path, root, element):
     shapes, open_count, recorded, found, ids = [], 0, {}, [], []
-    unit, page = svg_unit(root)
+    budget = PointBudget(path)
+    try:
+        unit, page = svg_unit(root)
+    except InvalidOutline as exc:
+        raise InvalidOutline(f"body file {path!r}, <svg>: {exc}") from None
     if unit is not None:
         recorded["unit"] = unit
     if page is not None and element is None:
         recorded["page"] = page
-    kappa = root.get(KAPPA_ATTRIBUTE)
-    if kappa is not None and _numbers(kappa):
-        recorded["kappa"] = _numbers(kappa)[0]
+    kappa = _recorded_number(root, KAPPA_ATTRIBUTE, path, positive=True)
+    if kappa is not None:
+        recorded["kappa"] = kappa
         recorded["units"] = root.get(UNITS_ATTRIBUTE, "")
     flip = np.diag([1.0, -1.0, 1.0])  # SVG y points down; the body frame's y points up
 
-    def apply(matrix, pts):
+    def apply(matrix, pts, where="<svg>", check_size=False):
+        _check_invertible(matrix, where)
         pts = np.asarray(pts, float).reshape(-1, 2)
         full = flip @ matrix
-        return pts @ full[:2, :2].T + full[:2, 2]
+        pts = check_coordinates(pts @ full[:2, :2].T + full[:2, 2], "after its transforms")
+        if check_size and len(pts):
+            size = float(np.ptp(pts, axis=0).max())
+            if 0 < size < MIN_SIZE:
+                raise InvalidOutline(f"{where} measures {size:.3g} drawing units, less than {MIN_SIZE:g}")
+        return pts
 
-    if _numbers(root.get(COM_ATTRIBUTE)):
-        recorded["com"] = apply(svg_transform(root.get("transform")), _numbers(root.get(COM_ATTRIBUTE))[:2])[0]
+    def add(matrix, pts, where):
+        budget.shape(where)
+        shapes.append(apply(matrix, pts, where, check_size=True))
 
-    def visit(elem, matrix, inside):
+    try:
+        if root.get(COM_ATTRIBUTE) is not None:
+            com = _numbers(root.get(COM_ATTRIBUTE))
+            if len(com) != 2:
+                raise InvalidOutline(f"{COM_ATTRIBUTE}={root.get(COM_ATTRIBUTE)!r} must be two numbers x,y")
+            recorded["com"] = apply(svg_transform(root.get("transform")), com)[0]
+    except InvalidOutline as exc:
+        raise InvalidOutline(f"body file {path!r}, <svg>: {exc}") from None
+
+    def visit(elem, matrix, inside, depth):
         nonlocal open_count
-        tag = elem.tag.rsplit("}", 1)[-1]
-        if tag in SKIPPED_ELEMENTS:
+        tag = elem.tag.rsplit("}", 1)[-1] if isinstance(elem.tag, str) else ""
+        if tag in SKIPPED_ELEMENTS or not tag:  # comments and processing instructions have no str tag
             return
-        matrix = matrix @ svg_transform(elem.get("transform"))
-        classes = (elem.get("class") or "").split()
-        if ANNOTATION_CLASS in classes:
-            if elem.get("id") == CENTRE_OF_MASS_ID and tag == "circle":
-                recorded["com"] = apply(matrix, [_length(elem.get("cx")), _length(elem.get("cy"))])[0]
-            return
-        if elem.get("id"):
-            ids.append(elem.get("id"))
-        if element is not None and elem.get("id") == element:
-            inside = True
-            found.append(tag)
-        if not inside:
-            for child in elem:
-                visit(child, matrix, inside)
-            return
-        size = 1.0
-        if tag == "path":
-            for pts, closed in svg_path(elem.get("d")):
-                if closed:
-                    shapes.append(apply(matrix, pts))
-                else:
-                    open_count += 1
-        elif tag in ("polygon", "polyline"):
-            v = _numbers(elem.get("points"))
-            pts = np.array(v[: len(v) // 2 * 2]).reshape(-1, 2)
-            closed = tag == "polygon" or (len(pts) > 2 and np.allclose(pts[0], pts[-1]))
-            if len(pts) >= 3 and closed:
-                shapes.append(apply(matrix, pts))
-            elif len(pts):
-                open_count += 1
-        elif tag == "rect":
-            x, y = _length(elem.get("x")), _length(elem.get("y"))
-            w, h = _length(elem.get("width")), _length(elem.get("height"))
-            if w > 0 and h > 0:  # rounded corners (rx, ry) are ignored: the hull differs by < rx
-                shapes.append(apply(matrix, [[x, y], [x + w, y], [x + w, y + h], [x, y + h]]))
-        elif tag in ("circle", "ellipse"):
-            cx, cy = _length(elem.get("cx")), _length(elem.get("cy"))
-            if tag == "circle":
-                rx = ry = _length(elem.get("r"))
-            else:
-                rx, ry = _length(elem.get("rx")), _length(elem.get("ry"))
-            size = max(rx, ry)
-            if rx > 0 and ry > 0:
-                shapes.append(apply(matrix, ellipse_points((cx, cy), rx, ry, 0.0, 0.0, TWO_PI, size)))
-        elif tag == "line":
-            open_count += 1
+        if depth > MAX_NESTING:
+            raise InvalidOutline(f"body file {path!r}: elements are nested more than {MAX_NESTING} deep; coinwall "
+                                 "reads drawings nested at most that deep (ungroup the drawing)")
+        where = _describe(elem, tag)
+        try:
+            matrix = matrix @ svg_transform(elem.get("transform"))
+            classes = (elem.get("class") or "").split()
+            if ANNOTATION_CLASS in classes:
+                if elem.get("id") == CENTRE_OF_MASS_ID and tag == "circle":
+                    recorded["com"] = apply(matrix, [_length(elem.get("cx")), _length(elem.get("cy"))], where)[0]
+                return
+            if elem.get("id"):
+                ids.append(elem.get("id"))
+            if element is not None and elem.get("id") == element:
+                inside = True
+                found.append(tag)
+            if inside:
+                open_count += _shapes_of(elem, tag, matrix, add, budget, where)
+        except InvalidOutline as exc:
+            if str(exc).startswith("body file"):
+                raise
+            raise InvalidOutline(f"body file {path!r}, {where}: {exc}") from None
+        except (ZeroDivisionError, OverflowError, ValueError) as exc:  # math on extreme numbers in Python floats
+            raise InvalidOutline(f"body file {path!r}, {where}: cannot be read ({type(exc).__name__}: {exc})") from None
         for child in elem:
-            visit(child, matrix, inside)
+            visit(child, matrix, inside, depth + 1)
 
-    visit(root, np.eye(3), element is None)
+    visit(root, np.eye(3), element is None, 0)
     if element is not None and not found:
         shown = ", ".join(repr(i) for i in ids[:12]) + (", ..." if len(ids) > 12 else "")
         raise InvalidOutline(f"body file {path!r}: no element with id {element!r} (ids in the file: "

@@ -9,18 +9,29 @@
 
 from __future__ import annotations
 
-import json
+import os
 
 from ..errors import InvalidArgument, InvalidWall
 
-__all__ = ["WALL_FORMATS", "FOURIER_KEYS", "SAMPLE_KEYS", "load_wall", "load_wall_file", "read_samples_csv",
-           "rounding_of"]
+__all__ = [
+    "FOURIER_KEYS",
+    "SAMPLE_KEYS",
+    "WALL_FORMATS",
+    "load_wall",
+    "load_wall_file",
+    "read_samples_csv",
+    "rounding_of",
+]
 
 WALL_FORMATS = (".csv", ".json")
 DRAWING_FORMATS = (".svg", ".dxf")
 #: keys of a sample wall file (JSON): the angles (radians) and the wall values
 SAMPLE_KEYS = ("theta", "b")
+#: largest wall file read (64 MiB holds ~3·10⁶ rows, more than MAX_SAMPLES)
 MAX_WALL_FILE_BYTES = 64 * 2**20
+#: samples in a wall file at most: ``critical`` on 10⁶ uniform samples takes 9.5 s and 0.34 GB (measured on
+#: 2 shared cores); 10⁷ rows (issue 12) ran for over 300 s
+MAX_SAMPLES = 1_000_000
 #: keys of a Fourier wall file: constant term and the cosine and sine coefficients of orders 1, 2, …
 FOURIER_KEYS = ("a0", "cos", "sin")
 
@@ -59,32 +70,19 @@ def load_wall(text: str, params=None, *, degrees: bool = False):
         if params:
             raise InvalidWall(f"`params` apply to wall expressions, not to the wall file {text!r}")
         return load_wall_file(text.strip(), degrees=degrees)
+    if os.sep in text and os.path.exists(text.strip()):
+        # a path (``/dev/zero``, ``data/wall.txt``) read as an expression would only give a syntax error
+        raise InvalidWall(f"{text!r} is a file, but not a wall file: coinwall reads walls from "
+                          f"{' and '.join(WALL_FORMATS)} files (or give an expression in t)")
     if degrees:
         raise InvalidArgument("`degrees` applies to sample files, not to expressions (write the angle in radians)")
     return Wall.from_expression(text, params)
 
 
 def _read_text(path: str) -> str:
-    import os
-    import stat
+    from .inputfile import read_text
 
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise InvalidWall(f"wall file {path!r} does not exist") from None
-    except OSError as exc:
-        raise InvalidWall(f"wall file {path!r} is not readable: {exc.strerror}") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise InvalidWall(f"wall file {path!r} is not a regular file")
-    if info.st_size > MAX_WALL_FILE_BYTES:
-        raise InvalidWall(f"wall file {path!r} has {info.st_size} bytes; at most {MAX_WALL_FILE_BYTES} are read")
-    try:
-        with open(path, encoding="utf-8-sig") as fh:
-            return fh.read()
-    except UnicodeDecodeError:
-        raise InvalidWall(f"wall file {path!r} is not UTF-8 text") from None
-    except OSError as exc:
-        raise InvalidWall(f"wall file {path!r} is not readable: {exc.strerror}") from None
+    return read_text(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
 
 
 def _column_kind(name: str):
@@ -149,6 +147,9 @@ def read_samples_csv(path: str, *, degrees: bool = False):
                               "theta_deg for degrees) and one wall column (b, h, wall)")
         angle_col, value_col, width = angles[0], values[0], len(header)
         in_degrees = degrees or bool(kinds[angle_col][1])
+    if len(rows) > MAX_SAMPLES:
+        raise InvalidWall(f"wall file {path!r} has {len(rows)} rows; at most {MAX_SAMPLES} samples are read "
+                          "(the solvers take minutes beyond): thin the data")
     theta, b = [], []
     for number_, line in rows:
         parts = cells(line)
@@ -182,11 +183,9 @@ def load_wall_file(path: str, *, degrees: bool = False):
         theta, b = read_samples_csv(path, degrees=degrees)
         # numbers written as text carry their rounding in their digits
         return Wall.from_samples(theta, b, rounding=rounding_of(b))
-    text = _read_text(path)
-    try:
-        doc = json.loads(text)
-    except (ValueError, RecursionError) as exc:
-        raise InvalidWall(f"wall file {path!r} is not valid JSON: {str(exc).splitlines()[0][:120]}") from None
+    from .inputfile import read_json
+
+    doc = read_json(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
     if not isinstance(doc, dict):
         raise InvalidWall(f"wall file {path!r}: expected an object with {', '.join(FOURIER_KEYS)} "
                           f"or with {', '.join(SAMPLE_KEYS)}")
@@ -196,6 +195,8 @@ def load_wall_file(path: str, *, degrees: bool = False):
             if unknown:
                 raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected {', '.join(SAMPLE_KEYS)}")
             theta, b = (_numbers(doc.get(k), path, k) for k in SAMPLE_KEYS)
+            if not isinstance(doc.get("degrees", False), bool):
+                raise InvalidWall(f"wall file {path!r}: `degrees` must be true or false, got {doc['degrees']!r}")
             if doc.get("degrees", False) is True or degrees:
                 import numpy as np
 
@@ -215,14 +216,32 @@ def load_wall_file(path: str, *, degrees: bool = False):
 
 
 def _numbers(value, path, key):
-    """A number or a flat list of numbers (no strings, booleans or nested lists)."""
+    """A finite number or a flat list of finite numbers (no strings, booleans, nested lists, NaN or Infinity),
+    as floats; the message names the key and the index."""
+    import math
     import numbers
+    import reprlib
 
     items = value if isinstance(value, list) else [value]
-    for item in items:
+    if len(items) > MAX_SAMPLES:
+        raise InvalidWall(f"wall file {path!r}: `{key}` holds {len(items)} values; at most {MAX_SAMPLES} are read")
+    out = []
+    for index, item in enumerate(items):
+        where = f"`{key}`[{index}]" if isinstance(value, list) else f"`{key}`"
         if isinstance(item, bool) or not isinstance(item, numbers.Real):
-            raise InvalidWall(f"wall file {path!r}: `{key}` must hold numbers, got {item!r}")
-    return value
+            raise InvalidWall(f"wall file {path!r}: {where} must be a number, got {reprlib.repr(item)}")
+        try:
+            number = float(item)
+        except OverflowError:
+            number = math.inf
+        if not math.isfinite(number):
+            if not isinstance(item, float):
+                raise InvalidWall(f"wall file {path!r}: {where} is an integer of {len(str(item))} digits, too large "
+                                  "for a floating-point number")
+            raise InvalidWall(f"wall file {path!r}: {where} must be a finite number, got {item} (NaN and "
+                              "Infinity are not numbers a wall can take)")
+        out.append(number)
+    return out if isinstance(value, list) else out[0]
 
 
 def rounding_of(values):
@@ -245,7 +264,7 @@ def rounding_of(values):
         return floor
     decimals = np.full(v.size, 0)
     pending = nonzero.copy()
-    for k in range(0, 25):
+    for k in range(25):
         fits = pending & (np.abs(np.round(v, k) - v) <= 2.0 * np.finfo(float).eps * a)
         decimals[fits] = k
         pending &= ~fits

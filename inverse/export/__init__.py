@@ -22,8 +22,16 @@ from coinwall.forward.formats.output import write_all
 from . import csvfile, dxf, jsonfile, pdf, png, svg
 from .options import UNITS, ExportOptions
 
-__all__ = ["EXPORTERS", "exporters", "check_outputs", "write_outputs", "export_body", "ExportOptions",
-           "ExportResult", "UNITS"]
+__all__ = [
+    "EXPORTERS",
+    "UNITS",
+    "ExportOptions",
+    "ExportResult",
+    "check_outputs",
+    "export_body",
+    "exporters",
+    "write_outputs",
+]
 
 #: extension -> exporter module
 EXPORTERS = {module.EXTENSION: module for module in (svg, dxf, jsonfile, csvfile, png, pdf)}
@@ -96,6 +104,21 @@ def check_outputs(paths) -> list:
     return checked
 
 
+def _check_finite_outline(body):
+    """A body read back from a file (or made by hand) is not a checked :class:`~inverse.Body`: refuse a
+    non-finite outline before any byte is produced, so no file of ``nan`` is ever written."""
+    import numpy as np
+
+    from coinwall.forward.errors import InvalidOutline
+
+    outline = getattr(body, "outline", None)
+    for name in ("nodes", "controls"):
+        values = np.asarray(getattr(outline, name, np.zeros(0)), dtype=float)
+        bad = np.flatnonzero(~np.isfinite(values.reshape(len(values), -1)).all(axis=1)) if values.size else []
+        if len(bad):
+            raise InvalidOutline(f"the body's outline is not finite at node {int(bad[0])}; nothing was written")
+
+
 def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False, cut=False) -> list:
     """Write ``body`` to every path (format by extension), all or nothing; returns the paths.
 
@@ -135,7 +158,13 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
     """
     options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension, cut=cut)
     checked = check_outputs(paths)
+    _check_finite_outline(body)
+    if options.tolerance is not None:  # refused for every format, also those that do not approximate (CSV)
+        from .flatten import largest_diameter
+
+        options.tolerance_for(largest_diameter(body.outline)[0] * options.scale)
     reports, files = {}, {}
+    path = None
     try:
         for path, module in checked:
             stream = io.BytesIO()
@@ -148,6 +177,6 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
                                   f"{limit:.3g} {options.unit_name}; give a larger tolerance")
             files[path] = stream.getvalue()
     except OSError as exc:
-        raise OutputError(f"cannot write output: {exc}") from None
+        raise OutputError(f"cannot write output {path!r}: {exc.strerror or exc}") from None
     write_all(files)  # only once every format was produced: all or nothing
     return ExportResult([p for p, _ in checked], reports, options)

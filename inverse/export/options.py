@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 from coinwall.forward.errors import InvalidArgument
-from coinwall.forward.validation import check_choice, check_positive
+from coinwall.forward.validation import check_choice, check_positive, check_range
 
 __all__ = ["ExportOptions", "UNITS", "DEFAULT_RELATIVE_TOLERANCE"]
 
@@ -51,7 +51,9 @@ class ExportOptions:
 
     def __post_init__(self):
         if self.kappa is not None:
-            check_positive("kappa", self.kappa)
+            # a part from a micrometre to a kilometre across (in any of the units): beyond that the drawing's
+            # coordinates lose the precision of its tolerance, or the part is not one anyone can cut
+            check_range("kappa", self.kappa, 1e-6, 1e6, why="a real radius of gyration in mm, cm or in")
             if self.units is None:
                 raise InvalidArgument(f"`kappa` {self.kappa:g} needs `units`; choose one of {', '.join(UNITS)}")
         if self.units is not None:
@@ -74,6 +76,10 @@ class ExportOptions:
     def tolerance_for(self, diameter: float) -> float:
         """The tolerance in output units for a body of largest diameter ``diameter`` (in output units)."""
         if self.tolerance is not None:
+            if not self.tolerance < 0.1 * diameter:
+                # an outline within such a tolerance need not resemble the body at all
+                raise InvalidArgument(f"`tolerance` {self.tolerance:g} {self.unit_name} is not below a tenth of the "
+                                      f"body's diameter ({diameter:.4g} {self.unit_name}); give a smaller tolerance")
             return float(self.tolerance)
         return DEFAULT_RELATIVE_TOLERANCE * max(float(diameter), 1e-300)
 

@@ -30,7 +30,7 @@ TWO_PI = 2.0 * math.pi
 PI = math.pi
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def baseline(state, leaving, n, H, b0, c, lip, curv, tol):
     th = state[0] % TWO_PI
     eta = state[1]
@@ -93,7 +93,8 @@ def baseline(state, leaving, n, H, b0, c, lip, curv, tol):
 
 
 def _baseline_module(wall):
-    source, constants = wall_source(wall, "@njit(cache=True)\n")
+    # CACHE: set by load_module (True in the trusted cache folder, False when compiling in memory)
+    source, constants = wall_source(wall, "@njit(cache=CACHE)\n")
     header = "import math\nfrom numba import njit\n\n"
     return load_module(header + source + BASELINE, "coinwall_bench_baseline"), constants
 

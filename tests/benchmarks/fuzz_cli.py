@@ -1,0 +1,124 @@
+"""The larger command-line fuzz run, outside the default test run.
+
+Draws random inputs from the same tables as ``tests/test_fuzz_cli.py`` (bad numbers for every numeric
+flag, bad and odd walls, random expression text, hostile files, valid files broken in one place) and
+checks each against the same contract (``tests/cli_fuzz.py``).  Prints, per category, the inputs tried
+and those handled cleanly, and lists every failure; the counts of the last run are in
+docs/cli.md ("Fuzz tests").
+
+Run::
+
+    python tests/benchmarks/fuzz_cli.py --inputs 3000 --seed 1
+
+Exit status 0 when every input was handled cleanly, 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import os
+import random
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+from cli_fuzz import (  # noqa: E402
+    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, Worker, check_clean,
+    hostile_files, make_folder, mutate, snapshot, valid_files)
+
+_TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
+_JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"\xff\xfe", b"1e400", b'"x"',
+         b"\n\n\n", b"-", b"[[[[", b"</svg>", b"0\nSECTION\n", b"&a;", b"1e-320"]
+
+
+def draw(rng: random.Random, base: str, hostile: tuple):
+    """One random request: (category, argv, certainly_bad, files to write into the working folder)."""
+    kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file"])
+    if kind == "number":
+        command = rng.choice(sorted(NUMERIC_FLAGS.keys() - {"critical"}))
+        flag, value_kind = rng.choice(sorted(NUMERIC_FLAGS[command].items()))
+        argv = [a for a in BASE_COMMANDS[command]]
+        if flag in argv:
+            i = argv.index(flag)
+            del argv[i:i + 2]
+        value = rng.choice(BAD_NUMBERS[value_kind])
+        argv += [f"{flag}={value}"] if rng.random() < 0.5 else [flag, value]
+        return kind, [command] + argv, True, {}
+    if kind in ("wall", "odd-wall", "text-wall"):
+        command = rng.choice(["solve", "critical", "simulate", "section", "correlation"])
+        if kind == "wall":
+            wall = rng.choice(BAD_WALLS)
+        elif kind == "odd-wall":
+            wall = rng.choice(ODD_WALLS)
+        else:
+            wall = "".join(rng.choice(_TOKENS) for _ in range(rng.randint(0, 30)))
+        return kind, [command, wall] + BASE_COMMANDS[command][1:], kind == "wall", {}
+    if kind == "hostile-file":
+        folder, files = hostile
+        command = rng.choice(sorted(FILE_COMMANDS))
+        name = rng.choice(sorted(files))
+        return kind, [command, os.path.join(folder, name)] + BASE_COMMANDS[command][1:], True, {}
+    command = rng.choice(sorted(FILE_COMMANDS) + ["wall-svg", "wall-dxf", "wall-points"])
+    source = {"wall-svg": "body.svg", "wall-dxf": "body.dxf", "wall-points": "points.csv"}.get(
+        command, FILE_COMMANDS.get(command))
+    subcommand = "wall" if command.startswith("wall") else command
+    with open(os.path.join(base, source), "rb") as fh:
+        data = fh.read()
+    for _ in range(rng.randint(1, 3)):
+        data = mutate(data, rng.choice(["truncate", "flip", "insert", "repeat", "replace"]), rng.random(),
+                      rng.choice(_JUNK))
+    name = "broken" + os.path.splitext(source)[1]
+    rest = ["-o", "out.csv"] if subcommand == "wall" else BASE_COMMANDS[subcommand][1:]
+    return kind, [subcommand, name] + rest, False, {name: data}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--inputs", type=int, default=1000)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--timeout", type=float, default=120.0)
+    args = parser.parse_args(argv)
+    rng = random.Random(args.seed)
+    tried, clean = collections.Counter(), collections.Counter()
+    failures = []
+    start = time.perf_counter()
+    worker = Worker(timeout=args.timeout)
+    with tempfile.TemporaryDirectory() as tmp:
+        base = os.path.join(tmp, "base")
+        hostile_dir = os.path.join(tmp, "hostile")
+        os.mkdir(base)
+        os.mkdir(hostile_dir)
+        valid_files(base, worker)
+        hostile = (hostile_dir, hostile_files(hostile_dir))
+        for k in range(args.inputs):
+            kind, request, bad, files = draw(rng, base, hostile)
+            folder = make_folder(base, tmp)
+            for name, data in files.items():
+                with open(os.path.join(folder, name), "wb") as fh:
+                    fh.write(data)
+            before = snapshot(folder)
+            result = worker.run(request, folder)
+            problems = check_clean(request, result, before, snapshot(folder), certainly_bad=bad)
+            tried[kind] += 1
+            if problems:
+                failures += problems
+            else:
+                clean[kind] += 1
+            if (k + 1) % 100 == 0:
+                print(f"{k + 1} inputs, {len(failures)} problems, {time.perf_counter() - start:.0f} s", file=sys.stderr)
+    worker.close()
+    print(f"seed {args.seed}, {sum(tried.values())} inputs in {time.perf_counter() - start:.0f} s")
+    print("| category | tried | handled cleanly |\n|---|---:|---:|")
+    for kind in sorted(tried):
+        print(f"| {kind} | {tried[kind]} | {clean[kind]} |")
+    print(f"| all | {sum(tried.values())} | {sum(clean.values())} |")
+    for problem in failures:
+        print(problem)
+    return 0 if not failures else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

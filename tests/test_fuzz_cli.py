@@ -1,0 +1,143 @@
+"""Fuzz tests of the command line: bad arguments and malformed files for every subcommand.
+
+The contract (``tests/cli_fuzz.py``): exit status 2 for input that is certainly bad, at most two
+stderr lines, no traceback or raw warning, no file created or replaced; for input that may or may not
+be valid (mutated files, odd walls), never a crash, a hang or a traceback.  Examples are derandomized so
+the default run is reproducible and bounded (about a minute); ``tests/benchmarks/fuzz_cli.py`` runs a
+larger, random sample and reports its counts (docs/cli.md ("Fuzz tests")).
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+hypothesis = pytest.importorskip("hypothesis")
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from cli_fuzz import (  # noqa: E402
+    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, VALID_FILES, WALL_COMMANDS,
+    Worker, check_clean, hostile_files, make_folder, mutate, snapshot, valid_files)
+
+FUZZ = settings(max_examples=60, deadline=None, derandomize=True, database=None,
+                suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+
+
+@pytest.fixture(scope="module")
+def worker():
+    w = Worker(timeout=90)
+    yield w
+    w.close()
+
+
+@pytest.fixture(scope="module")
+def base(tmp_path_factory, worker):
+    folder = tmp_path_factory.mktemp("fuzz-base")
+    valid_files(folder, worker)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def hostile(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fuzz-hostile")
+    return folder, hostile_files(folder)
+
+
+def run_checked(worker, base, tmp_path, argv, certainly_bad):
+    folder = make_folder(base, tmp_path)
+    before = snapshot(folder)
+    result = worker.run(argv, folder)
+    problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=certainly_bad)
+    assert not problems, "\n".join(problems)
+    return result
+
+
+def with_flag(argv, flag, value, joined):
+    """``argv`` with ``flag`` set to ``value`` (replacing a value already given), as ``--flag value`` or
+    ``--flag=value``."""
+    argv = list(argv)
+    if flag in argv:
+        i = argv.index(flag)
+        del argv[i:i + 2]
+    return argv + ([f"{flag}={value}"] if joined else [flag, value])
+
+
+@pytest.mark.parametrize("command", sorted(BASE_COMMANDS))
+def test_base_commands_are_valid(worker, base, tmp_path, command):
+    """The fuzzer breaks one piece of a valid command; each base command must itself succeed."""
+    folder = make_folder(base, tmp_path)
+    result = worker.run([command] + BASE_COMMANDS[command], folder)
+    assert result["rc"] == 0, result
+    if "-o" in BASE_COMMANDS[command]:
+        assert os.path.getsize(os.path.join(folder, BASE_COMMANDS[command][-1])) > 0
+
+
+_FLAGS = [(c, f, kind) for c, flags in sorted(NUMERIC_FLAGS.items()) for f, kind in sorted(flags.items())]
+
+
+@FUZZ
+@given(choice=st.sampled_from(_FLAGS), data=st.data(), joined=st.booleans())
+def test_bad_numbers_are_refused(worker, base, tmp_path, choice, data, joined):
+    command, flag, kind = choice
+    value = data.draw(st.sampled_from(BAD_NUMBERS[kind]), label="value")
+    argv = [command] + with_flag(BASE_COMMANDS[command], flag, value, joined)
+    run_checked(worker, base, tmp_path, argv, certainly_bad=True)
+
+
+@FUZZ
+@given(command=st.sampled_from(WALL_COMMANDS), wall=st.sampled_from(BAD_WALLS))
+def test_bad_walls_are_refused(worker, base, tmp_path, command, wall):
+    argv = [command, wall] + BASE_COMMANDS[command][1:]
+    run_checked(worker, base, tmp_path, argv, certainly_bad=True)
+
+
+@pytest.mark.parametrize("command", sorted(FILE_COMMANDS))
+def test_hostile_files_are_refused(worker, base, hostile, tmp_path, command):
+    """Every certainly-bad file (empty, binary, words, NaN, nested 10^5 deep, entity bombs, a FIFO, a folder,
+    a missing file, ...) given to every subcommand that reads files: refused, one line, nothing written."""
+    folder, files = hostile
+    failures = []
+    for name in sorted(files):
+        argv = [command, os.path.join(folder, name)] + BASE_COMMANDS[command][1:]
+        work = make_folder(base, tmp_path)
+        before = snapshot(work)
+        result = worker.run(argv, work)
+        failures += check_clean(argv, result, before, snapshot(work), certainly_bad=True)
+    assert not failures, "\n".join(failures)
+
+
+@FUZZ
+@given(command=st.sampled_from(WALL_COMMANDS), wall=st.one_of(st.sampled_from(ODD_WALLS),
+       st.lists(st.sampled_from(list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp",
+                                                                  "tan", "**"]), max_size=30).map("".join)))
+def test_odd_walls_never_crash(worker, base, tmp_path, command, wall):
+    argv = [command, wall] + BASE_COMMANDS[command][1:]
+    run_checked(worker, base, tmp_path, argv, certainly_bad=False)
+
+
+@FUZZ
+@given(command=st.sampled_from(sorted(FILE_COMMANDS) + ["wall-svg", "wall-dxf", "wall-points"]),
+       how=st.sampled_from(["truncate", "flip", "insert", "repeat", "replace"]),
+       where=st.floats(0, 1), junk=st.sampled_from([b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",",
+                                                     b"inf", b"\xff\xfe", b"1e400", b'"x"', b"\n\n\n", b"-"]))
+def test_mutated_files_never_crash(worker, base, tmp_path, command, how, where, junk):
+    """A valid input broken in one place may still be valid; it must never crash, hang or leave a file."""
+    source = {"wall-svg": "body.svg", "wall-dxf": "body.dxf", "wall-points": "points.csv"}.get(command,
+                                                                                                FILE_COMMANDS.get(command))
+    subcommand = "wall" if command.startswith("wall") else command
+    assert source in VALID_FILES
+    with open(os.path.join(base, source), "rb") as fh:
+        data = mutate(fh.read(), how, where, junk)
+    folder = make_folder(base, tmp_path)
+    name = "broken" + os.path.splitext(source)[1]
+    with open(os.path.join(folder, name), "wb") as fh:
+        fh.write(data)
+    rest = BASE_COMMANDS["wall" if subcommand == "wall" else subcommand]
+    rest = ["-o", "out.csv"] if subcommand == "wall" else rest[1:]
+    argv = [subcommand, name] + rest
+    before = snapshot(folder)
+    result = worker.run(argv, folder)
+    problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=False)
+    assert not problems, "\n".join(problems)

@@ -1,0 +1,549 @@
+"""The command line's argument parsing, its last line of defence and file output (issues 12 and 16).
+
+Bad input: one line on stderr, exit status 2, no traceback, no file written or replaced.  Outputs are
+written all or nothing (a failed rename restores what was replaced), temporaries are removed on SIGTERM
+and swept when stale, and no file is ever written with a NaN or an infinity.
+"""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+from coinwall.cases.cli.main import EX_INTERRUPTED, EX_SOFTWARE, main
+from coinwall.cases.cli.parser import build_parser
+from coinwall.forward.errors import OutputError
+from coinwall.forward.formats import output
+
+
+def _one_error_line(capsys, *needles):
+    """stderr is exactly one ``coinwall: error:`` line containing every needle (case-insensitive)."""
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("coinwall: error:"), err
+    assert "Traceback" not in err
+    for needle in needles:
+        assert needle.lower() in err.lower(), (needle, err)
+    return err
+
+
+def _temporaries(folder):
+    return sorted(name for name in os.listdir(folder) if name.startswith(".coinwall-"))
+
+
+# --------------------------------------------------------------------------- 1. a leading minus sign
+
+def test_negative_offset_in_exponent_notation_is_read(capsys):
+    assert main(["solve", "1+0.1*cos(2*t)", "--b0", "-1e-3", "--no-cross-check", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["b0"] == -1e-3
+
+
+def test_wall_starting_with_minus(capsys):
+    # b = 2 − cos t: b + b'' = 2 everywhere, so b_c = −2 exactly (closed form)
+    assert main(["critical", "-cos(t)+2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["b_c"] == pytest.approx(-2.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("text,value", [("-1e-3", -1e-3), ("-.5", -0.5), ("-1.", -1.0), ("-2E+2", -200.0),
+                                        ("-inf", -math.inf), ("-Infinity", -math.inf)])
+def test_negative_numbers_in_any_notation_reach_the_checks(text, value):
+    args = build_parser().parse_args(["simulate", "case:coin", "--collisions", "10", "--H", text])
+    assert args.H == value
+    assert build_parser().parse_args(["solve", "1", "--b0", text]).b0 == text  # --b0 is parsed by solve
+    assert math.isnan(build_parser().parse_args(["simulate", "case:coin", "--H", "-nan"]).H)
+
+
+@pytest.mark.parametrize("value", ["-inf", "-nan"])
+def test_non_finite_wall_distance_refused_by_our_check(value, capsys):
+    assert main(["simulate", "case:coin", "--collisions", "10", "--H", value]) == 2
+    _one_error_line(capsys, "--H", "finite")
+
+
+def test_minus_infinite_offset_refused_with_its_reason(capsys):
+    assert main(["solve", "1", "--b0", "-inf"]) == 2
+    _one_error_line(capsys, "--b0", "finite")
+
+
+def test_options_still_work_around_the_minus_sign(capsys):
+    parser = build_parser()
+    args = parser.parse_args(["solve", "-cos(t)+2", "--poin", "100", "-obody.json", "--b0=-1e-3"])
+    assert (args.wall, args.points, args.output, args.b0) == ("-cos(t)+2", 100, ["body.json"], "-1e-3")
+    assert parser.parse_args(["critical", "--", "-a"]).wall == "-a"  # `--` still ends the options
+    for bad, needle in (("--bogus", "unrecognized arguments: --bogus"), ("-x", "unrecognized arguments: -x")):
+        with pytest.raises(SystemExit) as exc:
+            main(["solve", "1", bad])
+        assert exc.value.code == 2
+        _one_error_line(capsys, needle)
+    with pytest.raises(SystemExit) as exc:
+        main(["solve", "--help"])
+    assert exc.value.code == 0 and "usage: coinwall solve" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("text", ["0x10", "1_0", "1e", "--", "\u0661", "-\u0661"])  # ١: an Arabic-Indic one
+def test_number_flags_take_decimal_numbers_only(text, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", "case:coin", "--collisions", "10", "--H", text])
+    assert exc.value.code == 2
+    _one_error_line(capsys, "--H")
+
+
+@pytest.mark.parametrize("args", [["wall", "--polar", "1", "--samples"], ["solve", "1", "--points"]])
+@pytest.mark.parametrize("text", ["1_000", "\u0661\u0660\u0660", "0x100", "1.5", "1e-3", "2.55e1", "inf", "1e400"])
+def test_count_flags_take_ascii_digits_only(args, text, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main([*args, text])
+    assert exc.value.code == 2
+    _one_error_line(capsys, args[-1], "invalid count value")
+
+
+@pytest.mark.parametrize("text,value", [("1e2", 100), ("2.5e2", 250), ("+90", 90), ("1E3", 1000)])
+def test_count_flags_take_whole_numbers_in_exponent_notation(text, value, capsys):
+    """The docs and the issues write large counts as 1e8; a whole number in that notation is that count."""
+    from coinwall.cases.cli.common import count
+
+    assert count(text) == value
+    assert main(["wall", "--polar", "1", "--samples", text, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["samples"] == value
+
+
+def test_a_double_dash_attached_as_a_value(capsys):
+    """`--H=--`: Python 3.11's argparse gave the option an empty list (found by tests/test_fuzz_cli.py)."""
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", "case:coin", "--collisions", "10", "--H=--"])
+    assert exc.value.code == 2
+    _one_error_line(capsys, "--H", "'--'")
+    assert main(["solve", "1", "--b0=--"]) == 2  # a text option: our own check refuses it
+    _one_error_line(capsys, "--b0", "'--'")
+
+
+# --------------------------------------------------------------------------- 2. --param
+
+def test_repeated_param_is_refused(capsys):
+    assert main(["critical", "1+a*cos(2*t)", "--param", "a=0.1", "--param", "a=0.2"]) == 2
+    _one_error_line(capsys, "--param a given twice")
+    assert main(["wall", "--polar", "1+a*cos(2*t)", "--param", "a=0.1", "--param", "a=0.1"]) == 2
+    _one_error_line(capsys, "given twice")
+
+
+@pytest.mark.parametrize("value", ["0x1", "1_0", "0o7", "1j", "\u0661"])
+def test_param_takes_decimal_numbers_only(value, capsys):
+    assert main(["critical", "1+a*cos(2*t)", "--param", f"a={value}"]) == 2
+    _one_error_line(capsys, "parameter 'a'")
+
+
+# --------------------------------------------------------------------------- 3. outputs all or nothing
+
+def test_folder_among_outputs_replaces_nothing(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "good.csv").write_text("old")
+    (tmp_path / "isdir.json").mkdir()
+    assert main(["wall", "--polar", "1", "-o", "good.csv", "-o", "isdir.json"]) == 2
+    _one_error_line(capsys, "'isdir.json'", "folder")
+    assert (tmp_path / "good.csv").read_text() == "old" and _temporaries(tmp_path) == []
+
+
+def test_one_file_under_two_names_is_refused(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["wall", "--polar", "1", "-o", "w.csv", "-o", "./w.csv"]) == 2
+    _one_error_line(capsys, "same file")
+    assert os.listdir(tmp_path) == []
+
+
+def test_missing_parent_under_a_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "file").write_text("")
+    assert main(["wall", "--polar", "1", "-o", "a/b.csv", "-o", "file/sub/w.csv"]) == 2
+    _one_error_line(capsys, "file/sub/w.csv", "not a folder")
+    assert sorted(os.listdir(tmp_path)) == ["file"]  # the folder a/ was not created either
+
+
+def test_unwritable_existing_file(tmp_path, capsys, monkeypatch):
+    """As root every file is writable; os.access is what check_paths asks, so it stands in for the mode."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "locked.csv").write_text("old")
+    (tmp_path / "locked.csv").chmod(0o444)
+    real_access = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode, **kw: False if str(p).endswith("locked.csv")
+                        else real_access(p, mode, **kw))
+    assert main(["wall", "--polar", "1", "-o", "new.csv", "-o", "locked.csv"]) == 2
+    _one_error_line(capsys, "'locked.csv'", "not writable")
+    assert sorted(os.listdir(tmp_path)) == ["locked.csv"] and (tmp_path / "locked.csv").read_text() == "old"
+
+
+def _read(path):
+    with open(path) as fh:
+        return fh.read()
+
+
+def _fail_once(monkeypatch, target):
+    """os.replace fails (EIO) the first time a temporary is renamed onto ``target``."""
+    real_replace = os.replace
+    state = {"failed": False}
+
+    def replace(src, dst, *args, **kwargs):
+        if os.path.abspath(dst) == os.path.abspath(target) and not state["failed"] and ".coinwall-" in str(src):
+            state["failed"] = True
+            raise OSError(5, "Input/output error")
+        return real_replace(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(os, "replace", replace)
+    return state
+
+
+def test_failed_rename_restores_the_files_already_replaced(tmp_path, monkeypatch):
+    a, b, c = (str(tmp_path / name) for name in ("a.csv", "b.csv", "c.csv"))
+    for path in (a, b):
+        with open(path, "w") as fh:
+            fh.write("old " + path)
+    state = _fail_once(monkeypatch, b)
+    with pytest.raises(OutputError, match=r"cannot write output '.*b\.csv': Input/output error; nothing was changed"):
+        output.write_all({c: b"new c", a: b"new a", b: b"new b"})
+    assert state["failed"]
+    assert _read(a) == "old " + a and _read(b) == "old " + b
+    assert not os.path.exists(c)  # written before the failure, removed: it did not exist
+    assert _temporaries(tmp_path) == []  # neither temporaries nor backups are left
+
+
+def test_failed_rename_through_the_command_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "w.csv").write_text("old")
+    _fail_once(monkeypatch, "w.svg")
+    assert main(["wall", "--polar", "1", "-o", "w.csv", "-o", "w.svg"]) == 2
+    _one_error_line(capsys, "'w.svg'")
+    assert sorted(os.listdir(tmp_path)) == ["w.csv"] and (tmp_path / "w.csv").read_text() == "old"
+
+
+def test_write_all_refuses_a_folder_and_names_every_path(tmp_path):
+    """Even without check_paths (a folder created after it ran), nothing is replaced."""
+    (tmp_path / "a.csv").write_text("old")
+    (tmp_path / "d.json").mkdir()
+    with pytest.raises(OutputError, match=r"'.*d\.json' is a folder"):
+        output.write_all({str(tmp_path / "a.csv"): b"new", str(tmp_path / "d.json"): b"{}"})
+    assert (tmp_path / "a.csv").read_text() == "old" and _temporaries(tmp_path) == []
+    with pytest.raises(OutputError, match=r"cannot write output '.*nowhere/x\.csv'"):
+        output.write_all({str(tmp_path / "nowhere" / "x.csv"): b"1"})
+
+
+def test_transaction_commits_once(tmp_path):
+    a, b = str(tmp_path / "a.csv"), str(tmp_path / "b.csv")
+    with pytest.raises(RuntimeError), output.transaction():
+        output.write_all({a: b"1"})
+        raise RuntimeError("the second stage failed")
+    assert os.listdir(tmp_path) == []
+    with output.transaction() as batch:
+        written = output.write_all({a: b"1"})
+        output.write_all({b: b"2"})
+        assert os.listdir(tmp_path) == [] and set(batch) == {a, b}
+    assert written == [a] and _read(a) == "1" and _read(b) == "2"
+
+
+def test_fit_writes_wall_and_body_together(tmp_path, capsys, monkeypatch):
+    """coinwall fit writes the fitted wall, then the body: a failing body format leaves no wall file."""
+    from coinwall.inverse.export import svg
+
+    theta = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+    np.savetxt(tmp_path / "scan.csv", np.column_stack([theta, 1 + 0.1 * np.cos(2 * theta)]), delimiter=",",
+               header="theta,b", comments="")
+
+    def broken(body, stream, options=None):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(svg, "write", broken)
+    monkeypatch.chdir(tmp_path)
+    assert main(["fit", "scan.csv", "-o", "fitted-wall.csv", "-o", "body.svg"]) == 2
+    _one_error_line(capsys, "No space left")
+    assert sorted(os.listdir(tmp_path)) == ["scan.csv"]
+
+
+# --------------------------------------------------------------------------- 4. temporaries
+
+_SLOW_WRITER = textwrap.dedent("""
+    import os, sys, time
+    from coinwall.forward.formats import output
+
+    real_fdopen = os.fdopen
+
+    class Slow:  # the write of the temporary: announce it, then take long enough to be killed
+        def __init__(self, fh):
+            self.fh = fh
+        def __enter__(self):
+            return self
+        def __exit__(self, *exc):
+            self.fh.close()
+        def write(self, data):
+            self.fh.write(data[:10])
+            print("writing", flush=True)
+            time.sleep(60)
+
+    os.fdopen = lambda *a, **k: Slow(real_fdopen(*a, **k))
+    output.write_all({sys.argv[1]: b"x" * 1000})
+""")
+
+
+def test_sigterm_during_a_write_leaves_nothing(tmp_path):
+    target = tmp_path / "out.csv"
+    proc = subprocess.Popen([sys.executable, "-c", _SLOW_WRITER, str(target)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "writing"
+        assert len(_temporaries(tmp_path)) == 1  # the temporary exists while the write runs
+        proc.send_signal(signal.SIGTERM)
+        status = proc.wait(timeout=30)
+    finally:
+        proc.kill()
+    assert status == -signal.SIGTERM  # died of the signal, as an uncaught SIGTERM does (143 in a shell)
+    assert os.listdir(tmp_path) == []
+
+
+def test_write_all_restores_the_signal_handler(tmp_path):
+    before = signal.getsignal(signal.SIGTERM)
+    output.write_all({str(tmp_path / "a.csv"): b"1"})
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
+def test_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch):
+    """A SIGTERM that arrives while the renames run is handled after them: every file is written."""
+    calls = []
+    real_commit = output._commit
+
+    def commit(pairs):
+        os.kill(os.getpid(), signal.SIGTERM)  # Python runs the handler at the next bytecode: inside the commit
+        time.sleep(0.01)
+        return real_commit(pairs)
+
+    previous = signal.signal(signal.SIGTERM, lambda number, frame: calls.append(number))
+    try:
+        monkeypatch.setattr(output, "_commit", commit)
+        a, b = str(tmp_path / "a.csv"), str(tmp_path / "b.csv")
+        assert output.write_all({a: b"1", b: b"2"}) == [a, b]
+        assert calls == [signal.SIGTERM] and _read(a) == "1" and _read(b) == "2"
+        assert _temporaries(tmp_path) == []
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def test_signal_while_writing_with_a_program_handler(tmp_path, monkeypatch):
+    """A program that handles SIGTERM itself and goes on: its handler runs, the write is abandoned cleanly."""
+    calls = []
+    real_fdopen = os.fdopen
+
+    def fdopen(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(0.01)
+        return real_fdopen(*args, **kwargs)
+
+    previous = signal.signal(signal.SIGTERM, lambda number, frame: calls.append(number))
+    try:
+        monkeypatch.setattr(os, "fdopen", fdopen)
+        with pytest.raises(OutputError, match="interrupted"):
+            output.write_all({str(tmp_path / "a.csv"): b"1"})
+        assert calls == [signal.SIGTERM] and os.listdir(tmp_path) == []
+        assert signal.getsignal(signal.SIGTERM) is not None and signal.getsignal(signal.SIGTERM).__name__ == "<lambda>"
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _dead_pid():
+    proc = subprocess.Popen([sys.executable, "-c", "pass"])
+    proc.wait()
+    return proc.pid
+
+
+def test_stale_temporaries_of_our_naming_are_swept(tmp_path):
+    host = output._host_tag()
+    other_host = "0" * 8 if host != "0" * 8 else "1" * 8
+    dead, alive = _dead_pid(), os.getppid()
+    planted = {
+        f".coinwall-{host}-{dead}-deadbeef.csv": False,    # its process is gone: swept
+        f".coinwall-{host}-{alive}-deadbeef.csv": True,    # its process runs: kept
+        f".coinwall-{other_host}-{dead}-deadbeef.csv": True,  # another host's pid: kept until old
+        ".coinwall-abcd_123.svg": True,                    # the older mkstemp naming, recent: kept
+        ".coinwall-notes.txt": True,                       # not our naming: never touched
+        "data.csv": True,
+    }
+    for name in planted:
+        (tmp_path / name).write_text("x")
+    os.symlink(tmp_path / "data.csv", tmp_path / f".coinwall-{host}-{dead}-feedbeef.csv")  # a link: never touched
+    planted[f".coinwall-{host}-{dead}-feedbeef.csv"] = True
+    output.write_all({str(tmp_path / "out.csv"): b"1"})
+    assert sorted(os.listdir(tmp_path)) == sorted([n for n, kept in planted.items() if kept] + ["out.csv"])
+    # a day later the other host's temporary and the old-style one are stale too
+    old = time.time() - output.STALE_SECONDS - 60
+    for name in (f".coinwall-{other_host}-{dead}-deadbeef.csv", ".coinwall-abcd_123.svg"):
+        os.utime(tmp_path / name, (old, old))
+    removed = output.sweep_stale(str(tmp_path))
+    assert sorted(os.path.basename(p) for p in removed) == sorted(
+        [f".coinwall-{other_host}-{dead}-deadbeef.csv", ".coinwall-abcd_123.svg"])
+
+
+def test_temporary_names_say_whose_they_are(tmp_path):
+    name = os.path.basename(output.temporary_name(str(tmp_path / "body.json")))
+    assert output._OURS.fullmatch(name) and f"-{os.getpid()}-" in name and name.endswith(".json")
+
+
+# --------------------------------------------------------------------------- 5. the last line of defence
+
+def _raise_in_critical(monkeypatch, exc):
+    from coinwall.cases.cli import critical
+
+    def run(args):
+        raise exc
+
+    monkeypatch.setattr(critical, "run", run)
+
+
+@pytest.mark.parametrize("exc,status,needle", [
+    (MemoryError("Unable to allocate 7.45 GiB for an array with shape (1000000000,)"), 2, "not enough memory"),
+    (RecursionError("maximum recursion depth exceeded"), 2, "nested too deeply"),
+    (OSError(13, "Permission denied", "walls.csv"), 2, "'walls.csv': Permission denied"),
+])
+def test_resource_errors_are_one_line(exc, status, needle, monkeypatch, capsys):
+    _raise_in_critical(monkeypatch, exc)
+    assert main(["critical", "1"]) == status
+    _one_error_line(capsys, needle)
+
+
+def test_ctrl_c_is_130_without_traceback(monkeypatch, capsys):
+    _raise_in_critical(monkeypatch, KeyboardInterrupt())
+    assert main(["critical", "1"]) == EX_INTERRUPTED == 130
+    assert capsys.readouterr().err == "coinwall: interrupted\n"
+
+
+def test_a_bug_is_one_line_asking_for_a_report(monkeypatch, capsys):
+    _raise_in_critical(monkeypatch, ZeroDivisionError("float division by zero"))
+    assert main(["critical", "1"]) == EX_SOFTWARE == 70
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "ZeroDivisionError: float division by zero" in err
+    assert "bug in coinwall" in err and "COINWALL_DEBUG=1" in err and "Traceback" not in err
+    monkeypatch.setenv("COINWALL_DEBUG", "1")
+    with pytest.raises(ZeroDivisionError):
+        main(["critical", "1"])
+
+
+def test_stray_numpy_warnings_become_one_note(monkeypatch, capsys):
+    from coinwall.cases.cli import critical
+
+    real_run = critical.run
+
+    def run(args):
+        with np.errstate(all="warn"):
+            np.float64(1.0) / np.zeros(3)  # RuntimeWarning: divide by zero, three times
+            np.log(np.float64(-1.0))  # RuntimeWarning: invalid value
+        return real_run(args)
+
+    monkeypatch.setattr(critical, "run", run)
+    assert main(["critical", "1"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("coinwall: note:") and "divide by zero" in err[0]
+    # with an error, the note is the second and last line
+    monkeypatch.setattr(critical, "run", lambda args: (np.log(np.zeros(1)), real_run(args)))
+    assert main(["critical", "1", "--param", "a=1"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and err[0].startswith("coinwall: error:") and err[1].startswith("coinwall: note:")
+
+
+def test_no_traceback_through_the_installed_command(tmp_path):
+    """The console script, in a fresh process: a bad option and a bad number, each one line, status 2."""
+    for args in (["solve", "1", "--b0", "-1e400x"], ["critical", "1", "--param", "a=1", "--param", "a=2"]):
+        done = subprocess.run([sys.executable, "-m", "coinwall", *args], capture_output=True, text=True, timeout=120,
+                              cwd=tmp_path, check=False)
+        assert done.returncode == 2 and done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
+    assert os.listdir(tmp_path) == []
+
+
+# --------------------------------------------------------------------------- 6. numeric ranges
+
+@pytest.mark.parametrize("args,needles", [
+    (["wall", "--polar", "1", "--samples", "1000000000"], ["--samples", "10000000"]),
+    (["wall", "--polar", "1", "--H", "1e300"], ["--H", "1e+15"]),
+    (["wall", "--polar", "1", "--H", "-1"], ["--H", "positive"]),
+    (["solve", "1", "--points", "1000000000"], ["--points"]),
+    # the range of b0 is the library's to check (solve_body, fit_convex); 1e308 was an OverflowError traceback
+    (["solve", "1", "--b0", "1e308"], ["--b0", "between"]),
+    (["fit", "SCAN", "--b0", "1e308"], ["--b0"]),
+    # the reader refuses 1e-300 (bodies from 1e-100 to 1e100 across); `wall` itself 1e-6 to 1e6 radii of gyration
+    (["wall", "BODY", "--kappa", "1e-300", "-o", "w.csv"], ["--kappa", "radii of gyration"]),
+    (["wall", "BODY", "--kappa", "1e-9", "-o", "w.csv"], ["--kappa 1e-09", "between 1e-06 and 1e+06"]),
+    (["solve", "1", "--tolerance", "-1", "-o", "x.dxf"], ["--tolerance"]),
+    (["export", "BODY", "--kappa", "0", "--units", "mm", "-o", "x.svg"], ["--kappa"]),
+])
+def test_numeric_arguments_out_of_range(args, needles, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    theta = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+    if "SCAN" in args:
+        np.savetxt("scan.csv", np.column_stack([theta, 1 + 0.1 * np.cos(2 * theta)]), delimiter=",",
+                   header="theta,b", comments="")
+        args = [a.replace("SCAN", "scan.csv") for a in args]
+    if "BODY" in args:
+        assert main(["solve", "1", "-o", "body.json", "--no-cross-check"]) == 0
+        capsys.readouterr()
+        args = [a.replace("BODY", "body.json") for a in args]
+    before = sorted(os.listdir(tmp_path))
+    assert main(args) == 2
+    _one_error_line(capsys, *needles)
+    assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_samples_beyond_memory_refused_with_the_estimate(monkeypatch, capsys):
+    from coinwall.forward import validation
+
+    monkeypatch.setattr(validation, "available_memory", lambda: 10_000_000)  # 10 MB: 5 MB for one request
+    assert main(["wall", "--polar", "1", "--samples", "100000"]) == 2
+    _one_error_line(capsys, "--samples = 100000", "memory")
+
+
+# --------------------------------------------------------------------------- 7. no non-finite number in a file
+
+def test_refuse_non_finite():
+    output.refuse_non_finite("x", a=[1.0, 2.0], b=np.zeros((2, 2)))
+    with pytest.raises(OutputError, match=r"refusing to write the body: nodes has 2 non-finite value\(s\) "
+                                          r"\(first at index 1, 0\)"):
+        output.refuse_non_finite("the body", nodes=np.array([[0.0, 1.0], [np.nan, np.inf]]))
+
+
+def test_wall_with_nan_values_writes_nothing(tmp_path, capsys, monkeypatch):
+    from coinwall.forward import support
+
+    def nan_walls(outline, theta, H=None):
+        lower = np.ones_like(theta)
+        lower[5] = np.nan
+        return lower, None
+
+    monkeypatch.setattr(support, "wall_functions", nan_walls)
+    monkeypatch.chdir(tmp_path)
+    assert main(["wall", "--polar", "1", "-o", "w.csv", "-o", "w.json"]) == 2
+    _one_error_line(capsys, "non-finite", "index 5")
+    assert os.listdir(tmp_path) == []
+
+
+def test_solved_body_with_nan_writes_nothing(tmp_path, capsys, monkeypatch):
+    from coinwall import inverse
+
+    real_solve = inverse.solve_body
+
+    class NanBody:  # what a solver gone wrong could return: one node is NaN
+        def __init__(self, body):
+            self._body = body
+            self.outline = type("O", (), {"nodes": body.outline.nodes.copy(), "controls": body.outline.controls})()
+            self.outline.nodes[3, 0] = np.nan
+            self.x, self.y, self.b0, self.b_c = body.x, body.y, body.b0, body.b_c
+
+    monkeypatch.setattr(inverse, "solve_body", lambda *a, **k: NanBody(real_solve(*a, **k)))
+    monkeypatch.chdir(tmp_path)
+    assert main(["solve", "1", "-o", "b.json", "-o", "b.dxf", "-o", "b.csv", "--no-cross-check"]) == 2
+    _one_error_line(capsys, "non-finite")
+    assert os.listdir(tmp_path) == []
+
+
+def test_wall_nan_on_a_tiny_interval_writes_nothing(tmp_path, capsys, monkeypatch):
+    """Issue 16's wall: NaN on a 9e-5 rad interval; refused (by the wall's own check), no file."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["solve", "1+0.1*sqrt(1-1e-9-cos(t-1.2358771881065316))", "--points", "2000",
+                 "-o", "x.json", "-o", "x.csv", "--no-cross-check"]) == 2
+    _one_error_line(capsys, "finite")
+    assert os.listdir(tmp_path) == []
