@@ -46,6 +46,9 @@ _API = {
     "simulate_rigid_body": "coinwall.forward.dynamics", "poincare_section": "coinwall.forward.dynamics",
     "lyapunov": "coinwall.forward.dynamics", "chaotic_fraction": "coinwall.forward.dynamics",
     "correlation": "coinwall.forward.dynamics", "kam_boundary": "coinwall.forward.dynamics",
+    # the quantum body
+    "quantum_spectrum": "coinwall.forward.quantum", "doublet_splitting": "coinwall.forward.quantum",
+    "make_strip": "coinwall.forward.quantum",
     # the named cases
     "get_case": "coinwall.cases", "all_cases": "coinwall.cases",
 }

@@ -11,7 +11,7 @@ import argparse
 import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
-from . import cases, correlation, critical, export, fit, kam, mass, section, simulate, solve, verify, wall
+from . import cases, correlation, critical, export, fit, kam, mass, quantum, section, simulate, solve, verify, wall
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 
@@ -27,6 +27,7 @@ SUBCOMMANDS = {
     "section": section,
     "correlation": correlation,
     "kam": kam,
+    "quantum": quantum,
     "cases": cases,
     "verify": verify,
 }

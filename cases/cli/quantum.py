@@ -1,0 +1,229 @@
+"""``coinwall quantum``: the spectrum of the quantum coin (the Dirichlet Laplacian on the billiard strip)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+from .common import add_command, check_positive_count, count, number, progress_bar, wall_arguments, written_lines
+
+__all__ = ["METHOD_NAMES", "register"]
+
+#: the keys of coinwall.forward.quantum.METHODS, written out so that ``coinwall --help`` imports no numpy
+#: (tests/test_quantum.py holds them equal)
+METHOD_NAMES = ("fem", "spectral")
+
+DESCRIPTION = """\
+The lowest levels of the quantum body between the walls (issue 13; docs/quantum.md).
+
+With η = y/κ the Hamiltonian is −(ħ²/2Mκ²)(∂²_θ + ∂²_η): the levels are the eigenvalues λ of −Δ on the
+billiard's strip b0 + b(θ) < η < H − b0 − b(θ + π), periodic in θ, zero on both walls (units 1/κ²;
+E = ħ²λ/(2Mκ²)).  Finite elements of degree --order on a mesh that follows the walls exactly, solved
+class by class: each level is labelled by its symmetry class (swap: (θ, η) → (θ + π, H − η), always;
+mirror: θ → −θ and half_turn: θ → θ + π when the wall has them).  Weyl's law N ≈ Aλ/4π − L√λ/4π + C is
+checked.  Where H is below the body's diameter the strip falls apart: each region is solved on its own
+(a finding, reported).  Just above it the levels pair into heads–tails doublets: --splittings (and any
+list of several H) reports the splitting λ₂ − λ₁ of each low pair, directly and by Herring's flux
+formula (which reaches splittings far below rounding), with the WKB action through the neck; --body
+gives a physical body's energies and the tunnelling time ħ/ΔE."""
+
+EXAMPLE = """\
+coinwall quantum "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.55 --H 2.5 --levels 100 -o spectrum.png
+coinwall quantum "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.55 --H 2.1,2.2,2.3 --levels 2 --json"""
+
+
+def register(subparsers):
+    """Add the ``quantum`` subcommand."""
+    parser = add_command(subparsers, "quantum", help="levels of the quantum body: spectrum, classes, tunnelling",
+                         description=DESCRIPTION, example=EXAMPLE)
+    wall_arguments(parser)
+    parser.add_argument("--H", required=True, metavar="H1,H2,...",
+                        help="distance between the walls (units of κ); several, comma-separated, make a doublet scan")
+    parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
+    parser.add_argument("--levels", type=count, required=True, help="number of levels (the lowest)")
+    parser.add_argument("--method", choices=METHOD_NAMES, default="fem",
+                        help="solver: fem (default; Lagrange elements on a mesh that follows the walls) or spectral "
+                             "(Fourier × Legendre modes, smooth walls only, exponentially convergent; no eigenvectors, "
+                             "so no --splittings or |ψ|² figure)")
+    parser.add_argument("--order", type=int, default=2, choices=(2, 3, 4), help="element degree (default 2)")
+    parser.add_argument("--cells", type=count, default=None,
+                        help="fem: rows of cells across the strip (default: from --levels, ~1e-4 relative at the top); "
+                             "spectral: polynomial modes across (default ~1e-8)")
+    parser.add_argument("--body", default=None, metavar="MASS,KAPPA",
+                        help="mass (kg) and radius of gyration κ (m) of a physical body: adds the energies "
+                             "E = ħ²λ/(2Mκ²) (J) and the tunnelling time ħ/ΔE (s) of each pair")
+    parser.add_argument("--splittings", action="store_true",
+                        help="report the splitting of each low pair of levels (always on for several H)")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help="figure (.png, .svg, .pdf: counting function and |ψ|², or Δλ(H) for a scan) or .json")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    parser.set_defaults(run=_cmd_quantum)
+
+
+def _heights(text):
+    from coinwall.forward.errors import InvalidArgument
+
+    try:
+        values = [number(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        values = []
+    if not values or not all(math.isfinite(v) for v in values):
+        raise InvalidArgument(f"--H must be a number or comma-separated numbers, got {text!r}")
+    return values
+
+
+def _body(text):
+    from coinwall.forward.errors import InvalidArgument
+
+    if text is None:
+        return None
+    try:
+        values = [number(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 2 or not all(math.isfinite(v) and v > 0 for v in values):
+        raise InvalidArgument(f"--body must be two positive numbers MASS,KAPPA (kg, m), got {text!r}")
+    return tuple(values)
+
+
+def _solve(args, wall, H, bar):
+    from coinwall.forward.quantum import make_strip, quantum_spectrum, splitting_of
+
+    strip = make_strip(wall, H, args.b0)
+    spectrum = quantum_spectrum(strip, levels=args.levels, method=args.method, cells=args.cells, order=args.order,
+                                progress=(lambda n: bar.update(n)) if bar is not None else None)
+    splittings = None
+    if args.splittings and strip.periodic and spectrum.symmetry_names:
+        splittings = [splitting_of(spectrum, k) for k in range(len(spectrum) // 2)]
+    return spectrum, splittings
+
+
+def _summary(spectrum, splittings, body):
+    from coinwall.forward.quantum.tunnelling import HBAR, tunnelling_time
+
+    strip = spectrum.strip
+    weyl = spectrum.weyl()
+    physical = None
+    if body is not None:
+        mass, kappa = body
+        unit = HBAR**2 / (2.0 * mass * kappa**2)
+        physical = {"mass": mass, "kappa": kappa, "energy_unit": unit,
+                    "energies": [float(v) * unit for v in spectrum.eigenvalues],
+                    "tunnelling_times": None if splittings is None else
+                    [float(tunnelling_time(s.flux, mass, kappa)) if s.flux_trusted else None for s in splittings]}
+    return {
+        "H": strip.H, "b0": strip.table.b0,
+        "eigenvalues": [float(v) for v in spectrum.eigenvalues], "classes": list(spectrum.classes),
+        "symmetries": list(spectrum.symmetry_names),
+        "splittings": None if splittings is None else [s.to_dict() for s in splittings],
+        "weyl": {"area": weyl.area, "wall_length": weyl.wall_length, "constant": weyl.constant,
+                 "residual": [float(r) for r in weyl.residual], "rms_residual": weyl.rms_residual},
+        "strip": strip.to_dict(), "method": spectrum.method, "order": spectrum.order, "cells": spectrum.cells,
+        "dofs": spectrum.dofs, "seconds": spectrum.seconds, "body": physical,
+    }
+
+
+def _figure(results):
+    from coinwall.forward.formats.figure import new_figure
+    from coinwall.forward.quantum.figures import plot_counting, plot_density, plot_splittings
+
+    if len(results) > 1:
+        splittings = [s[0] for _, s in results if s]
+        fig, ax = new_figure(figsize=(6, 4))
+        plot_splittings(splittings, ax=ax)
+        fig.tight_layout()
+        return fig
+    spectrum = results[0][0]
+    if not spectrum.meshes:  # the spectral method has no eigenvectors: the counting function alone
+        fig, ax = new_figure(figsize=(6, 4))
+        plot_counting(spectrum, ax=ax)
+        fig.tight_layout()
+        return fig
+    fig, (left, right) = new_figure(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1, 1.6]})
+    plot_counting(spectrum, ax=left)
+    plot_density(spectrum, 0, ax=right)
+    fig.tight_layout()
+    return fig
+
+
+def _cmd_quantum(args):
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
+    from coinwall.forward.formats.output import check_paths, write_all
+
+    from .common import load_wall
+
+    heights = _heights(args.H)
+    body = _body(args.body)
+    check_positive_count("--levels", args.levels)
+    if args.cells is not None:
+        check_positive_count("--cells", args.cells)
+    check_paths(args.output, FIGURE_FORMATS + (".json",))
+    args.splittings = args.splittings or len(heights) > 1
+    if args.splittings and args.method != "fem":
+        raise InvalidArgument("--splittings (and a scan of several --H) need --method fem: Herring's flux formula "
+                              "uses the eigenvectors")
+    wall = load_wall(args.wall, args.param, degrees=args.degrees)
+    bar = progress_bar(args, None, "class")
+    try:
+        results = [_solve(args, wall, H, bar) for H in heights]
+    finally:
+        if bar is not None:
+            bar.close()
+    summaries = [_summary(*r, body) for r in results]
+    document = summaries[0] if len(summaries) == 1 else {"scan": summaries}
+    document = {"wall": args.wall, "params": dict(wall.params), **document}
+    files = {}
+    for path in args.output:
+        if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:
+            files[path] = figure_bytes(_figure(results), path)
+        else:
+            files[path] = json.dumps(document, allow_nan=False).encode()
+    written = write_all(files)
+    if args.json:
+        print(json.dumps(document, indent=1, allow_nan=False))
+        return 0
+    for (spectrum, splittings), summary in zip(results, summaries):
+        _print(spectrum, splittings, summary["body"], default_mesh=args.cells is None)
+    for line in written_lines(written, written.replaced):
+        print(line)
+    return 0
+
+
+def _print(spectrum, splittings, body, default_mesh=True):
+    strip = spectrum.strip
+    print(f"strip      {strip!r}")
+    if not strip.periodic:
+        parts = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in strip.regions)
+        print(f"finding    H < diameter {strip.diameter:.10g}: the strip falls apart into {len(strip.regions)} "
+              f"regions θ ∈ {parts}, each solved on its own")
+    if spectrum.method == "fem":
+        solver = f"fem P{spectrum.order}, {spectrum.cells} cells across, {spectrum.dofs} dofs"
+    else:
+        solver = f"{spectrum.method}, {spectrum.cells} modes across, {spectrum.dofs} modes"
+    print(f"solver     {solver}, {spectrum.seconds:.3g} s")
+    if spectrum.method == "fem" and default_mesh:
+        # default_cells aims at ~1e-4 relative at the top level: print the digits that carry, and say so
+        print("accuracy   about 1e-4 relative at the highest level (the default mesh; --cells or --order 4 for "
+              "more; --json has every digit)")
+        digits = 6
+    else:
+        digits = 10
+    width = len(str(len(spectrum)))
+    for k, (value, name) in enumerate(zip(spectrum.eigenvalues, spectrum.classes)):
+        print(f"level {k + 1:>{width}}  λ = {value:.{digits}g}  {name}")
+    weyl = spectrum.weyl()
+    print(f"weyl       A = {weyl.area:.8g}, L = {weyl.wall_length:.8g}, C = {weyl.constant:.4g}; "
+          f"N − N̄ over the upper half: mean {weyl.mean_residual:.3g}, rms {weyl.rms_residual:.3g}")
+    for k, s in enumerate(splittings or ()):
+        direct = f"{s.direct:.6g}" + ("" if s.direct_trusted else " (below rounding)")
+        flux = f"{s.flux:.6g}" + ("" if s.flux_trusted else " (below rounding)")
+        print(f"pair {k + 1}     Δλ direct {direct}, flux {flux}, WKB action S = {s.action:.6g} "
+              f"(exp(−S) = {math.exp(-s.action):.3g})")
+    if body is not None:
+        print(f"body       M = {body['mass']:g} kg, κ = {body['kappa']:g} m: E = ħ²λ/(2Mκ²) = λ × "
+              f"{body['energy_unit']:.6g} J; E₁ = {body['energies'][0]:.6g} J")
+        for k, t in enumerate(body["tunnelling_times"] or ()):
+            if t is not None:
+                print(f"pair {k + 1}     tunnelling time ħ/ΔE = 2Mκ²/(ħΔλ) = {t:.4g} s")

@@ -1,0 +1,131 @@
+"""Pictures of the quantum coin: |ψ|² in the strip, the orientation probability, the counting function with
+Weyl's curve, the spacing histogram and the doublet splitting on a log scale.  Each function returns a
+matplotlib figure (Agg backend, :func:`coinwall.forward.formats.figure.new_figure`) or draws on ``ax``."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..formats.figure import axes_or_new
+
+__all__ = [
+    "level_grid",
+    "orientation_probability",
+    "plot_counting",
+    "plot_density",
+    "plot_orientation",
+    "plot_spacings",
+    "plot_splittings",
+]
+
+
+def level_grid(spectrum, level: int):
+    """``(theta, eta, density, triangles)`` of |ψ|² at the mesh vertices of level ``level`` (physical coordinates)."""
+    mesh = spectrum.meshes[int(spectrum.domain[level])]
+    values = mesh.reduce @ spectrum.vectors[level]
+    vertex = values[mesh.basis.nodal_dofs[0]]
+    theta, s = mesh.mesh.p
+    lo, _, width, _ = spectrum.strip.walls(theta)
+    return theta, lo + s * width, vertex**2, mesh.mesh.t.T
+
+
+def orientation_probability(spectrum, level: int):
+    """``(theta, P)``: P(θ) = ∫|ψ|² dη at the mesh columns (trapezoid across; ∫P dθ ≈ 1)."""
+    mesh = spectrum.meshes[int(spectrum.domain[level])]
+    values = mesh.reduce @ spectrum.vectors[level]
+    vertex = values[mesh.basis.nodal_dofs[0]].reshape(mesh.theta.size, mesh.s.size)
+    _, _, width, _ = spectrum.strip.walls(mesh.theta)
+    ds = np.diff(mesh.s)
+    across = np.sum(0.5 * (vertex[:, 1:] ** 2 + vertex[:, :-1] ** 2) * ds, axis=1)
+    return mesh.theta, across * width
+
+
+def plot_density(spectrum, level: int = 0, ax=None):
+    """|ψ|² of level ``level`` in the (θ, η) strip, with both walls."""
+    ax, created = axes_or_new(ax, (8, 3))
+    theta, eta, density, triangles = level_grid(spectrum, level)
+    ax.tripcolor(theta, eta, triangles, density, shading="gouraud", cmap="magma")
+    grid = np.linspace(0.0, 2.0 * math.pi, 1000)
+    strip = spectrum.strip
+    ax.plot(grid, strip.lo(grid), "k", lw=0.8)
+    ax.plot(grid, strip.hi(grid), "k", lw=0.8)
+    ax.set_xlabel("θ")
+    ax.set_ylabel("η (κ)")
+    ax.set_title(f"|ψ|², level {level + 1}: λ = {spectrum.eigenvalues[level]:.6g} ({spectrum.classes[level]})",
+                 fontsize=9)
+    if created:
+        ax.figure.tight_layout()
+    return ax.figure
+
+
+def plot_orientation(spectrum, levels=(0, 1), ax=None):
+    """The probability density of the body's orientation θ for the given levels."""
+    ax, created = axes_or_new(ax, (6, 3.5))
+    for level in levels:
+        theta, density = orientation_probability(spectrum, level)
+        ax.plot(theta, density, label=f"level {level + 1} ({spectrum.classes[level]})")
+    ax.set_xlabel("θ")
+    ax.set_ylabel("P(θ)")
+    ax.legend(fontsize=7)
+    if created:
+        ax.figure.tight_layout()
+    return ax.figure
+
+
+def plot_counting(spectrum, ax=None):
+    """The staircase N(λ) of the computed levels and Weyl's N̄(λ) (:mod:`.weyl`)."""
+    from .weyl import weyl_count
+
+    ax, created = axes_or_new(ax, (6, 4))
+    values = np.asarray(spectrum.eigenvalues)
+    ax.step(values, np.arange(1, values.size + 1), where="post", lw=0.9, label="N(λ), computed")
+    grid = np.linspace(0.0, values.max() if values.size else 1.0, 400)
+    ax.plot(grid, weyl_count(spectrum.strip, grid), "--", label="Weyl Aλ/4π − L√λ/4π + C")
+    ax.set_xlabel("λ (1/κ²)")
+    ax.set_ylabel("N(λ)")
+    ax.legend(fontsize=8)
+    if created:
+        ax.figure.tight_layout()
+    return ax.figure
+
+
+def plot_spacings(statistics, ax=None):
+    """Histogram of unfolded spacings with the Poisson, Wigner and fitted Brody densities."""
+    from .statistics import brody_pdf
+
+    ax, created = axes_or_new(ax, (5, 3.5))
+    ax.hist(statistics.spacings, bins=30, range=(0, 4), density=True, alpha=0.5, label="spacings")
+    s = np.linspace(0.0, 4.0, 300)
+    ax.plot(s, np.exp(-s), label="Poisson")
+    ax.plot(s, 0.5 * math.pi * s * np.exp(-0.25 * math.pi * s**2), label="GOE (Wigner)")
+    ax.plot(s, brody_pdf(s, statistics.brody), "k--", lw=0.8, label=f"Brody q = {statistics.brody:.2f}")
+    ax.set_xlabel("s")
+    ax.set_ylabel("P(s)")
+    ax.legend(fontsize=8)
+    if created:
+        ax.figure.tight_layout()
+    return ax.figure
+
+
+def plot_splittings(splittings, ax=None):
+    """Δλ against H − D on a log scale: direct difference, flux formula and WKB exp(−S) (scaled to the flux
+    at the widest trusted neck)."""
+    ax, created = axes_or_new(ax, (6, 4))
+    gap = np.array([s.gap for s in splittings])
+    direct = np.array([s.direct if s.direct_trusted else np.nan for s in splittings])
+    flux = np.array([s.flux if s.flux_trusted else np.nan for s in splittings])
+    wkb = np.exp(-np.array([s.action for s in splittings]))
+    ax.semilogy(gap, flux, "o-", label="flux (Herring)")
+    ax.semilogy(gap, direct, "x", ms=9, label="direct λ₋ − λ₊")
+    trusted = np.flatnonzero(np.isfinite(flux))
+    if trusted.size:
+        k = trusted[np.argmax(gap[trusted])]
+        ax.semilogy(gap, wkb * flux[k] / wkb[k], ":", label="WKB exp(−S), scaled")
+    ax.set_xlabel("H − D (κ)")
+    ax.set_ylabel("Δλ (1/κ²)")
+    ax.legend(fontsize=8)
+    if created:
+        ax.figure.tight_layout()
+    return ax.figure

@@ -1,0 +1,222 @@
+"""The spectrum of the quantum coin: the result object and the entry point :func:`quantum_spectrum`.
+
+The eigenvalues λ of −Δ (Dirichlet on both walls, periodic in θ) on the strip of :mod:`.strip`, in units
+of 1/κ²; the energy is E = ħ²λ/(2Mκ²).  Methods (:data:`METHODS`): ``"fem"``, Lagrange finite elements
+on the mapped mesh (:mod:`.mesh`, :mod:`.fem`), solved class by class (:mod:`.symmetry`); ``"spectral"``,
+Fourier × sine modes on the mapped cylinder for smooth walls (:mod:`.spectral`; eigenvalues and classes only).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..display import safe_repr
+from ..errors import InvalidArgument
+from ..validation import check_choice, check_count
+from ..wall import Wall
+from .strip import Strip, make_strip
+
+__all__ = ["METHODS", "Spectrum", "default_cells", "quantum_spectrum"]
+
+
+@dataclass(frozen=True, repr=False)
+class Spectrum:
+    """The lowest levels of the quantum billiard.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray
+        Ascending λ (units 1/κ²).
+    classes : tuple of str
+        The symmetry class of each level (``"swap+ mirror-"``, :mod:`.symmetry`); for a strip that fell
+        apart, ``"region k"`` (the regions are separate domains).
+    characters : ndarray (levels, r) of int
+        The class as ±1 per symmetry in ``symmetry_names`` (empty columns for a strip that fell apart).
+    symmetry_names : tuple of str
+    domain : ndarray of int
+        Index into ``meshes`` of each level's domain (0 for the periodic strip).
+    strip : Strip
+    meshes : tuple of StripMesh
+    method : str
+    cells, order : int
+        Rows of cells across the strip and element degree.
+    dofs : int
+        Free degrees of freedom (all domains).
+    seconds : float
+        Wall-clock time of mesh, assembly and solve.
+    vectors : tuple of ndarray
+        Each level's eigenvector on the free dofs of its mesh (M-normalised: ∫ψ² dθ dη = 1).
+    """
+
+    eigenvalues: np.ndarray
+    classes: tuple
+    characters: np.ndarray
+    symmetry_names: tuple
+    domain: np.ndarray
+    strip: Strip
+    meshes: tuple
+    method: str
+    cells: int
+    order: int
+    dofs: int
+    seconds: float
+    vectors: tuple = field(default=(), compare=False)
+
+    def __len__(self) -> int:
+        return int(self.eigenvalues.size)
+
+    def weyl(self):
+        """The :class:`.weyl.WeylCheck` of these levels."""
+        from .weyl import weyl_check
+
+        return weyl_check(self)
+
+    def statistics(self, skip: int = 10):
+        """Nearest-neighbour spacing statistics per class (:func:`.statistics.level_statistics`)."""
+        from .statistics import level_statistics
+
+        return level_statistics(self, skip=skip)
+
+    def plot(self, ax=None):
+        """The spectrum's counting function with Weyl's curve (:func:`.figures.plot_counting`)."""
+        from .figures import plot_counting
+
+        return plot_counting(self, ax=ax)
+
+    def to_dict(self) -> dict:
+        """The levels, classes, solver, strip and Weyl check as a JSON-ready dict (no eigenvectors)."""
+        weyl = self.weyl()
+        return {"eigenvalues": [float(v) for v in self.eigenvalues], "classes": list(self.classes),
+                "symmetries": list(self.symmetry_names), "method": self.method, "cells": self.cells,
+                "order": self.order, "dofs": self.dofs, "seconds": self.seconds, "strip": self.strip.to_dict(),
+                "weyl": weyl.to_dict()}
+
+    @safe_repr
+    def __repr__(self) -> str:
+        low = ", ".join(f"{v:.6g}" for v in self.eigenvalues[:4])
+        more = ", …" if self.eigenvalues.size > 4 else ""
+        solver = f"fem P{self.order}" if self.method == "fem" else self.method
+        return (f"Spectrum({self.eigenvalues.size} levels [{low}{more}], {solver}, "
+                f"{self.dofs} dofs, {self.seconds:.3g} s)")
+
+
+def default_cells(strip: Strip, levels: int, order: int = 2) -> int:
+    """Rows across the strip for relative errors of about 1e-4 at the ``levels``-th level.
+
+    Weyl's law with its boundary term puts the ``levels``-th level near λ ≈ 1.5·4π·levels/A.  On flat
+    walls (exact values; tests/test_quantum.py) the largest relative error of degree p with cells of side h
+    is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3), 3.4e-7 at 1.24 (P4);
+    h√λ = 0.5, 1.4, 2.5 for p = 2, 3, 4 gives ~1e-4.
+    """
+    lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2
+    target = {2: 0.5, 3: 1.4, 4: 2.5}.get(order, 0.5)
+    return max(4, math.ceil(strip.width_max * math.sqrt(lam) / target))
+
+
+def default_modes(strip: Strip, levels: int) -> int:
+    """Sine modes across for the spectral method: those of the ``levels``-th level (λ as in
+    :func:`default_cells`, n ≈ w_max√λ/π) and 8 more, for ~1e-8 relative on an analytic wall."""
+    lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2
+    return max(4, math.ceil(strip.width_max * math.sqrt(lam) / math.pi) + 10)
+
+
+def _fem(strip, levels, cells, order, symmetry, progress):
+    import scipy.sparse as sp
+
+    from .fem import assemble, solve_classes
+    from .mesh import strip_mesh
+    from .symmetry import class_bases, class_labels, dof_permutation, label_text
+
+    if strip.periodic:
+        mesh = strip_mesh(strip, cells, order)
+        stiffness, mass = assemble(mesh)
+        names = strip.symmetries if symmetry else ()
+        perms = [dof_permutation(mesh.free_locations, n) for n in names]
+        bases = class_bases(perms, mesh.dofs) if names else [sp.identity(mesh.dofs, format="csc")]
+        values, labels, vectors = solve_classes(stiffness, mass, bases, levels, progress)
+        characters = np.array(class_labels(names), dtype=int).reshape(len(bases), len(names))[labels]
+        classes = tuple(label_text(names, c) for c in characters)
+        return values, classes, characters, tuple(names), np.zeros(values.size, dtype=int), (mesh,), vectors, mesh.dofs
+    parts = []
+    meshes = []
+    for k, region in enumerate(strip.regions):
+        mesh = strip_mesh(strip, cells, order, region=region)
+        stiffness, mass = assemble(mesh)
+        values, _, vectors = solve_classes(stiffness, mass, [sp.identity(mesh.dofs, format="csc")], levels, progress)
+        parts.append((values, np.full(values.size, k), vectors))
+        meshes.append(mesh)
+    values = np.concatenate([p[0] for p in parts])
+    domain = np.concatenate([p[1] for p in parts])
+    vectors = [v for p in parts for v in p[2]]
+    order_ = np.argsort(values, kind="stable")[:levels]
+    classes = tuple(f"region {domain[k]}" for k in order_)
+    return (values[order_], classes, np.zeros((order_.size, 0), dtype=int), (), domain[order_], tuple(meshes),
+            [vectors[k] for k in order_], sum(m.dofs for m in meshes))
+
+
+def _spectral(strip, levels, cells, order, symmetry, progress):
+    from .spectral import spectral_levels
+    from .symmetry import label_text
+
+    values, characters, names, modes, across = spectral_levels(strip, levels, cells, symmetry, progress)
+    classes = tuple(label_text(names, c) for c in characters)
+    return values, classes, characters, names, np.zeros(values.size, dtype=int), (), (), (2 * modes + 1) * across
+
+
+#: method name -> function(strip, levels, cells, order, symmetry, progress) returning (values, classes,
+#: characters, names, domain, meshes, vectors, dofs); "spectral" has no mesh and no eigenvectors
+METHODS = {"fem": _fem, "spectral": _spectral}
+
+
+def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method: str = "fem", cells=None,
+                     order: int = 2, symmetry: bool = True, progress=None) -> Spectrum:
+    """The lowest ``levels`` eigenvalues of the Dirichlet Laplacian on the strip of ``wall`` at distance ``H``.
+
+    Parameters
+    ----------
+    wall : Wall or Strip
+        The wall function b(θ) (then ``H`` is required), or a :class:`Strip` already made.
+    H, b0 : float
+        Distance between the walls and the offset (units of κ).
+    levels : int
+        How many levels (the lowest; per region when the strip fell apart, then merged).
+    method : str
+        A key of :data:`METHODS`.
+    cells : int, optional
+        FEM: rows of cells across the strip (even), default :func:`default_cells`; spectral: sine modes
+        across (the Fourier modes follow, :func:`.spectral.spectral_modes`), default :func:`default_modes`.
+    order : int
+        Element degree, 2 to 4.
+    symmetry : bool
+        Solve class by class (default) — False solves the whole problem at once (for checks).
+    progress : callable, optional
+        Called with 1 after each class (or region) is solved.
+
+    Returns
+    -------
+    Spectrum
+    """
+    check_choice("method", method, tuple(METHODS))
+    levels = check_count("levels", levels, minimum=1, maximum=100_000)
+    if isinstance(wall, Strip):
+        strip = wall
+    elif isinstance(wall, Wall):
+        if H is None:
+            raise InvalidArgument("`H` is required with a Wall (or pass a Strip)")
+        strip = make_strip(wall, H, b0)
+    else:
+        raise InvalidArgument(f"`wall` must be a Wall or a Strip, got {type(wall).__name__}")
+    if cells is None:
+        cells = default_modes(strip, levels) if method == "spectral" else default_cells(strip, levels, order)
+    cells = check_count("cells", cells, minimum=2, maximum=4096)
+    start = time.perf_counter()
+    values, classes, characters, names, domain, meshes, vectors, dofs = METHODS[method](
+        strip, levels, cells, order, symmetry, progress)
+    seconds = time.perf_counter() - start
+    cells = cells + cells % 2 if method == "fem" else cells
+    return Spectrum(np.asarray(values), classes, characters, names, domain, strip, meshes, method,
+                    cells, order, int(dofs), seconds, tuple(vectors))
