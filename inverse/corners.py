@@ -24,9 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.errors import InvalidWall
 
-from .support import envelope_point
+from .support import envelope_point, interior_point
 
 __all__ = ["Corner", "Window", "find_windows", "corner_deficit"]
 
@@ -87,23 +86,6 @@ def _envelope(wall, b0, phi):
     return envelope_point(np.atleast_1d(phi), b0 + b, d1), b0 + b + d2
 
 
-def _interior_point(normals, h) -> np.ndarray:
-    """The origin when it is well inside ``{x : n_i·x <= h_i}``, else the centre of the largest disc inside it
-    (Chebyshev centre, a three-variable linear programme)."""
-    from scipy.optimize import linprog
-
-    scale = float(np.max(np.abs(h)))
-    if np.min(h) > 1e-6 * scale:
-        return np.zeros(2)
-    # maximise r subject to n_i·p + r <= h_i
-    res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.column_stack([normals, np.ones(len(h))]), b_ub=h,
-                  bounds=[(None, None), (None, None), (0.0, None)], method="highs")
-    if not res.success or res.x[2] <= 1e-9 * scale:
-        raise InvalidWall("at this b0 the support lines b0 + b(θ) enclose no area (at most a segment: the largest "
-                          "disc inside has radius 0); choose a larger b0")
-    return res.x[:2]
-
-
 def find_windows(samples, wall, b0: float) -> list[Window]:
     """Windows of inactive support lines that contain a swallowtail (ρ < 0 or a concave kink)."""
     from scipy.spatial import ConvexHull
@@ -114,7 +96,7 @@ def find_windows(samples, wall, b0: float) -> list[Window]:
     # the active lines are the vertices of the hull of the polar dual points n/h, which needs the origin
     # strictly inside the body; with b0 at its lowest the centre of mass is on the boundary (h = 0 at some
     # angle), so take the dual about an interior point instead (which lines are active does not depend on it)
-    shifted = h - normals @ _interior_point(normals, h)
+    shifted = h - normals @ interior_point(normals, h)
     dual = normals / shifted[:, None]
     active = np.zeros(n, bool)
     active[ConvexHull(dual).vertices] = True

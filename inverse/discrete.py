@@ -31,6 +31,8 @@ from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidWall
 from coinwall.forward.formats.wallfile import rounding_of
 
+from .support import interior_point
+
 __all__ = ["rounding_of", "machine_rounding", "discrete_curvature", "DiscreteSupport", "discrete_support", "SampledBody",
            "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
 
@@ -192,7 +194,7 @@ def _least_squares_point(theta, h):
 
 
 def support_polygon(theta, h, rounding, rho) -> SampledBody:
-    """The body under the support lines ``x·n(θ_i) ≤ h_i`` (all ``h_i > 0``).
+    """The body under the support lines ``x·n(θ_i) ≤ h_i`` (all ``h_i >= 0``).
 
     The active lines are the vertices of the convex hull of the dual points ``n_i / h_i`` (Qhull):
     a line is active iff its dual point is extreme.  Consecutive active lines meet at the vertices.
@@ -207,8 +209,10 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
     n = theta.size
     normals = np.column_stack([np.cos(theta), np.sin(theta)])
     scale = float(np.max(np.abs(h)))
+    # the dual needs a point strictly inside: the centre of mass may be on the boundary (some h_i = 0)
+    shifted = h - normals @ interior_point(normals, h)
     try:
-        hull = ConvexHull(normals / h[:, None])
+        hull = ConvexHull(normals / shifted[:, None])
     except QhullError as exc:  # pragma: no cover - all h > 0 and the angles cover the circle
         raise InvalidWall(f"samples: the support lines do not bound a body ({str(exc).splitlines()[0]})") from None
     active = np.sort(hull.vertices)

@@ -24,6 +24,7 @@ __all__ = [
     "check_offset",
     "check_points",
     "envelope_point",
+    "interior_point",
     "sample_support",
 ]
 
@@ -147,3 +148,29 @@ def sample_support(wall, b0: float, points: int) -> SupportSamples:
             f"b0 + b(θ) = {h[worst]:.6g} < 0 at θ = {np.mod(phi[worst], TWO_PI):.6g}: the centre of mass would lie "
             f"outside the body; choose b0 ≥ {-(h[worst] - b0):.6g}")
     return SupportSamples(phi, h, d1, d2, edge_after, float(b0), break_after)
+
+
+def interior_point(normals, h) -> np.ndarray:
+    """The origin when it is well inside ``{x : n_i·x <= h_i}``, else the centre of the largest disc inside it
+    (Chebyshev centre, a three-variable linear programme).
+
+    The polar-dual constructions (active lines as hull vertices of ``n_i / h_i``) need a point strictly
+    inside the body; with b0 at its lowest the centre of mass is on the boundary (``h = 0`` at some angle).
+
+    Raises
+    ------
+    InvalidWall
+        If the lines enclose no area (at most a segment).
+    """
+    from scipy.optimize import linprog
+
+    scale = float(np.max(np.abs(h)))
+    if np.min(h) > 1e-6 * scale:
+        return np.zeros(2)
+    # maximise r subject to n_i·p + r <= h_i
+    res = linprog(c=[0.0, 0.0, -1.0], A_ub=np.column_stack([normals, np.ones(len(h))]), b_ub=h,
+                  bounds=[(None, None), (None, None), (0.0, None)], method="highs")
+    if not res.success or res.x[2] <= 1e-9 * scale:
+        raise InvalidWall("at this b0 the support lines b0 + b(θ) enclose no area (at most a segment: the largest "
+                          "disc inside has radius 0); choose a larger b0")
+    return res.x[:2]

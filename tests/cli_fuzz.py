@@ -186,6 +186,7 @@ BASE_COMMANDS = {
     "mass": ["body.json"],
     "simulate": ["case:coin", "--H", "3", "--collisions", "50", "--seed", "1"],
     "section": ["case:coin", "--H", "3", "--orbits", "2", "--collisions", "20", "--seed", "1", "-o", "out.csv"],
+    "quantum": ["1", "--H", "3", "--levels", "4", "--cells", "4", "-o", "out.json"],
     "correlation": ["case:coin", "--H", "3", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1",
                     "-o", "out.json"],
 }
@@ -201,11 +202,12 @@ NUMERIC_FLAGS = {
                  "--seed": "seed"},
     "section": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--collisions": "count",
                 "--orbits": "count", "--seed": "seed"},
+    "quantum": {"--H": "positive", "--b0": "offset", "--levels": "count", "--cells": "count"},
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
 }
 # the subcommands whose first positional argument is a wall expression
-WALL_COMMANDS = ("solve", "critical", "simulate", "section", "correlation")
+WALL_COMMANDS = ("solve", "critical", "simulate", "section", "correlation", "quantum")
 # the subcommands that read a file given as their first positional argument, with the valid file of
 # each kind they read (a key of the files :func:`valid_files` writes)
 FILE_COMMANDS = {"solve": "samples.csv", "critical": "samples.csv", "fit": "samples.csv", "wall": "body.json",

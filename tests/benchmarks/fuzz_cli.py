@@ -26,7 +26,7 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from cli_fuzz import (  # noqa: E402
-    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, Worker, check_clean,
+    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, WALL_COMMANDS, Worker, check_clean,
     hostile_files, make_folder, mutate, snapshot, valid_files)
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
@@ -48,7 +48,7 @@ def draw(rng: random.Random, base: str, hostile: tuple):
         argv += [f"{flag}={value}"] if rng.random() < 0.5 else [flag, value]
         return kind, [command] + argv, True, {}
     if kind in ("wall", "odd-wall", "text-wall"):
-        command = rng.choice(["solve", "critical", "simulate", "section", "correlation"])
+        command = rng.choice(list(WALL_COMMANDS))
         if kind == "wall":
             wall = rng.choice(BAD_WALLS)
         elif kind == "odd-wall":
