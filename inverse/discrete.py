@@ -311,8 +311,11 @@ def halfspace_polygon(theta, h) -> np.ndarray:
     vertices counter-clockwise."""
     from scipy.spatial import ConvexHull, HalfspaceIntersection
 
-    normals = np.column_stack([np.cos(theta), np.sin(theta), -np.asarray(h, dtype=float)])
-    points = HalfspaceIntersection(normals, np.zeros(2)).intersections
+    h = np.asarray(h, dtype=float)
+    normals = np.column_stack([np.cos(theta), np.sin(theta), -h])
+    # Qhull needs a feasible point strictly inside; the centre of mass may lie on the boundary (some h_i = 0)
+    inside = interior_point(normals[:, :2], h)
+    points = HalfspaceIntersection(normals, inside).intersections
     hull = ConvexHull(points)
     return points[hull.vertices]
 

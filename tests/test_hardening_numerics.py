@@ -238,3 +238,60 @@ def test_cli_exit_2_with_one_line(argv, tmp_path):
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("coinwall: error: ")
     assert not out.exists()
+
+
+# --------------------------------------------------------------------- found by the large fuzz run (docs/cli.md)
+
+def _square_support(theta, corners):
+    """Support function of the convex polygon ``corners`` about the origin: max over its vertices of x·n(θ)."""
+    return np.max(np.cos(theta)[:, None] * corners[:, 0] + np.sin(theta)[:, None] * corners[:, 1], axis=1)
+
+
+def test_samples_with_the_centre_of_mass_on_the_boundary_give_the_body():
+    """Support lines through the centre of mass (h = 0 at some angles) used to divide by zero in the polar dual
+    and in Qhull's half-plane intersection.  The unit square with its centre of mass at a corner: the body is
+    that square (reference: the square's vertices, computed here by hand)."""
+    theta = np.linspace(0.0, 2 * np.pi, 90, endpoint=False)
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    wall = Wall.from_samples(theta, _square_support(theta, square))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no divide-by-zero warning on the way
+        body = solve_body(wall, 0.0)
+    nodes = np.asarray(body.outline.nodes)
+    # every node lies on the square's boundary, and every corner of the square is a node
+    on_edge = np.min(np.stack([np.abs(nodes[:, 0]), np.abs(nodes[:, 0] - 1), np.abs(nodes[:, 1]),
+                               np.abs(nodes[:, 1] - 1)]), axis=0)
+    assert np.max(on_edge) < 1e-9 and np.all((nodes > -1e-9) & (nodes < 1 + 1e-9))
+    for corner in square:
+        assert np.min(np.hypot(*(nodes - corner).T)) < 1e-9
+
+
+def test_an_offset_that_leaves_a_segment_is_refused_in_one_line():
+    """b = 1 + 0.1 cos 2θ at b0 = −0.9: h = 0.2 cos²θ, the lines enclose the segment |x| ≤ 0.2 (no area)."""
+    from coinwall.forward.errors import InvalidWall
+
+    with pytest.raises(InvalidWall, match="enclose no area"):
+        solve_body(Wall.from_expression("1+0.1*cos(2*t)"), -0.9)
+
+
+def test_export_tolerance_must_be_below_a_tenth_of_the_body(tmp_path):
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.inverse.export import export_body
+
+    body = solve_body(Wall.from_expression("1+0.1*cos(2*t)"), 0.0)
+    for name in ("b.csv", "b.svg"):  # also for CSV, which does not approximate
+        with pytest.raises(InvalidArgument, match="tenth of the body's diameter"):
+            export_body(body, [str(tmp_path / name)], tolerance=1e308)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("density,message", [("", "is empty"), ("1e308", "up to 1e\\+100")])
+def test_density_empty_or_huge_is_refused(density, message):
+    from coinwall import mass_properties
+    from coinwall.forward.errors import CoinwallError
+
+    body = solve_body(Wall.from_expression("1+0.1*cos(2*t)"), 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(CoinwallError, match=message):
+            mass_properties(body.outline, density)
