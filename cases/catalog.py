@@ -107,5 +107,6 @@ def get_case(name: str) -> Case:
     key = name[5:] if name.startswith("case:") else name
     cases = all_cases()
     if key not in cases:
-        raise InvalidArgument(f"unknown case {key!r}; known cases: {', '.join(cases)} (list them with `coinwall cases`)")
+        raise InvalidArgument(f"unknown case {key!r}; known cases: {', '.join(cases)} "
+                              "(list them with `coinwall cases`)")
     return cases[key]

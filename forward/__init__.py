@@ -25,9 +25,9 @@ from .errors import (
                      OutputError,
 )
 from .formats.load import load_outline, outline_from_polar
-from .support import wall_functions
 from .massprops import MassProperties, mass_properties, outline_moments, parse_density
 from .outline import Outline, support_function
+from .support import wall_functions
 from .wall import Kink, Wall
 
 __all__ = [

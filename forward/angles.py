@@ -13,4 +13,6 @@ def reduce_angle(theta):
 
     reduced = np.mod(theta, TWO_PI)
     # np.mod can return exactly 2π for tiny negative θ (rounding); fold it back
-    return np.where(reduced >= TWO_PI, 0.0, reduced) if np.ndim(reduced) else (0.0 if reduced >= TWO_PI else float(reduced))
+    if np.ndim(reduced):
+        return np.where(reduced >= TWO_PI, 0.0, reduced)
+    return 0.0 if reduced >= TWO_PI else float(reduced)

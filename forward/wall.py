@@ -343,7 +343,9 @@ class Wall:
         return float(out[0]) if scalar else out.reshape(np.shape(theta))
 
     def derivatives(self, theta):
-        """``(b, b', b'')`` at ``theta`` (arrays).  At a kink the value of b' is not meaningful: use :meth:`one_sided`."""
+        """``(b, b', b'')`` at ``theta`` (arrays).
+
+        At a kink the value of b' is not meaningful: use :meth:`one_sided`."""
         shape = np.shape(theta)
         return tuple(v.reshape(shape) for v in self._backend.derivatives(np.atleast_1d(theta)))
 

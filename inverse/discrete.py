@@ -33,8 +33,8 @@ from coinwall.forward.formats.wallfile import rounding_of
 
 from .support import interior_point
 
-__all__ = ["rounding_of", "machine_rounding", "discrete_curvature", "DiscreteSupport", "discrete_support", "SampledBody",
-           "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
+__all__ = ["rounding_of", "machine_rounding", "discrete_curvature", "DiscreteSupport", "discrete_support",
+           "SampledBody", "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
 
 _EPS = np.finfo(float).eps
 

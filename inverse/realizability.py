@@ -141,10 +141,10 @@ def realizability(body, tol: float = 1e-6) -> Realizability:
     if body.area <= 1e-12 * max(1.0, size) ** 2:
         # a segment (the stick): the uniform rod, κ = length/√12 about its midpoint (a lamina has no mass)
         points = body.outline.polygon(4)
-        ends = points[np.argmax(points @ points[np.argmax(np.hypot(*points.T))])], points[np.argmax(np.hypot(*points.T))]
-        far = points[np.argmax(np.hypot(*(points - ends[1]).T))]
-        kappa_u = float(np.hypot(*(far - ends[1])) / math.sqrt(12.0))
-        centroid = tuple(0.5 * (far + ends[1]))
+        end = points[np.argmax(np.hypot(*points.T))]  # one end of the segment: the point farthest out
+        far = points[np.argmax(np.hypot(*(points - end).T))]  # the other end: the point farthest from it
+        kappa_u = float(np.hypot(*(far - end)) / math.sqrt(12.0))
+        centroid = tuple(0.5 * (far + end))
     else:
         props = outline_moments(body.outline)
         kappa_u, centroid = props.kappa, props.centre
@@ -152,9 +152,10 @@ def realizability(body, tol: float = 1e-6) -> Realizability:
     # resolution: κ_max = 1 within 1e-6 is reachable (mass at the far ends)
     kmax, _ = kappa_max(body.outline)
     offset = float(math.hypot(*centroid))
+    realizable = bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)
+    uniform = bool(abs(kappa_u - 1) <= tol and offset <= tol)
     return Realizability(float(body.b0), float(kappa_u), tuple(float(c) for c in centroid), offset, float(kmax),
-                         bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6), bool(abs(kappa_u - 1) <= tol and offset <= tol),
-                         float(tol))
+                         realizable, uniform, float(tol))
 
 
 @dataclass(frozen=True, repr=False)

@@ -18,8 +18,8 @@ from .envelope import envelope_nodes
 from .polar import polar_nodes
 from .support import check_offset, check_points, sample_support
 
-__all__ = ["DEFAULT_POINTS", "METHODS", "MIN_BODY_SIZE", "WALL_ACCURACY", "body_warnings", "outline_support", "shape_check", "solve_body",
-           "solve_smooth"]
+__all__ = ["DEFAULT_POINTS", "METHODS", "MIN_BODY_SIZE", "WALL_ACCURACY", "body_warnings", "outline_support",
+           "shape_check", "solve_body", "solve_smooth"]
 
 DEFAULT_POINTS = 1024
 #: Largest wall error and solver disagreement (relative to the wall's scale) of a formula wall's body
@@ -109,9 +109,9 @@ def _check_size(wall, b0):
     values = wall.samples[1] if wall.samples is not None else wall(np.linspace(0.0, TWO_PI, 256, endpoint=False))
     top = b0 + float(np.max(values))
     if b0 + float(np.min(values)) >= 0 and top < MIN_BODY_SIZE:  # (below 0: the centre-of-mass check speaks)
-        raise InvalidWall(f"b0 + b(θ) is at most {top:.3g}: the body would be smaller than {MIN_BODY_SIZE:g} κ, but every "
-                          "body reaches at least κ from its centre of mass (κ² = J/M ≤ R_max²); give the wall in units "
-                          "of κ")
+        raise InvalidWall(f"b0 + b(θ) is at most {top:.3g}: the body would be smaller than {MIN_BODY_SIZE:g} κ, "
+                          "but every body reaches at least κ from its centre of mass (κ² = J/M ≤ R_max²); "
+                          "give the wall in units of κ")
 
 
 def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float,

@@ -27,7 +27,8 @@ import sys
 import tempfile
 
 __all__ = ["Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
-           "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files", "make_folder", "mutate"]
+           "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
+           "make_folder", "mutate"]
 
 # ------------------------------------------------------------------------------------------- the worker
 _WORKER = r"""

@@ -13,9 +13,9 @@ from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import Billiard
 from coinwall.forward.dynamics.correlation import correlation, fit_tau_law, heads
-from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.dynamics.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many
 from coinwall.forward.dynamics.poincare import incidence_angle, poincare_section
+from coinwall.forward.errors import InvalidArgument
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 

@@ -10,8 +10,8 @@ import pytest
 
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
-from coinwall.forward.formats import load_outline, outline_from_polar
 from coinwall.forward.errors import InvalidArgument, InvalidOutline, OutputError
+from coinwall.forward.formats import load_outline, outline_from_polar
 from coinwall.inverse import solve_body
 from coinwall.inverse.export import export_body
 

@@ -19,8 +19,8 @@ from scipy.integrate import quad
 
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import Billiard, ensemble, random_states, simulate
-from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidWall
 from coinwall.forward.dynamics.wallcode import python_wall
+from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidWall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 ASYMMETRIC = "max(cos(t), max(cos(t-2.2)*0.8, cos(t+2.0)*0.9))"

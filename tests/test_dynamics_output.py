@@ -8,8 +8,16 @@ import pytest
 
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
-from coinwall.forward.dynamics import (Billiard, KamBoundary, correlation, orbit_statistics, paper_boundary,
-                                       poincare_section, random_states, simulate)
+from coinwall.forward.dynamics import (
+    Billiard,
+    KamBoundary,
+    correlation,
+    orbit_statistics,
+    paper_boundary,
+    poincare_section,
+    random_states,
+    simulate,
+)
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 

@@ -14,12 +14,25 @@ import os
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
+from cli_fuzz import (  # noqa: E402
+    BAD_NUMBERS,
+    BAD_WALLS,
+    BASE_COMMANDS,
+    FILE_COMMANDS,
+    NUMERIC_FLAGS,
+    ODD_WALLS,
+    VALID_FILES,
+    WALL_COMMANDS,
+    Worker,
+    check_clean,
+    hostile_files,
+    make_folder,
+    mutate,
+    snapshot,
+    valid_files,
+)
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
-
-from cli_fuzz import (  # noqa: E402
-    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, VALID_FILES, WALL_COMMANDS,
-    Worker, check_clean, hostile_files, make_folder, mutate, snapshot, valid_files)
 
 FUZZ = settings(max_examples=60, deadline=None, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])

@@ -12,9 +12,15 @@ import math
 import numpy as np
 import pytest
 
+from coinwall.forward.dynamics.rigidbody import (
+    EllipseShape,
+    PolygonShape,
+    RigidBody,
+    billiard_to_body,
+    body_to_billiard,
+    simulate_rigid_body,
+)
 from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidOutline
-from coinwall.forward.dynamics.rigidbody import (EllipseShape, PolygonShape, RigidBody, billiard_to_body, body_to_billiard,
-                               simulate_rigid_body)
 
 # Bodies in units of κ (κ = 1).  The triangle and the off-centre ellipse have no symmetry axis
 # through the centre of mass, so they pin the sign convention θ ↔ −θ.

@@ -86,7 +86,8 @@ def _cmd_correlation(args):
     print("n   P(n)      ±")
     for n, (p, e) in enumerate(zip(result.P, result.P_stderr)):
         print(f"{n:<3d} {p:.5f}  {e:.5f}")
-    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} (fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
+    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} "
+          f"(fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
     print(f"n_needed   {result.n_needed} (first n with |P(n) − ½| < 0.01; fit: {result.n_needed_fit:.3g})")
     for note in result.notes:
         print(f"note       {note}")

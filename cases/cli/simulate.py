@@ -76,7 +76,8 @@ def _cmd_simulate(args):
     print(f"collisions {done} in {seconds:.3g} s ({summary['collisions_per_second'] or 0:.3g}/s; "
           f"compile/load {compile_seconds:.3g} s, not included)")
     if done:
-        print(f"free time  mean {summary['mean_free_time']:.6g} (Santaló π·A/P = {summary['santalo_mean_free_time']:.6g})")
+        print(f"free time  mean {summary['mean_free_time']:.6g} "
+              f"(Santaló π·A/P = {summary['santalo_mean_free_time']:.6g})")
         print(f"bottom     fraction of collisions with the bottom wall {summary['bottom_fraction']:.4f}")
     if stats.note:
         print(f"note       {stats.note}")

@@ -116,8 +116,9 @@ class Billiard:
         if self.gap_max < MIN_OPENING * self.tol:
             need = self.H - self.gap_max + MIN_OPENING * self.tol
             raise InvalidArgument(f"`H` = {self.H!r} opens the strip by only {self.gap_max:.3g} at its widest; the "
-                                  f"billiard needs at least {MIN_OPENING:g} contact tolerances ({MIN_OPENING * self.tol:.3g}) "
-                                  f"to tell a bounce from rounding: use H >= {need:.12g}")
+                                  f"billiard needs at least {MIN_OPENING:g} contact tolerances "
+                                  f"({MIN_OPENING * self.tol:.3g}) to tell a bounce from rounding: "
+                                  f"use H >= {need:.12g}")
 
     def lower(self, theta):
         """Lower wall ``b0 + b(θ)`` (numpy, vectorised)."""

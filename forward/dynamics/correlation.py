@@ -284,7 +284,8 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     check_choice("count", count, COUNTS)
     burn = check_count("burn", burn, minimum=0)
     if orbits < 2:
-        raise InvalidArgument(f"`orbits` must be at least 2 (the error comes from the spread between orbits), got {orbits}")
+        raise InvalidArgument(f"`orbits` must be at least 2 (the error comes from the spread between orbits), "
+                              f"got {orbits}")
     per_orbit = bounces // orbits
     if max_lag >= per_orbit:
         raise InvalidArgument(f"`max_lag` = {max_lag} must be smaller than the bounces per orbit "
@@ -315,7 +316,8 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
                 agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
                 tries += 1
             if agree is None:
-                notes.append(f"orbit {first + k}: too few bottom collisions{' (' + traj.note + ')' if traj.note else ''}")
+                why = f" ({traj.note})" if traj.note else ""
+                notes.append(f"orbit {first + k}: too few bottom collisions{why}")
                 continue
             agreements.append(agree)
             heads_fractions.append(frac)

@@ -193,7 +193,8 @@ def load_wall_file(path: str, *, degrees: bool = False):
         if set(doc) & set(SAMPLE_KEYS):
             unknown = set(doc) - set(SAMPLE_KEYS) - {"degrees", "note"}
             if unknown:
-                raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected {', '.join(SAMPLE_KEYS)}")
+                raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; "
+                                  f"expected {', '.join(SAMPLE_KEYS)}")
             theta, b = (_numbers(doc.get(k), path, k) for k in SAMPLE_KEYS)
             if not isinstance(doc.get("degrees", False), bool):
                 raise InvalidWall(f"wall file {path!r}: `degrees` must be true or false, got {doc['degrees']!r}")

@@ -74,7 +74,8 @@ class Strip:
 
     def __post_init__(self):
         if not isinstance(self.table, Billiard):
-            raise InvalidArgument(f"`table` must be a coinwall.forward.dynamics.Billiard, got {type(self.table).__name__}")
+            raise InvalidArgument("`table` must be a coinwall.forward.dynamics.Billiard, "
+                                  f"got {type(self.table).__name__}")
         init = object.__setattr__
         theta = np.linspace(0.0, math.pi, _GRID, endpoint=False)
         width = self.width(theta)
@@ -191,7 +192,9 @@ def _regions(strip, neck) -> tuple:
     regions = []
     i = 0
     n = theta.size
-    scalar = lambda x: float(strip.width(np.array([x]))[0])
+    def scalar(x):
+        return float(strip.width(np.array([x]))[0])
+
     while i < n:
         if not positive[i]:
             i += 1

@@ -41,7 +41,8 @@ from ..angles import TWO_PI
 from ..display import safe_repr
 from ..errors import InvalidArgument
 
-__all__ = ["DIRECT_FLOOR", "FLUX_FLOOR", "HBAR", "Splitting", "doublet_splitting", "splitting_of", "tunnelling_time", "wkb_action"]
+__all__ = ["DIRECT_FLOOR", "FLUX_FLOOR", "HBAR", "Splitting", "doublet_splitting", "splitting_of", "tunnelling_time",
+           "wkb_action"]
 
 #: reduced Planck constant, J·s (CODATA 2018, exact)
 HBAR = 1.054571817e-34
@@ -97,7 +98,8 @@ class Splitting:
     def to_dict(self) -> dict:
         """The fields as a JSON-ready dict."""
         return {"H": self.H, "gap": self.gap, "lower": self.lower, "upper": self.upper, "classes": list(self.classes),
-                "direct": self.direct, "flux": self.flux if math.isfinite(self.flux) else None, "direct_trusted": self.direct_trusted,
+                "direct": self.direct, "flux": self.flux if math.isfinite(self.flux) else None,
+                "direct_trusted": self.direct_trusted,
                 "flux_trusted": self.flux_trusted, "neck_amplitude": self.neck_amplitude,
                 "wkb_action": self.action, "dofs": self.dofs, "cells": self.cells}
 

@@ -26,8 +26,21 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from cli_fuzz import (  # noqa: E402
-    BAD_NUMBERS, BAD_WALLS, BASE_COMMANDS, FILE_COMMANDS, NUMERIC_FLAGS, ODD_WALLS, WALL_COMMANDS, Worker, check_clean,
-    hostile_files, make_folder, mutate, snapshot, valid_files)
+    BAD_NUMBERS,
+    BAD_WALLS,
+    BASE_COMMANDS,
+    FILE_COMMANDS,
+    NUMERIC_FLAGS,
+    ODD_WALLS,
+    WALL_COMMANDS,
+    Worker,
+    check_clean,
+    hostile_files,
+    make_folder,
+    mutate,
+    snapshot,
+    valid_files,
+)
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
 _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"\xff\xfe", b"1e400", b'"x"',
