@@ -11,7 +11,8 @@ import argparse
 import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
-from . import cases, correlation, critical, export, fit, kam, mass, quantum, section, simulate, solve, verify, wall
+from . import (cases, correlation, critical, explore, export, fit, kam, mass, quantum, section, simulate, solve, verify,
+               wall)
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 
@@ -30,6 +31,7 @@ SUBCOMMANDS = {
     "quantum": quantum,
     "cases": cases,
     "verify": verify,
+    "explore": explore,
 }
 
 

@@ -1,0 +1,355 @@
+"""The explorer's computations: JSON-ready dicts in, JSON-ready dicts out, run inside a worker process.
+
+Every public function here takes the decoded request (a dict) and returns a dict that
+``json.dumps`` accepts (no NaN: missing numbers are ``None``).  They call the library only
+(``Wall.from_expression``, ``critical_offset``, ``solve_body``, ``realizability``, the exporters,
+``ensemble``, ``poincare_section``) and never read a path a request names: uploaded files arrive as
+bytes and are written to a private temporary folder before the project's file readers read them.
+
+Bad input raises a :class:`~coinwall.forward.errors.CoinwallError`; :func:`field` tags it with the
+page field it belongs to (``wall``, ``params``, ``b0``, ``H`` ...), so the page can show the message
+next to that field.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import math
+import os
+import tempfile
+
+import numpy as np
+
+__all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_SECTION_COLLISIONS",
+           "MissingUpload", "beam", "body", "cases", "crash", "export", "field", "get_wall", "realize", "table",
+           "upload", "wall_info"]
+
+#: the case the page opens on: the paper's Appendix wall (ellipse ε = 1), b_c = −1/2, at b0 = −0.3 (convex)
+CASE_DEFAULT = "appendix-convex"
+#: outline nodes of the live body (the issue's "1,024-point body")
+LIVE_POINTS = 1024
+#: a beam has at most this many trajectories, each at most this many collisions (payload ~ 1 MB)
+MAX_BEAM = 500
+MAX_BEAM_COLLISIONS = 200
+#: collisions of the orbit a click adds to the Poincaré section
+MAX_SECTION_COLLISIONS = 20000
+_UPLOAD_KINDS = (".csv", ".json", ".svg", ".dxf")
+_PLOT_ANGLES = 361
+_DIGITS = 6
+
+# walls already built in this process, by key (parsing an expression and its casadi functions costs ~15 ms)
+_WALLS: dict = {}
+_MAX_WALLS = 16
+
+
+class MissingUpload(Exception):
+    """The worker does not hold the uploaded wall a request names (it was restarted): send the bytes."""
+
+
+@contextlib.contextmanager
+def field(name: str):
+    """Tag an exception raised inside with the page field ``name`` (the first tag wins)."""
+    try:
+        yield
+    except Exception as exc:
+        if not hasattr(exc, "explore_field"):
+            with contextlib.suppress(AttributeError, TypeError):
+                exc.explore_field = name
+        raise
+
+
+def _num(value):
+    value = float(value)
+    return round(value, 12) if math.isfinite(value) else None
+
+
+def _list(values, digits=_DIGITS):
+    arr = np.asarray(values, dtype=float)
+    out = np.round(arr, digits).tolist()
+    bad = ~np.isfinite(arr)
+    if bad.any():  # JSON has no NaN/inf: the plot leaves a gap there
+        for i in np.flatnonzero(bad.ravel()):
+            out[int(i)] = None
+    return out
+
+
+def _remember(key, wall):
+    if len(_WALLS) >= _MAX_WALLS:
+        _WALLS.pop(next(iter(_WALLS)))
+    _WALLS[key] = wall
+    return wall
+
+
+def _params(spec) -> dict:
+    """``params``: a dict ``{name: value}`` or text ``"eps=1, a=0.5"`` (parsed by the library's parser)."""
+    from coinwall.forward.errors import InvalidParameter
+    from coinwall.forward.expression import parse_param
+
+    raw = spec.get("params") or {}
+    if isinstance(raw, str):
+        items = [part.strip() for part in raw.replace(";", ",").replace("\n", ",").split(",") if part.strip()]
+        values = {}
+        for item in items:
+            name, value = parse_param(item)
+            if name in values:
+                raise InvalidParameter(f"parameter {name} given twice; give it once")
+            values[name] = value
+        return values
+    if not isinstance(raw, dict):
+        raise InvalidParameter(f"`params` must be NAME=VALUE pairs, got {raw!r}")
+    return {str(k): v for k, v in raw.items()}
+
+
+def get_wall(spec: dict):
+    """The :class:`~coinwall.forward.wall.Wall` a request names: ``case``, ``upload`` or ``expression``."""
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.wall import Wall
+
+    if spec.get("case"):
+        with field("case"):
+            from coinwall.cases.catalog import get_case
+
+            name = str(spec["case"])
+            key = ("case", name)
+            return _WALLS.get(key) or _remember(key, get_case(name).wall())
+    if spec.get("upload"):
+        key = ("upload", str(spec["upload"]))
+        if key in _WALLS:
+            return _WALLS[key]
+        if spec.get("upload_bytes") is None:
+            raise MissingUpload(spec["upload"])
+        with field("upload"):
+            return _remember(key, _read_upload(spec.get("upload_name", ""), spec["upload_bytes"]))
+    text = spec.get("expression")
+    with field("wall"):
+        if not isinstance(text, str) or not text.strip():
+            raise InvalidWall("the wall is empty; type an expression in t, e.g. 1 + 0.1*cos(3*t)")
+    with field("params"):
+        params = _params(spec)
+    key = ("expression", text, tuple(sorted((k, float(v)) for k, v in params.items())))
+    if key in _WALLS:
+        return _WALLS[key]
+    with field("wall"):
+        # never formats.load_wall: it would open a file whose name a request typed
+        return _remember(key, Wall.from_expression(text, params))
+
+
+def _read_upload(name: str, data: bytes):
+    """A wall from uploaded bytes: .csv/.json wall samples, or a .svg/.dxf drawing (its support function)."""
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.formats import load_outline, load_wall_file
+    from coinwall.forward.wall import Wall
+
+    ext = os.path.splitext(str(name))[1].lower()
+    if ext not in _UPLOAD_KINDS:
+        raise InvalidWall(f"upload {name!r}: coinwall reads walls from .csv/.json and drawings from .svg/.dxf, "
+                          f"got {ext or 'no extension'!r}")
+    with tempfile.TemporaryDirectory(prefix="coinwall-explore-") as folder:
+        path = os.path.join(folder, "upload" + ext)  # our own name: the client's never reaches the file system
+        with open(path, "wb") as stream:
+            stream.write(data)
+        if ext in (".csv", ".json"):
+            return load_wall_file(path)  # the readers' own size, nesting and sample limits apply
+        outline, _ = load_outline(path)
+    theta = np.linspace(0.0, 2 * math.pi, 4096, endpoint=False)
+    return Wall.from_samples(theta, outline.support(theta))  # the drawing's wall at b0 = 0
+
+
+def upload(request: dict) -> dict:
+    """Read an uploaded wall and describe it like :func:`wall_info` (plus the id the page refers to it by)."""
+    digest = hashlib.sha256(request["upload_bytes"]).hexdigest()[:16]
+    spec = {"upload": digest, "upload_name": request.get("upload_name", ""), "upload_bytes": request["upload_bytes"]}
+    out = wall_info(spec)
+    out["upload"] = digest
+    return out
+
+
+def cases(request: dict) -> dict:
+    """The catalog cases that have a wall (the case picker)."""
+    from coinwall.cases.catalog import all_cases
+
+    out = [{"name": c.name, "title": c.title, "b0": c.b0, "H": c.H, "expression": c.expression,
+            "params": dict(c.params)} for c in all_cases().values() if c.make_wall is not None]
+    return {"cases": out, "default": CASE_DEFAULT}
+
+
+def _bc_text(wall, result) -> str:
+    """b_c as ``coinwall critical`` prints it (the same tolerance rule)."""
+    from coinwall.cases.cli.solve import OFFSET_TOLERANCE
+    from coinwall.forward.display import format_number
+
+    if not math.isfinite(result.b_c):
+        return "inf"
+    tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
+    return format_number(result.b_c, tolerance, 15)
+
+
+def wall_info(spec: dict) -> dict:
+    """The wall's critical offset (number and text), the slider range and a starting b0."""
+    from coinwall.inverse import critical_offset
+
+    wall = get_wall(spec)
+    with field(spec.get("field", "wall")):
+        result = critical_offset(wall)
+        values = wall(np.linspace(0.0, 2 * math.pi, 720, endpoint=False))
+        if not np.all(np.isfinite(values)):
+            from coinwall.forward.errors import InvalidWall
+
+            raise InvalidWall(f"wall {wall.description!r} is not finite at every angle")
+    lo_b, hi_b = float(values.min()), float(values.max())
+    span = max(0.5, hi_b - lo_b, abs(result.b_c) if math.isfinite(result.b_c) else 0.0)
+    floor = -lo_b + 0.02 * span  # below it the centre of mass leaves the body
+    if math.isfinite(result.b_c):
+        low, high = max(result.b_c - 0.3 * span, floor), max(result.b_c, floor) + 1.5 * span
+    else:
+        low, high = floor, floor + 2 * span
+    start = spec.get("b0")
+    if not (isinstance(start, (int, float)) and low <= start <= high):
+        start = (result.b_c + 0.4 * span) if math.isfinite(result.b_c) else low + 0.5 * span
+        start = min(max(start, low), high)
+    return {"description": wall.description, "b_c": _num(result.b_c), "b_c_text": _bc_text(wall, result),
+            "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": _num(result.b_c_tolerance),
+            "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
+            "range": [low, high], "b0": float(start), "sampled": wall.samples is not None}
+
+
+def _solve(spec: dict, points: int = LIVE_POINTS):
+    from coinwall.inverse import solve_body
+
+    wall = get_wall(spec)
+    with field("b0"):
+        return wall, solve_body(wall, spec.get("b0"), points=points)
+
+
+def _path(outline) -> str:
+    """The outline as an SVG path in body coordinates (y up: the page flips it), its exact cubic segments."""
+    nodes, controls = outline.nodes, outline.controls
+    n = len(nodes)
+    # one C-level %-formatting of all numbers (per-number f-strings took a quarter of the live request)
+    rows = np.concatenate([controls.reshape(n, 4), np.roll(nodes, -1, axis=0)], axis=1).ravel()
+    return f"M{nodes[0, 0]:.6g} {nodes[0, 1]:.6g}" + ("C%.6g %.6g %.6g %.6g %.6g %.6g" * n) % tuple(rows) + "Z"
+
+
+def body(spec: dict) -> dict:
+    """The live body: outline path, centre of mass, corners, regime, and the three curves over θ."""
+    import time
+
+    started = time.perf_counter()
+    wall, solved = _solve(spec)
+    theta = np.linspace(0.0, 2 * math.pi, _PLOT_ANGLES)
+    b, _, b2 = wall.derivatives(theta)
+    corners = []
+    for c in solved.corners:
+        x, y = c.distance * math.cos(c.direction), c.distance * math.sin(c.direction)
+        corners.append({"x": x, "y": y, "direction": c.direction, "half_width": c.half_width,
+                        "distance": c.distance, "max_deficit": c.max_deficit, "window": list(c.window)})
+    extent = float(np.max(np.hypot(solved.x, solved.y)))
+    return {"b0": solved.b0, "b_c": _num(solved.b_c), "regime": solved.regime, "points": int(solved.x.size),
+            "path": _path(solved.outline), "extent": extent, "corners": corners,
+            "area": solved.area, "perimeter": solved.perimeter, "max_wall_error": _num(solved.max_wall_error),
+            "warnings": list(solved.warnings), "notes": list(solved.notes),
+            "theta": _list(theta, 5), "wall": _list(solved.b0 + b), "own_wall": _list(solved.outline.support(theta)),
+            "rho": _list(solved.b0 + b + b2), "solve_ms": 1e3 * solved.seconds,
+            "server_ms": 1e3 * (time.perf_counter() - started)}
+
+
+def realize(spec: dict) -> dict:
+    """κ of the uniform body, κ_max, and whether any mass distribution gives κ = 1 (inverse/realizability.py)."""
+    from coinwall.inverse import realizability
+
+    _, solved = _solve(spec)
+    r = realizability(solved)
+    return {"b0": solved.b0, "kappa_uniform": _num(r.kappa_uniform), "kappa_max": _num(r.kappa_max),
+            "centroid_offset": _num(r.centroid_offset), "realizable": r.realizable,
+            "uniform_consistent": r.uniform_consistent}
+
+
+def export(spec: dict) -> dict:
+    """The bytes of the body on the screen as SVG, DXF or JSON (``coinwall export``'s writers), with
+    ``kappa``/``units`` as on the command line."""
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.inverse.export import EXPORTERS, ExportOptions
+
+    with field("format"):
+        ext = "." + str(spec.get("format", "")).lower().lstrip(".")
+        if ext not in (".svg", ".dxf", ".json"):
+            raise InvalidArgument(f"`format` must be svg, dxf or json, got {spec.get('format')!r}")
+    with field("kappa"):
+        kappa = spec.get("kappa")
+        kappa = None if kappa in (None, "") else float(kappa)
+        units = spec.get("units") or None
+        options = ExportOptions(kappa=kappa, units=units) if kappa is not None else ExportOptions()
+    _, solved = _solve(spec)
+    if kappa is not None and ext != ".json" and not spec.get("allow_unrealizable"):
+        from coinwall.inverse import realizability
+
+        physical = realizability(solved)
+        if not physical.realizable:  # the rule of `coinwall solve --kappa` (and its --allow-unrealizable)
+            with field("kappa"):
+                raise InvalidArgument(f"no mass distribution inside this body gives it κ = 1 (κ_max = "
+                                      f"{physical.kappa_max:.4g} κ), so a part cut at this size would not have this "
+                                      "wall; choose another b0 or tick 'draw anyway' (--allow-unrealizable)")
+    stream = io.BytesIO()
+    EXPORTERS[ext].write(solved, stream, options)
+    return {"format": ext[1:], "bytes": stream.getvalue(), "filename": f"body{ext}"}
+
+
+def _table(spec):
+    from coinwall.forward.dynamics.billiard import Billiard
+
+    wall = get_wall(spec)
+    with field("H"):
+        return Billiard(wall, float(spec.get("H")), float(spec.get("b0")))
+
+
+def beam(spec: dict) -> dict:
+    """A beam of trajectories from a clicked point (θ, η), a fan of directions; the central orbit's section.
+
+    Returns the collisions of every trajectory (the page moves the points along straight flights
+    between them) and the bottom-wall Poincaré section (θ_c, φ_c) of the central orbit, followed for
+    ``section_collisions`` collisions.
+    """
+    from coinwall.forward.dynamics.billiard import ensemble
+    from coinwall.forward.dynamics.poincare import poincare_section
+    from coinwall.forward.validation import check_count, check_range
+
+    table = _table(spec)
+    with field("beam"):
+        n = check_count("rays", spec.get("rays", 200), minimum=1, maximum=MAX_BEAM)
+        collisions = check_count("collisions", spec.get("collisions", 30), minimum=1, maximum=MAX_BEAM_COLLISIONS)
+        spread = check_range("spread", float(spec.get("spread", 0.02)), 0.0, math.pi)
+        direction = float(spec.get("direction", 1.0))
+        theta, eta = float(spec["theta"]), float(spec["eta"])
+        angles = direction + (np.linspace(-spread, spread, n) if n > 1 else np.zeros(1))
+        angles = np.concatenate([[direction], angles[:-1]]) if n > 1 else angles  # orbit 0: the centre ray
+        states = np.column_stack([np.full(n, theta), np.full(n, eta), np.cos(angles), np.sin(angles)])
+        runs = ensemble(table, states, collisions)
+        extra = check_count("section_collisions", spec.get("section_collisions", 4000), minimum=1,
+                            maximum=MAX_SECTION_COLLISIONS)
+        section = poincare_section(table, states=states[:1], collisions=extra)
+    rays = [{"t": _list(r.time, 5), "theta": _list(r.theta, 5), "eta": _list(r.eta, 5),
+             "vt": _list(r.v_theta, 5), "ve": _list(r.v_eta, 5)} for r in runs]
+    grid = np.linspace(0.0, 2 * math.pi, _PLOT_ANGLES)
+    return {"start": states.tolist(), "rays": rays, "lower": _list(table.lower(grid)), "upper": _list(table.upper(grid)),
+            "theta": _list(grid, 5), "section": {"theta": _list(section.theta, 5), "phi": _list(section.phi, 5)},
+            "H": table.H, "b0": table.b0, "gap_min": table.gap_min}
+
+
+def table(spec: dict) -> dict:
+    """The strip's two walls over one period for the billiard pane."""
+    tb = _table(spec)
+    grid = np.linspace(0.0, 2 * math.pi, _PLOT_ANGLES)
+    return {"theta": _list(grid, 5), "lower": _list(tb.lower(grid)), "upper": _list(tb.upper(grid)),
+            "H": tb.H, "b0": tb.b0, "gap_min": tb.gap_min, "gap_max": tb.gap_max}
+
+
+def crash(spec: dict) -> dict:
+    """For the tests: an unexpected exception inside a job (a bug), which must still reach the page as JSON."""
+    raise ZeroDivisionError("a deliberate bug for the tests")
+
+
+#: job name -> function (the worker runs only these)
+JOBS = {"wall": wall_info, "body": body, "realize": realize, "export": export, "upload": upload, "cases": cases,
+        "beam": beam, "table": table, "crash": crash}

@@ -1,0 +1,242 @@
+"""``coinwall explore``'s JSON API without a browser (issue 14): answers, limits, errors, time limits.
+
+Skipped when the optional extra (starlette, uvicorn, httpx for the test client) is not installed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import io
+import json
+import math
+import warnings
+import xml.etree.ElementTree as ET
+
+import pytest
+
+pytest.importorskip("starlette", reason="the explorer needs starlette (pip install -e '.[explore]')")
+pytest.importorskip("uvicorn", reason="the explorer needs uvicorn (pip install -e '.[explore]')")
+pytest.importorskip("httpx", reason="starlette's test client needs httpx")
+
+with warnings.catch_warnings():  # starlette 1.x asks for httpx2 but still works with httpx
+    warnings.simplefilter("ignore")
+    from starlette.testclient import TestClient
+
+from coinwall.cases.explore import app as explore_app
+from coinwall.cases.explore.worker import JobError, Superseded, Worker
+
+ELLIPSE = {"expression": "sqrt((1+eps*cos(t)**2)/(1+eps))", "params": "eps=1"}  # paper eq. 26, ε = 1
+
+
+@pytest.fixture(scope="module")
+def client():
+    app = explore_app.create_app()
+
+    @explore_app.guarded
+    async def guarded_bug(request):
+        raise RuntimeError("an unexpected failure inside a handler")
+
+    async def bare_bug(request):  # not wrapped: the application's last exception handler answers
+        raise RuntimeError("an unexpected failure outside the guard")
+
+    app.add_route("/api/test-guarded-bug", guarded_bug, methods=["POST"])
+    app.add_route("/api/test-bare-bug", bare_bug, methods=["POST"])
+    with TestClient(app, raise_server_exceptions=False) as test_client:
+        yield test_client
+
+
+def test_page_and_assets_are_served_from_the_package(client):
+    page = client.get("/")
+    assert page.status_code == 200 and 'id="body-outline"' in page.text
+    for needle in ('id="wall"', 'id="b0" type="range"', 'id="bc"', 'id="regime"'):
+        assert needle in page.text
+    assert "http://" not in page.text and "https://" not in page.text  # no CDN: works offline
+    assert client.get("/static/explore.js").status_code == 200
+    assert client.get("/static/explore.css").status_code == 200
+
+
+def test_default_case_has_b_c_minus_one_half_as_coinwall_critical_prints_it(client, capsys):
+    from coinwall.cases.cli.main import main
+
+    cases = client.get("/api/cases").json()
+    assert cases["default"] in {c["name"] for c in cases["cases"]}
+    info = client.post("/api/wall", json={"case": cases["default"]}).json()
+    assert info["b_c"] == pytest.approx(-0.5, abs=1e-12)  # −1/(1+ε), paper Appendix
+    main(["critical", f"case:{cases['default']}"])
+    printed = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("b_c"))
+    assert printed.split()[1] == info["b_c_text"] == "-0.5"
+    low, high = info["range"]
+    assert low < info["b_c"] < high  # the slider crosses b_c
+
+
+@pytest.mark.parametrize(("b0", "regime", "corners"), [(-0.3, "convex", 0), (-0.5, "critical", 0), (-0.6, "corner", 2)])
+def test_body_regimes(client, b0, regime, corners):
+    body = client.post("/api/body", json=dict(ELLIPSE, b0=b0)).json()
+    assert body["regime"] == regime and len(body["corners"]) == corners
+    assert body["path"].startswith("M") and body["path"].endswith("Z")
+    assert len(body["theta"]) == len(body["wall"]) == len(body["own_wall"]) == len(body["rho"])
+    if regime == "convex":  # R(0) = b0 + 1 (paper Appendix): the outline's first node is on the +x axis
+        assert body["extent"] == pytest.approx(b0 + 1, abs=1e-6)
+        assert body["points"] == 1024
+        assert min(body["rho"]) == pytest.approx(b0 + 0.5, abs=1e-6)  # ρ = b0 + b + b'' has minimum b0 − b_c
+
+
+def test_realizability(client):
+    # b0 = 0.2: the ellipse x²/1.2² + y²/… has κ_max = its semi-major axis 1.2 (realizability.py docstring)
+    out = client.post("/api/realize", json=dict(ELLIPSE, b0=0.2)).json()
+    assert out["kappa_max"] == pytest.approx(1.2, rel=1e-6) and out["realizable"] is True
+    out = client.post("/api/realize", json=dict(ELLIPSE, b0=-0.3)).json()
+    assert out["kappa_max"] == pytest.approx(0.7, rel=1e-6) and out["realizable"] is False
+
+
+@pytest.mark.parametrize("fmt", ["svg", "dxf", "json"])
+def test_exports(client, fmt):
+    answer = client.post("/api/export", json=dict(ELLIPSE, b0=0.2, format=fmt, kappa=10, units="mm"))
+    assert answer.status_code == 200, answer.text
+    assert f'filename="body.{fmt}"' in answer.headers["content-disposition"]
+    if fmt == "svg":
+        root = ET.fromstring(answer.content)
+        assert root.tag.endswith("svg") and root.get("width").endswith("mm")
+    elif fmt == "json":
+        assert json.loads(answer.content)
+    else:
+        assert b"SECTION" in answer.content
+
+
+@pytest.mark.parametrize(("request_json", "field", "words"), [
+    ({"expression": "1 + cos(", "params": ""}, "wall", "never closed"),
+    ({"expression": "1 + eps*cos(2*t)", "params": ""}, "wall", "unknown name 'eps'"),
+    ({"expression": "__import__('os')", "params": ""}, "wall", "not allowed"),
+    ({"expression": "/etc/passwd.csv", "params": ""}, "wall", "syntax error"),  # never read as a file
+    ({"expression": "1 + eps*cos(2*t)", "params": "eps=x"}, "params", "eps"),
+    ({"expression": "", "params": ""}, "wall", "empty"),
+    ({"case": "no-such-case"}, "case", "unknown case"),
+])
+def test_bad_walls_are_messages_next_to_their_field(client, request_json, field, words):
+    answer = client.post("/api/wall", json=request_json)
+    assert answer.status_code == 400
+    assert answer.json()["field"] == field and words in answer.json()["error"]
+
+
+@pytest.mark.parametrize(("b0", "words"), [("x", "b0"), (None, "b0"), (-0.8, "b0"), (1e300, "b0")])
+def test_bad_offsets(client, b0, words):
+    answer = client.post("/api/body", json=dict(ELLIPSE, b0=b0))
+    assert answer.status_code == 400 and answer.json()["field"] == "b0", answer.text
+    assert words in answer.json()["error"]
+
+
+def test_bad_requests_and_limits(client, monkeypatch):
+    assert client.post("/api/wall", content=b"not json").status_code == 400
+    assert client.post("/api/wall", content=b"[1, 2]").json()["error"] == "the request must be a JSON object"
+    big = json.dumps(dict(ELLIPSE, padding="x" * explore_app.MAX_JSON_BYTES))
+    answer = client.post("/api/wall", content=big)
+    assert answer.status_code == 413 and "larger than" in answer.json()["error"]
+    answer = client.post("/api/export", json=dict(ELLIPSE, b0=0.2, format="svg", kappa=10))
+    assert answer.status_code == 400 and answer.json()["field"] == "kappa" and "units" in answer.json()["error"]
+    # as `coinwall solve --kappa`: no real-size drawing of a body that no mass distribution realizes
+    answer = client.post("/api/export", json=dict(ELLIPSE, b0=-0.3, format="svg", kappa=10, units="mm"))
+    assert answer.status_code == 400 and answer.json()["field"] == "kappa" and "κ_max = 0.7" in answer.json()["error"]
+    answer = client.post("/api/export", json=dict(ELLIPSE, b0=-0.3, format="svg", kappa=10, units="mm",
+                                                  allow_unrealizable=True))
+    assert answer.status_code == 200
+    answer = client.get("/api/nothing-here")
+    assert answer.status_code == 404 and "error" in answer.json()
+    monkeypatch.setattr(explore_app, "MAX_UPLOAD_BYTES", 1000)
+    answer = client.post("/api/upload?name=w.csv", content=b"0" * 2000)
+    assert answer.status_code == 413
+
+
+def test_uploads(client):
+    theta = [2 * math.pi * k / 64 for k in range(64)]
+    text = "theta,b\n" + "".join(f"{t!r},{1 + 0.1 * math.cos(3 * t)!r}\n" for t in theta)
+    info = client.post("/api/upload?name=wall.csv", content=text.encode()).json()
+    assert info["b_c"] == pytest.approx(-0.2, abs=2e-3)  # 1 + 0.1 cos 3θ: b_c = −0.2, from 64 samples
+    body = client.post("/api/body", json={"upload": info["upload"], "b0": 0.0}).json()
+    assert body["regime"] == "convex"
+    square = (b'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">'
+              b'<rect x="1" y="1" width="2" height="2"/></svg>')
+    info = client.post("/api/upload?name=square.svg", content=square).json()
+    assert info["b_c"] == pytest.approx(0.0, abs=1e-6)  # a polygon: ρ = 0 on its vertex windows
+    answer = client.post("/api/upload?name=wall.txt", content=b"1,2\n")
+    assert answer.status_code == 400 and answer.json()["field"] == "upload"
+    answer = client.post("/api/upload?name=w.csv", content=b"theta,b\n0,1\n")
+    assert answer.status_code == 400 and answer.json()["field"] == "upload"
+
+
+def test_billiard(client):
+    table = client.post("/api/table", json=dict(ELLIPSE, b0=0.0, H=3)).json()
+    assert table["H"] == 3 and len(table["lower"]) == len(table["theta"])
+    beam = client.post("/api/beam", json=dict(ELLIPSE, b0=0.0, H=3, theta=1.0, eta=1.5, direction=1.0, rays=20,
+                                              collisions=10, section_collisions=200)).json()
+    assert len(beam["rays"]) == 20 and all(len(r["t"]) == 10 for r in beam["rays"])
+    assert len(beam["section"]["theta"]) > 50
+    answer = client.post("/api/beam", json=dict(ELLIPSE, b0=0.0, H=3, theta=1.0, eta=50.0))
+    assert answer.status_code == 400 and "outside the strip" in answer.json()["error"]
+    answer = client.post("/api/table", json=dict(ELLIPSE, b0=0.0, H=0.5))
+    assert answer.status_code == 400 and answer.json()["field"] == "H"
+
+
+def test_an_unexpected_exception_is_a_json_message(client):
+    for route in ("/api/test-guarded-bug", "/api/test-bare-bug"):
+        answer = client.post(route, json={})
+        assert answer.status_code == 422
+        assert "internal error" in answer.json()["error"] and "Traceback" not in answer.text
+
+
+@contextlib.contextmanager
+def _worker():
+    worker = Worker("test")
+    try:
+        yield worker
+    finally:
+        worker.close()
+
+
+def test_worker_bug_timeout_and_latest_wins():
+    spec = dict(ELLIPSE, b0=-0.3)
+
+    async def scenario(worker):
+        with pytest.raises(JobError) as bug:  # a bug inside a job: a message, and the worker stays up
+            await worker.call("crash", {}, timeout=30)
+        assert bug.value.kind == "bug" and "ZeroDivisionError" in bug.value.message
+        with pytest.raises(JobError) as late:  # the time limit stops the child; the next job gets a new one
+            await worker.call("beam", dict(spec, H=3, theta=1.0, eta=1.5), timeout=0.01)
+        assert late.value.kind == "timeout" and worker.restarts == 1
+        assert (await worker.call("body", spec, timeout=30))["regime"] == "convex"
+        # three quick moves: the first runs, the second is dropped unrun, the third (latest) runs
+        results = await asyncio.gather(*(worker.call("body", dict(ELLIPSE, b0=b0), timeout=30, channel="body")
+                                          for b0 in (-0.3, -0.4, -0.6)), return_exceptions=True)
+        assert results[0]["b0"] == -0.3 and isinstance(results[1], Superseded) and results[2]["regime"] == "corner"
+
+    with _worker() as worker:
+        asyncio.run(scenario(worker))
+
+
+def test_command_line_options():
+    from coinwall.cases.cli import explore
+    from coinwall.cases.cli.parser import CommandParser
+
+    parser = CommandParser(prog="coinwall")
+    explore.register(parser.add_subparsers(dest="command", parser_class=CommandParser))
+    args = parser.parse_args(["explore", "--port", "0", "--no-browser"])
+    assert (args.port, args.host, args.no_browser) == (0, "127.0.0.1", True)
+    help_text = io.StringIO()
+    with contextlib.redirect_stdout(help_text), pytest.raises(SystemExit):
+        parser.parse_args(["explore", "--help"])
+    assert "--no-browser" in help_text.getvalue()
+    assert isinstance(parser, argparse.ArgumentParser)
+
+
+def test_busy_port_is_a_message():
+    import socket
+
+    from coinwall.cases.explore.server import check_port
+    from coinwall.forward.errors import InvalidArgument
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        with pytest.raises(InvalidArgument, match="choose another"):
+            check_port("127.0.0.1", taken.getsockname()[1])

@@ -1,0 +1,257 @@
+"""``coinwall explore`` in a real browser: headless Chromium driven by selenium (issue 14).
+
+Skipped, with the reason, when selenium, starlette/uvicorn, chromium or chromedriver are missing, so
+the default suite runs anywhere.  The browser and its driver are found through ``COINWALL_CHROMIUM`` and
+``COINWALL_CHROMEDRIVER``, else Debian's ``/usr/bin/chromium`` and ``/usr/bin/chromedriver``, else PATH
+(``apt-get install -y chromium chromium-driver``).
+
+The server runs as ``python -m coinwall explore --port 0 --no-browser``-equivalent in a subprocess (its
+own workers, its own Ctrl-C), so the last test also checks that SIGINT stops it with status 0 and no
+traceback.  A screenshot of every state is kept under the tests' temporary folder; with
+``COINWALL_EXPLORE_FIGURES=docs/figures`` they are also copied there (the pictures of docs/explore.md).
+The slider-to-redraw times measured here are printed (``-s``) and recorded in docs/performance.md.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+
+import pytest
+
+selenium = pytest.importorskip("selenium", reason="selenium is not installed (pip install selenium)")
+pytest.importorskip("starlette", reason="the explorer needs starlette (pip install -e '.[explore]')")
+pytest.importorskip("uvicorn", reason="the explorer needs uvicorn (pip install -e '.[explore]')")
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+
+
+def _find(variable, defaults, names):
+    path = os.environ.get(variable)
+    if path:
+        return path if os.access(path, os.X_OK) else None
+    for candidate in defaults:
+        if os.access(candidate, os.X_OK):
+            return candidate
+    return next((found for found in map(shutil.which, names) if found), None)
+
+
+CHROMIUM = _find("COINWALL_CHROMIUM", ("/usr/bin/chromium", "/usr/bin/chromium-browser"), ("chromium", "chromium-browser"))
+CHROMEDRIVER = _find("COINWALL_CHROMEDRIVER", ("/usr/bin/chromedriver",), ("chromedriver",))
+pytestmark = pytest.mark.skipif(CHROMIUM is None or CHROMEDRIVER is None,
+                                reason="headless browser tests need chromium and chromedriver (apt-get install -y "
+                                       "chromium chromium-driver, or set COINWALL_CHROMIUM/COINWALL_CHROMEDRIVER)")
+
+_SERVE = "from coinwall.cases.explore import serve; serve('127.0.0.1', 0, open_browser=False)"
+_WAIT = 30.0  # seconds: the first page load starts the workers, the first beam compiles a numba kernel
+
+
+@pytest.fixture(scope="module")
+def server():
+    """The explorer in a subprocess on a free port; yields (url, process)."""
+    process = subprocess.Popen([sys.executable, "-c", _SERVE], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    line = process.stdout.readline()  # "coinwall explore: serving http://127.0.0.1:PORT/ (Ctrl-C stops it)"
+    if "serving" not in line:
+        process.kill()
+        pytest.fail(f"the server did not start: {line!r} {process.stderr.read()}")
+    url = line.split("serving ", 1)[1].split()[0]
+    yield url, process
+    if process.poll() is None:
+        process.kill()
+        process.wait(10)
+
+
+@pytest.fixture(scope="module")
+def downloads(tmp_path_factory):
+    return tmp_path_factory.mktemp("downloads")
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory):
+    return tmp_path_factory.mktemp("screenshots")
+
+
+@pytest.fixture(scope="module")
+def browser(server, downloads):
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1400,1250",
+                     "--disable-gpu"):
+        options.add_argument(argument)
+    options.add_experimental_option("prefs", {"download.default_directory": str(downloads),
+                                              "download.prompt_for_download": False})
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver.get(server[0])
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+def _wait(condition, what, timeout=_WAIT):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def _text(driver, element_id):
+    return driver.find_element(By.ID, element_id).text.strip()
+
+
+def _errors(driver, allowed=()):
+    """Console entries of level SEVERE, except the 4xx answers ``allowed`` (e.g. "/api/wall")."""
+    entries = driver.get_log("browser")
+    return [e for e in entries if e["level"] == "SEVERE"
+            and not any(path in e["message"] and "status of 400" in e["message"] for path in allowed)]
+
+
+def _shot(driver, shots, name):
+    path = shots / f"explore-{name}.png"
+    driver.save_screenshot(str(path))
+    assert path.stat().st_size > 1000
+    folder = os.environ.get("COINWALL_EXPLORE_FIGURES")
+    if folder:
+        shutil.copy(path, os.path.join(folder, path.name))
+
+
+def _set_b0(driver, value):
+    """Move the slider as a drag does: set its value and fire ``input``."""
+    driver.execute_script("const s = document.getElementById('b0'); s.value = arguments[0];"
+                          "s.dispatchEvent(new Event('input', {bubbles: true}));", value)
+
+
+def _type(driver, element_id, text):
+    field = driver.find_element(By.ID, element_id)
+    field.clear()
+    field.send_keys(text)
+
+
+def test_opens_on_the_example(browser, shots):
+    # the Appendix wall sqrt((1+cos²θ)/2), ε = 1: b_c = −1/(1+ε) = −0.5 (paper, Appendix; `coinwall critical`)
+    _wait(lambda: browser.execute_script("return document.body.dataset.ready"), "the page to load")
+    assert _text(browser, "bc") == "-0.5"
+    assert _text(browser, "regime") == "convex"
+    assert browser.find_element(By.CSS_SELECTOR, "path#body-outline").get_attribute("d").startswith("M")
+    slider = browser.find_element(By.ID, "b0")
+    assert slider.tag_name == "input" and slider.get_attribute("type") == "range"
+    _wait(lambda: _text(browser, "kappa-max") not in ("", "…"), "κ_max")
+    _shot(browser, shots, "example")
+    assert _errors(browser) == []
+
+
+def test_slider_crosses_b_c_and_corners_appear(browser, shots):
+    assert browser.find_elements(By.CSS_SELECTOR, "#corners circle") == []
+    _set_b0(browser, -0.6)  # below b_c = −0.5: Case III, two corners at θ = 0, π (paper, Appendix)
+    _wait(lambda: _text(browser, "regime") == "corner", "the corner regime")
+    corners = _wait(lambda: browser.find_elements(By.CSS_SELECTOR, "#corners circle"), "corners")
+    assert len(corners) == 2
+    _wait(lambda: "✗" in _text(browser, "realizable"), "the realizability mark")
+    assert float(_text(browser, "kappa-max")) < 1  # the ✗ says κ_max < 1
+    _shot(browser, shots, "corners")
+    _set_b0(browser, -0.5)
+    _wait(lambda: _text(browser, "regime") == "critical", "the critical regime")
+    assert _errors(browser) == []
+
+
+def test_slider_to_redraw_time(browser):
+    browser.execute_script("window.exploreTimings.length = 0")
+    values = [-0.45 + 0.01 * k for k in range(20)]
+    for value in values:  # one move at a time, each waited for: the time of one redraw
+        count = len(browser.execute_script("return window.exploreTimings"))
+        _set_b0(browser, value)
+        _wait(lambda count=count: len(browser.execute_script("return window.exploreTimings")) > count, "a redraw")
+    timings = browser.execute_script("return window.exploreTimings")
+    updated = sorted(t["ms"] for t in timings)
+    painted = sorted(t["painted"] for t in timings)
+    server = sorted(t["server"] for t in timings)
+    median = updated[len(updated) // 2]
+    print(f"\nslider -> outline updated: median {median:.1f} ms, max {updated[-1]:.1f} ms; next frame: median "
+          f"{painted[len(painted) // 2]:.1f} ms; server (solve + curves): median {server[len(server) // 2]:.1f} ms "
+          f"({len(timings)} moves, 1,024-point body)")
+    # the issue's target is 100 ms; a loaded shared CI machine gets a margin, the measured numbers are recorded
+    assert median < 250
+    # a burst of moves without waiting: only the latest is drawn
+    for value in (-0.2, -0.1, 0.0, 0.1, -0.55):
+        _set_b0(browser, value)
+    _wait(lambda: _text(browser, "regime") == "corner", "the last move of a burst to win")
+    assert _errors(browser) == []
+
+
+def test_download_is_a_valid_svg(browser, downloads):
+    _set_b0(browser, -0.3)
+    _wait(lambda: _text(browser, "regime") == "convex", "the convex body")
+    browser.find_element(By.ID, "download-svg").click()
+    path = downloads / "body.svg"
+    _wait(lambda: path.exists() and path.stat().st_size > 0, "the download")
+    root = ET.fromstring(path.read_bytes())
+    assert root.tag.endswith("svg")
+    assert any(el.tag.endswith("path") for el in root.iter())
+    assert _errors(browser) == []
+
+
+def test_typing_a_wall_updates_b_c_and_regime(browser, shots):
+    # b = 1 + 0.1 cos 3θ: b + b'' = 1 − 0.8 cos 3θ, so b_c = −0.2 (the catalog's constant-width case)
+    _type(browser, "params", "")
+    _type(browser, "wall", "1 + 0.1*cos(3*t)")
+    _wait(lambda: _text(browser, "bc") == "-0.2", "b_c of the typed wall")
+    regime = _wait(lambda: _text(browser, "regime"), "the regime")
+    assert regime in ("convex", "critical", "corner")
+    _set_b0(browser, -0.3)
+    _wait(lambda: _text(browser, "regime") == "corner", "corners of the typed wall")
+    _wait(lambda: len(browser.find_elements(By.CSS_SELECTOR, "#corners circle")) == 3, "three corners")
+    _wait(lambda: _text(browser, "kappa-max") != "…", "κ_max of the new body")
+    _shot(browser, shots, "typed")
+    assert _errors(browser) == []
+
+
+def test_bad_expression_shows_its_message(browser, shots):
+    before = _text(browser, "bc")
+    _type(browser, "wall", "1 + cos(")
+    message = _wait(lambda: _text(browser, "wall-error"), "the parser's message")
+    assert "syntax error" in message and "never closed" in message
+    assert _text(browser, "bc") == before  # nothing else breaks: the last body stays
+    assert browser.find_element(By.ID, "wall").get_attribute("class") == "invalid"
+    _shot(browser, shots, "bad-expression")
+    assert _errors(browser, allowed=("/api/wall",)) == []
+    _type(browser, "wall", "1 + 0.1*cos(3*t)")
+    _wait(lambda: _text(browser, "wall-error") == "", "the message to clear")
+
+
+def test_billiard_beam_and_rigid_body(browser, shots):
+    browser.execute_script("document.getElementById('b0-number').value = '0';"
+                           "document.getElementById('b0-number').dispatchEvent(new Event('change'))")
+    _wait(lambda: _text(browser, "regime") == "convex", "the convex body at b0 = 0")
+    _wait(lambda: browser.find_element(By.ID, "table-lower").get_attribute("d"), "the table")
+    table = browser.find_element(By.ID, "table-view")
+    browser.execute_script("arguments[0].scrollIntoView()", table)
+    time.sleep(0.3)
+    webdriver.ActionChains(browser).move_to_element_with_offset(table, 0, 0).click().perform()  # the middle
+    _wait(lambda: browser.find_elements(By.CSS_SELECTOR, "#section-points path"), "the Poincaré section", 90)
+    _wait(lambda: browser.find_element(By.ID, "beam-dots").get_attribute("d"), "the beam")
+    first = browser.find_element(By.ID, "lab-body").get_attribute("transform")
+    _wait(lambda: browser.find_element(By.ID, "lab-body").get_attribute("transform") != first, "the body to move")
+    time.sleep(1.0)
+    _shot(browser, shots, "billiard")
+    assert _errors(browser) == []
+
+
+def test_ctrl_c_stops_the_server(server):
+    _, process = server
+    process.send_signal(signal.SIGINT)
+    code = process.wait(20)
+    err = process.stderr.read()
+    assert code == 0, err
+    assert "Traceback" not in err
