@@ -11,8 +11,8 @@ import argparse
 import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
-from . import (cases, correlation, critical, explore, export, fit, kam, mass, quantum, section, simulate, solve, verify,
-               wall)
+from . import (cases, correlation, critical, explore, export, fit, kam, mass, quantum, scan, section, simulate, solve,
+               verify, wall)
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 
@@ -29,6 +29,7 @@ SUBCOMMANDS = {
     "correlation": correlation,
     "kam": kam,
     "quantum": quantum,
+    "scan": scan,
     "cases": cases,
     "verify": verify,
     "explore": explore,

@@ -1,0 +1,271 @@
+"""The scan driver: a map of pure, seeded cell tasks on dask.distributed; the driver alone writes the store.
+
+:func:`scan` checks everything it can before any work (the quantity's options, the grid, the wall at the
+first cell, the memory of the bookkeeping), makes or reopens the store (:mod:`.store`), submits one task
+per cell that is not yet computed (``client.map`` of :func:`.quantities.compute_cell`) and writes each
+result as it arrives (``as_completed``).  A cell's numbers depend only on its coordinates, the options and
+the scan's seed, never on the worker or the order, so any number of workers gives the same arrays.
+
+Workers.  The billiard kernel holds the GIL (numba functions compiled without ``nogil``), so threads in one
+process would run the cells one at a time: the default cluster is :class:`distributed.LocalCluster` with
+one single-threaded *process* per core (measured in tests/benchmarks/bench_scan.py), and each cell runs the
+kernel with one numba thread.  ``scheduler="tcp://HOST:PORT"`` uses a running cluster instead; its workers
+need coinwall installed, and should also run one thread each (``dask worker --nthreads 1 --nworkers N``).
+
+Losing a worker.  Tasks of a worker that dies are run again elsewhere by the scheduler (a worker death
+counts toward ``distributed.scheduler.allowed-failures``, 3 by default); a task that raises is retried
+``retries`` times.  Cells already written stay written: a scan that stops for any reason (a kill, Ctrl-C,
+the driver's machine) is resumed by running it again with the same arguments.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..display import safe_repr
+from ..errors import InvalidArgument
+from ..validation import check_count, check_memory
+from .grid import cell_seed, cells, parse_axis
+from .quantities import QUANTITIES, check_options, compute_cell
+from .store import STATUS_REFUSED, STATUS_TODO, CellWriter, create_store, open_store
+from .table import TableSpec
+
+__all__ = ["ScanResult", "make_axes", "scan"]
+
+_BYTES_PER_CELL = 4000.0  # the driver's bookkeeping per submitted cell (a future, its key, its arguments)
+
+
+@dataclass(frozen=True, repr=False)
+class ScanResult:
+    """What one run of :func:`scan` did.
+
+    Attributes
+    ----------
+    path : str
+        The store (``xarray.open_zarr(path)`` reads it).
+    quantity : str
+    cells : int
+        Cells in the grid.
+    computed : int
+        Cells computed by this run.
+    resumed : int
+        Cells found already computed in the store.
+    refused : int
+        Cells the library refused (status 2 in the store), over all runs.
+    messages : tuple of str
+        The distinct refusal messages of this run (at most 5).
+    seconds : float
+        Wall-clock time of this run.
+    workers : int
+        Workers of the cluster.
+    """
+
+    path: str
+    quantity: str
+    cells: int
+    computed: int
+    resumed: int
+    refused: int
+    messages: tuple
+    seconds: float
+    workers: int
+
+    def dataset(self):
+        """The store as an :class:`xarray.Dataset` (lazy)."""
+        import xarray as xr
+
+        return xr.open_zarr(self.path)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary."""
+        return {"path": self.path, "quantity": self.quantity, "cells": self.cells, "computed": self.computed,
+                "resumed": self.resumed, "refused": self.refused, "messages": list(self.messages),
+                "seconds": self.seconds, "workers": self.workers}
+
+    @safe_repr
+    def __repr__(self) -> str:
+        return (f"ScanResult({self.quantity}: {self.computed} of {self.cells} cells computed in "
+                f"{self.seconds:.1f} s on {self.workers} workers, {self.resumed} resumed, {self.refused} refused; "
+                f"{self.path})")
+
+
+def make_axes(grid: dict, table: TableSpec) -> list:
+    """The axes of ``grid`` (name → ``LIST | START:STOP:N[log]`` text or a sequence of numbers): the wall
+    parameters in the order given, then ``H`` (required)."""
+    if not isinstance(grid, dict) or "H" not in grid:
+        raise InvalidArgument(f"`grid` must be a dict with an 'H' axis (and wall parameters), got {grid!r}")
+    h_units = "kappa" if table.kappa is None else f"length unit of the wall (kappa = {table.kappa:g})"
+    axes = []
+    for name, spec in [*((k, v) for k, v in grid.items() if k != "H"), ("H", grid["H"])]:
+        text = spec if isinstance(spec, str) else ",".join(repr(float(v)) for v in np.atleast_1d(spec))
+        axes.append(parse_axis(name, text, h_units if name == "H" else "1"))
+    fixed = {k for k, _ in table.params}
+    clash = sorted(fixed & set(grid))
+    if clash:
+        raise InvalidArgument(f"`{clash[0]}` is both a fixed parameter and a scanned axis; give it once")
+    return axes
+
+
+def _require():
+    """Refuse in one line when the optional dependencies of a scan are missing."""
+    import importlib.util
+
+    missing = [name for name in ("distributed", "xarray", "zarr") if importlib.util.find_spec(name) is None]
+    if missing:
+        raise InvalidArgument(f"`scheduler`: scans need dask.distributed, xarray and zarr ({', '.join(missing)} "
+                              f"missing): pip install 'coinwall[scan]'")
+
+
+def _client(scheduler, workers):
+    """A connected :class:`distributed.Client` and the LocalCluster we made for it (or None)."""
+    from distributed import Client, LocalCluster
+
+    if scheduler in (None, "local"):
+        n = workers or os.cpu_count() or 1
+        # ":0": any free port for the scheduler's HTTP endpoints (8787 may be taken by another cluster, and
+        # the warning that says so would reach the user)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
+        return Client(cluster), cluster
+    if not (isinstance(scheduler, str) and scheduler.startswith(("tcp://", "tls://", "ucx://", "inproc://"))):
+        raise InvalidArgument(f"`scheduler` must be 'local' or an address tcp://HOST:PORT, got {scheduler!r}")
+    try:
+        client = Client(scheduler, timeout="20s")
+    except OSError as exc:
+        raise InvalidArgument(f"`scheduler` {scheduler!r}: cannot connect ({exc})") from None
+    if workers:
+        try:
+            client.wait_for_workers(workers, timeout=120)
+        except TimeoutError:
+            have = len(client.scheduler_info(n_workers=-1)["workers"])
+            client.close()
+            raise InvalidArgument(f"`workers`: only {have} of {workers} workers joined {scheduler} within 120 s") \
+                from None
+    return client, None
+
+
+def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: dict | None = None, seed: int = 0,
+         scheduler: str = "local", workers: int | None = None, client=None, retries: int = 3, progress=None,
+         command: str = "") -> ScanResult:
+    """Compute ``quantity`` on every cell of ``grid`` and store it at ``output`` (resuming what is there).
+
+    Parameters
+    ----------
+    quantity : {"chaotic-fraction", "lyapunov", "tau", "splitting"}
+    table : TableSpec
+        The wall (an expression, so its parameters can be scanned), fixed parameters, b0, κ.
+    grid : dict
+        Axis name → ``"a,b,c"``, ``"START:STOP:N"``, ``"START:STOP:Nlog"`` or a sequence of numbers; ``"H"``
+        is required, the other names are wall parameters (e.g. ``{"eps": "0.5:30:20log", "H": "2:8:13"}``).
+    output : str
+        The Zarr directory store.  If it exists it must come from the same scan (same quantity, options,
+        wall, grid, seed and coinwall version); only its missing cells are computed.
+    options : dict, optional
+        The quantity's options (:data:`.quantities.QUANTITIES` defaults).
+    seed : int
+        The scan's seed; each cell's comes from it and the cell's coordinates (:func:`.grid.cell_seed`).
+    scheduler : str
+        ``"local"`` (a :class:`~distributed.LocalCluster` made and closed here) or ``"tcp://HOST:PORT"``.
+    workers : int, optional
+        Local worker processes (default: one per core); with an address, wait for that many.
+    client : distributed.Client, optional
+        Use this client instead (``scheduler`` and ``workers`` are then ignored).
+    retries : int
+        Times a task that raised is run again.
+    progress : callable, optional
+        ``progress(done, todo)`` after each cell written by this run.
+    command : str
+        Recorded in the store's attributes (the CLI passes its command line).
+
+    Returns
+    -------
+    ScanResult
+    """
+    from coinwall import __version__
+
+    _require()
+    if not isinstance(table, TableSpec):
+        raise InvalidArgument(f"`table` must be a TableSpec, got {type(table).__name__}")
+    options = check_options(quantity, options)
+    seed = check_count("seed", seed, minimum=0)
+    retries = check_count("retries", retries, minimum=0)
+    if workers is not None:
+        workers = check_count("workers", workers, maximum=4096)
+    if not isinstance(output, str) or not output.strip():
+        raise InvalidArgument(f"`output` must be a path for the store, got {output!r}")
+    axes = make_axes(grid, table)
+    shape = tuple(len(a) for a in axes)
+    total = int(np.prod(shape))
+    check_memory(f"a grid of {total} cells ({_BYTES_PER_CELL:g} bytes of bookkeeping per cell)",
+                 total * _BYTES_PER_CELL)
+    names = [a.name for a in axes[:-1]]
+    first = {n: a.values[0] for n, a in zip(names, axes)}
+    table.wall_at(first)  # a wrong parameter name or expression fails here, once, not in every cell
+    identity = {"quantity": quantity, "options": options, **table.identity(), "seed": seed,
+                "axes": {a.name: list(a.values) for a in axes}, "coinwall_version": __version__}
+    exists = os.path.exists(output)
+    status = open_store(output, identity) if exists else np.zeros(shape, dtype=np.int8)
+    todo = [(index, coords) for index, coords in cells(axes) if status[index] == STATUS_TODO]
+    resumed = total - len(todo)
+    start = time.perf_counter()
+    messages, computed, n_workers = [], 0, 0
+    own = client is None and bool(todo)
+    cluster = None
+    if own:  # connect before the store is made: a scheduler that cannot be reached leaves no file behind
+        client, cluster = _client(scheduler, workers)
+    try:
+        if not exists:
+            seeds = np.array([cell_seed(seed, c) for _, c in cells(axes)], dtype=np.uint64).reshape(shape)
+            attrs = {"coinwall_version": __version__, "quantity": quantity, "seed": seed,
+                     "options": repr(options), "wall": table.description, "params": repr(dict(table.params)),
+                     "b0": float(table.b0), "kappa": "none" if table.kappa is None else float(table.kappa),
+                     "command": command, "title": f"coinwall scan {quantity}"}
+            create_store(output, axes, QUANTITIES[quantity].variables, seeds, attrs, identity)
+        if todo:
+            writer = CellWriter(output, QUANTITIES[quantity].variables)
+            n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+            computed, messages = _run(client, quantity, table, names, todo, seed, options, retries, writer,
+                                      progress)
+    finally:
+        if own:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    refused = int(np.count_nonzero(open_store(output, identity) == STATUS_REFUSED))
+    return ScanResult(path=output, quantity=quantity, cells=total, computed=computed, resumed=resumed,
+                      refused=refused, messages=tuple(messages), seconds=time.perf_counter() - start,
+                      workers=n_workers)
+
+
+def _run(client, quantity, table, names, todo, seed, options, retries, writer, progress):
+    """Submit the cells, write each result as it arrives; returns (cells written, refusal messages)."""
+    from distributed import as_completed
+
+    token = f"{os.getpid()}-{time.time_ns()}"
+    futures = {}
+    for index, coords in todo:
+        values = dict(zip(names, coords[:-1]))
+        key = f"coinwall-cell-{'-'.join(map(str, index))}-{token}"
+        future = client.submit(compute_cell, quantity, table, values, coords[-1], cell_seed(seed, coords), options,
+                               key=key, retries=retries, pure=False)
+        futures[future] = index
+    messages, done = [], 0
+    try:
+        for future in as_completed(futures):
+            result = future.result()  # a task that failed after its retries raises here: the scan stops
+            writer.write(futures[future], result)
+            done += 1
+            if result["status"] == STATUS_REFUSED and result["error"] not in messages and len(messages) < 5:
+                messages.append(result["error"])
+            if progress is not None:
+                progress(done, len(todo))
+    finally:
+        for future in futures:
+            if not future.done():
+                future.cancel()
+    return done, messages

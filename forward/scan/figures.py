@@ -1,0 +1,147 @@
+"""Figures of a scan store: the (parameter, H) phase diagram, and a quantity against H with error bars.
+
+Both take the :class:`xarray.Dataset` of a store (``xarray.open_zarr(path)``) and return matplotlib Axes.
+Cells not computed (status 0) or refused (status 2) are left blank.  On a chaotic-fraction diagram of the
+paper's ellipse wall over ``eps``, the paper's fit ε = 1/H + 17/H² (eq. 20) and the closed-form limits
+ε*(H) and ε**(H) of :mod:`.islands` are drawn.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InvalidArgument
+from .islands import eps_star, eps_star_star, paper_boundary
+
+__all__ = ["plot_line", "plot_phase_diagram", "plot_scan"]
+
+
+def _main_variable(dataset):
+    """The quantity's first variable (a Zarr store lists its arrays in alphabetical order, not in ours)."""
+    from .quantities import QUANTITIES
+
+    quantity = QUANTITIES.get(dataset.attrs.get("quantity"))
+    if quantity is not None:
+        return next(iter(quantity.variables))
+    return next(name for name in dataset.data_vars if name not in ("cell_seed", "cell_status"))
+
+
+def _plain_numbers(axis):
+    """0.5, 2, 40 on a log axis, not 5 × 10⁻¹ (as in dynamics/kam.py)."""
+    from matplotlib.ticker import ScalarFormatter
+
+    axis.set_major_formatter(ScalarFormatter())
+    low, high = axis.get_view_interval()
+    if high < 10 * low:  # minor ticks labelled only when no decade is in view
+        axis.set_minor_formatter(ScalarFormatter())
+
+
+def _values(dataset, variable):
+    values = np.asarray(dataset[variable].values, dtype=float)
+    return np.where(np.asarray(dataset["cell_status"].values) == 1, values, np.nan)
+
+
+def _edges(values, log):
+    """Cell edges around the coordinate values (geometric midpoints on a log axis)."""
+    v = np.asarray(values, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] * 0.9, v[0] * 1.1]) if log else np.array([v[0] - 0.5, v[0] + 0.5])
+    if log:
+        mid = np.sqrt(v[1:] * v[:-1])
+        return np.concatenate([[v[0] ** 2 / mid[0]], mid, [v[-1] ** 2 / mid[-1]]])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def _is_log(values):
+    v = np.asarray(values, dtype=float)
+    if v.size < 3 or np.any(v <= 0):
+        return False
+    ratios = v[1:] / v[:-1]
+    return bool(np.allclose(ratios, ratios[0], rtol=1e-6) and not np.allclose(np.diff(v), v[1] - v[0], rtol=1e-6))
+
+
+def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
+    """The 2-d map of ``variable`` over (H, parameter), with the ellipse wall's curves when they apply.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A store with two dimensions (a wall parameter, then H).
+    variable : str, optional
+        Default: the quantity's first variable (the chaotic fraction for ``chaotic-fraction``).
+    ax : matplotlib Axes, optional
+    curves : bool
+        Draw 1/H + 17/H², ε*(H) and ε**(H) (only for the ellipse wall scanned over ``eps``).
+    """
+    from ..dynamics.kam import ELLIPSE_WALL
+    from ..formats.figure import axes_or_new
+
+    variable = variable or _main_variable(dataset)
+    dims = dataset[variable].dims
+    if len(dims) != 2 or dims[-1] != "H":
+        raise InvalidArgument(f"a phase diagram needs two axes (a parameter, then H), the store has {dims}")
+    name = dims[0]
+    ax, own = axes_or_new(ax, (7, 4.8))
+    p, H = dataset[name].values, dataset["H"].values
+    log = _is_log(p)
+    data = np.ma.masked_invalid(_values(dataset, variable))
+    mesh = ax.pcolormesh(_edges(H, False), _edges(p, log), data, shading="flat", cmap="viridis")
+    bar = ax.figure.colorbar(mesh, ax=ax)
+    bar.set_label(f"{variable} ({dataset[variable].attrs.get('units', '')})")
+    if log:
+        ax.set_yscale("log")
+        from matplotlib.ticker import ScalarFormatter
+
+        ax.yaxis.set_major_formatter(ScalarFormatter())
+    if curves and name == "eps" and dataset.attrs.get("wall") == ELLIPSE_WALL and dataset.attrs.get("kappa") == "none":
+        grid = np.linspace(max(H.min(), 1.2), H.max(), 60)
+        ax.plot(grid, paper_boundary(grid), "w-", lw=2, label=r"paper: $1/H + 17/H^2$")
+        ax.plot(grid, [eps_star(h) for h in grid], "r--", lw=1.5, label=r"$\varepsilon^*(H)$: vertical orbit unstable")
+        ax.plot(grid, [eps_star_star(h) for h in grid], "m:", lw=2, label=r"$\varepsilon^{**}(H)$: tilted orbit unstable")
+        ax.set_ylim(_edges(p, log)[0], _edges(p, log)[-1])
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.8)
+    ax.set_xlabel(f"wall distance H ({dataset['H'].attrs.get('units', '')})")
+    ax.set_ylabel(f"{name}")
+    ax.set_title(f"{variable}: {dataset.attrs.get('wall', '')}", fontsize=9)
+    if own:
+        ax.figure.tight_layout()
+    return ax
+
+
+def plot_line(dataset, variable=None, ax=None):
+    """``variable`` against H with error bars from ``<variable>_stderr`` (one line per other coordinate)."""
+    from ..formats.figure import axes_or_new
+
+    variable = variable or _main_variable(dataset)
+    ax, own = axes_or_new(ax, (6, 4))
+    values = _values(dataset, variable)
+    err_name = f"{variable}_stderr"
+    errors = _values(dataset, err_name) if err_name in dataset else np.zeros_like(values)
+    H = dataset["H"].values
+    dims = dataset[variable].dims
+    if len(dims) == 1:
+        ax.errorbar(H, values, yerr=errors, fmt="o-", capsize=3)
+    else:
+        other = dims[0]
+        for k, v in enumerate(dataset[other].values):
+            ax.errorbar(H, values[k], yerr=errors[k], fmt="o-", capsize=3, label=f"{other} = {v:.4g}")
+        ax.legend(fontsize=7)
+    units = dataset[variable].attrs.get("units", "")
+    if np.nanmin(values, initial=np.inf) > 0:
+        ax.set_yscale("log")
+        _plain_numbers(ax.yaxis)
+    ax.set_xlabel(f"wall distance H ({dataset['H'].attrs.get('units', '')})")
+    ax.set_ylabel(f"{variable} ({units})")
+    ax.set_title(f"{variable}: {dataset.attrs.get('wall', '')} {dataset.attrs.get('params', '')}", fontsize=9)
+    if own:
+        ax.figure.tight_layout()
+    return ax
+
+
+def plot_scan(dataset, variable=None, ax=None):
+    """The figure that fits the store: a phase diagram for two axes, a line with error bars for one."""
+    variable = variable or _main_variable(dataset)
+    if len(dataset[variable].dims) == 2 and dataset[variable].shape[0] > 1 and dataset[variable].shape[1] > 1:
+        return plot_phase_diagram(dataset, variable, ax)
+    return plot_line(dataset, variable, ax)

@@ -1,0 +1,220 @@
+"""What a scan computes in one cell: pure, seeded functions of (table, options, seed) → numbers, one per quantity.
+
+Each :class:`Quantity` names its variables (with units, for the store), its options (with defaults and
+checks) and its cell function.  A cell function builds the table from a :class:`.table.TableSpec` and the
+cell's coordinates, runs the library with one thread (the scan's parallelism is one process per core), and
+returns a dict of floats.  The same arguments give the same numbers on any worker.
+
+============================ ===================================================================================
+``chaotic-fraction``         share of ``orbits`` Liouville-random orbits with λ/collision > 3 ln N/N over N =
+                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`, with the
+                             bookkeeping in arrays: :func:`.benettin.lyapunov_batch`, identical numbers)
+``lyapunov``                 mean, spread and median of λ over ``orbits`` orbits, per collision and per unit time
+``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.correlation.correlation`)
+``splitting``                the lowest heads–tails doublet's splitting
+                             (:func:`coinwall.forward.quantum.doublet_splitting`); not random
+============================ ===================================================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InvalidArgument
+from ..validation import check_choice, check_count, check_positive
+
+__all__ = ["QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One scannable quantity.
+
+    Attributes
+    ----------
+    name : str
+    variables : dict
+        Variable name → (units, description), the arrays of the store.
+    defaults : dict
+        Option name → default value.
+    seeded : bool
+        Whether the cell function uses its seed.
+    """
+
+    name: str
+    variables: dict
+    defaults: dict
+    seeded: bool = True
+
+
+def _exponents(table, orbits, collisions, every, seed):
+    from ..dynamics.billiard import random_states
+    from .benettin import lyapunov_batch
+
+    # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
+    states = random_states(table, orbits, seed)
+    return lyapunov_batch(table, states, collisions, every, seed=seed, threads=1)
+
+
+def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
+    from ..dynamics.lyapunov import default_threshold
+
+    per_collision, _, _ = _exponents(table, orbits, collisions, every, seed)
+    lam = per_collision[np.isfinite(per_collision)]
+    limit = default_threshold(collisions) if threshold is None else threshold
+    n = int(lam.size)
+    chaotic = int(np.count_nonzero(lam > limit))
+    fraction = chaotic / n if n else math.nan
+    return {"chaotic_fraction": fraction,
+            "chaotic_fraction_stderr": math.sqrt(fraction * (1 - fraction) / n) if n else math.nan,
+            "regular_orbits": float(n - chaotic), "orbits_used": float(n)}
+
+
+def _lyapunov(table, seed, orbits, collisions, every):
+    per_collision, per_time, _ = _exponents(table, orbits, collisions, every, seed)
+    ok = np.isfinite(per_collision)
+    n = int(np.count_nonzero(ok))
+
+    def spread(v):
+        return float(np.std(v, ddof=1) / math.sqrt(v.size)) if v.size > 1 else math.nan
+
+    pc, pt = per_collision[ok], per_time[ok]
+    return {"lambda_collision": float(pc.mean()) if n else math.nan, "lambda_collision_stderr": spread(pc),
+            "lambda_collision_median": float(np.median(pc)) if n else math.nan,
+            "lambda_time": float(pt.mean()) if n else math.nan, "lambda_time_stderr": spread(pt),
+            "orbits_used": float(n)}
+
+
+def _tau(table, seed, bounces, max_lag, orbits, count):
+    from ..dynamics.correlation import correlation
+
+    result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1)
+    return {"tau": result.tau, "tau_stderr": result.tau_stderr, "P1": float(result.P[1]),
+            "P1_stderr": float(result.P_stderr[1]), "n_needed_fit": result.n_needed_fit}
+
+
+def _splitting(table, seed, pair, cells, order):
+    from ..quantum import doublet_splitting
+
+    s = doublet_splitting(table.wall, table.H, table.b0, pair=pair, cells=cells, order=order)
+    return {"splitting": s.direct, "splitting_flux": s.flux, "direct_trusted": float(s.direct_trusted),
+            "flux_trusted": float(s.flux_trusted), "lambda_lower": s.lower, "wkb_action": s.action,
+            "neck_width": s.gap}
+
+
+_FUNCTIONS = {"chaotic-fraction": _chaotic_fraction, "lyapunov": _lyapunov, "tau": _tau, "splitting": _splitting}
+
+QUANTITIES = {
+    "chaotic-fraction": Quantity(
+        "chaotic-fraction",
+        {"chaotic_fraction": ("1", "share of the sampled orbits that are chaotic"),
+         "chaotic_fraction_stderr": ("1", "binomial standard error sqrt(f(1-f)/n)"),
+         "regular_orbits": ("1", "orbits with lambda/collision <= threshold"),
+         "orbits_used": ("1", "orbits with a result (orbits that stopped early are left out)")},
+        {"orbits": 100, "collisions": 1000, "every": 10, "threshold": None}),
+    "lyapunov": Quantity(
+        "lyapunov",
+        {"lambda_collision": ("1/collision", "mean largest Lyapunov exponent over the orbits"),
+         "lambda_collision_stderr": ("1/collision", "standard error of the mean over the orbits"),
+         "lambda_collision_median": ("1/collision", "median over the orbits"),
+         "lambda_time": ("1/kappa", "mean exponent per unit time (unit speed: per unit path length)"),
+         "lambda_time_stderr": ("1/kappa", "standard error of the mean"),
+         "orbits_used": ("1", "orbits with a result")},
+        {"orbits": 20, "collisions": 2000, "every": 10}),
+    "tau": Quantity(
+        "tau",
+        {"tau": ("collision", "decay time of P(n) - 1/2 = A exp(-n/tau), n in counted collisions"),
+         "tau_stderr": ("collision", "jackknife standard error of tau"),
+         "P1": ("1", "P(1)"), "P1_stderr": ("1", "standard error of P(1)"),
+         "n_needed_fit": ("collision", "tau ln(|A|/0.01): collisions until |P(n) - 1/2| < 0.01 (fit)")},
+        {"bounces": 100_000, "max_lag": 40, "orbits": 100, "count": "bottom"}),
+    "splitting": Quantity(
+        "splitting",
+        {"splitting": ("1/kappa**2", "lambda_minus - lambda_plus of the lowest doublet (direct difference)"),
+         "splitting_flux": ("1/kappa**2", "the same by Herring's flux formula (nan if one class)"),
+         "direct_trusted": ("1", "1 if the direct difference is above rounding"),
+         "flux_trusted": ("1", "1 if the states' neck values are above rounding"),
+         "lambda_lower": ("1/kappa**2", "lambda_plus, the lower level of the doublet"),
+         "wkb_action": ("1", "WKB action S through one neck (splitting ~ exp(-S))"),
+         "neck_width": ("kappa", "H - D, the width of the necks")},
+        {"pair": 0, "cells": 8, "order": 2}, seeded=False),
+}
+
+
+def check_options(quantity: str, options: dict | None) -> dict:
+    """All options of ``quantity`` in canonical types, defaults filled in; unknown names are refused."""
+    check_choice("quantity", quantity, tuple(QUANTITIES))
+    spec = QUANTITIES[quantity]
+    options = dict(options or {})
+    unknown = sorted(set(options) - set(spec.defaults))
+    if unknown:
+        raise InvalidArgument(f"`{unknown[0]}` is not an option of {quantity!r}; its options are "
+                              f"{', '.join(spec.defaults)}")
+    out = {**spec.defaults, **{k: v for k, v in options.items() if v is not None}}
+    for name in ("orbits", "collisions", "every", "bounces", "max_lag", "cells"):
+        if name in out:
+            out[name] = check_count(name, out[name])
+    for name in ("pair", ):
+        if name in out:
+            out[name] = check_count(name, out[name], minimum=0)
+    if "order" in out:
+        out["order"] = check_count("order", out["order"], minimum=2, maximum=4)
+    if out.get("threshold") is not None:
+        out["threshold"] = check_positive("threshold", out["threshold"])
+    if "count" in out:
+        check_choice("count", out["count"], ("bottom", "all"))
+    if quantity == "tau":
+        if out["orbits"] < 2:
+            raise InvalidArgument(f"`orbits` must be at least 2 for tau (the error comes from the spread), got "
+                                  f"{out['orbits']}")
+        if out["max_lag"] >= out["bounces"] // out["orbits"]:
+            raise InvalidArgument(f"`max_lag` = {out['max_lag']} must be smaller than bounces/orbits = "
+                                  f"{out['bounces'] // out['orbits']}")
+    return out
+
+
+def work_of(quantity: str, options: dict) -> float:
+    """Collisions one cell follows (each orbit and its companion for the exponents), for estimates."""
+    if quantity in ("chaotic-fraction", "lyapunov"):
+        every = options["every"]
+        return 2.0 * options["orbits"] * (-(-options["collisions"] // every) + 3) * (every + 2)
+    if quantity == "tau":
+        return 2.0 * options["bounces"]
+    return math.nan
+
+
+def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, options: dict) -> dict:
+    """The numbers of one cell (what a worker runs).
+
+    Parameters
+    ----------
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    table_spec : TableSpec
+    values : dict
+        The cell's scanned wall parameters.
+    H : float
+        The cell's wall distance (the wall's length unit).
+    seed : int
+        The cell's seed (:func:`.grid.cell_seed`).
+    options : dict
+        :func:`check_options` of the quantity.
+
+    Returns
+    -------
+    dict
+        ``{"status": 1, variable: value, ...}``, or ``{"status": 2, "error": message}`` when the library
+        refuses this cell's input (a table that does not open at this (ε, H), H below the diameter for a
+        splitting): a finding about that cell, not a failure of the scan.
+    """
+    from ..errors import CoinwallError
+
+    try:
+        table = table_spec.table_at(values, H)
+        numbers = _FUNCTIONS[quantity](table, seed, **options)
+    except CoinwallError as exc:
+        return {"status": 2, "error": str(exc)}
+    return {"status": 1, **{k: float(v) for k, v in numbers.items()}}

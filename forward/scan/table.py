@@ -1,0 +1,84 @@
+"""What a worker needs to rebuild a cell's billiard table: the wall as text (or as a picklable Wall), the fixed
+parameters, b0 and κ.
+
+A :class:`~coinwall.forward.wall.Wall` made from an expression holds casadi SX objects, which do not pickle
+("Cannot pickle SX objects without a casadi context"), so a scan never sends one: it sends the expression's
+text and parameters, small and exact, and each worker parses it again (about 10 ms once casadi is loaded).
+Walls made from Fourier coefficients, samples or arcs pickle and may be sent as objects (the CLI sends those,
+and the walls of ``case:NAME``), but then no wall parameter can be scanned.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..errors import InvalidArgument
+from ..wall import Wall
+
+__all__ = ["TableSpec"]
+
+
+@dataclass(frozen=True)
+class TableSpec:
+    """The billiard of a cell, as data.
+
+    Attributes
+    ----------
+    wall : str or Wall
+        An expression in ``t`` (parsed on the worker with the cell's parameter values) or a Wall; a Wall made
+        from an expression is kept as its text and parameters, any other must pickle.
+    params : tuple of (str, float)
+        Fixed parameters of the expression (the scanned ones come with each cell).
+    b0 : float
+        Offset added to the wall, in the unit of the wall (divided by ``kappa`` when given).
+    kappa : float or None
+        Radius of gyration in the wall's length unit: wall, H and b0 are divided by it (docs/dynamics.md, Units).
+    """
+
+    wall: object
+    params: tuple = field(default=())
+    b0: float = 0.0
+    kappa: float | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.wall, (str, Wall)):
+            raise InvalidArgument(f"`wall` must be an expression or a Wall, got {type(self.wall).__name__}")
+        params = dict(self.params)
+        if isinstance(self.wall, Wall) and self.wall.kind == "expression":
+            # an expression Wall does not pickle: keep its text and parameters, from which it is rebuilt exactly
+            params = {**dict(self.wall.params), **params}
+            object.__setattr__(self, "wall", self.wall.description)
+        object.__setattr__(self, "params", tuple(sorted((str(k), float(v)) for k, v in params.items())))
+        if not math.isfinite(float(self.b0)):
+            raise InvalidArgument(f"`b0` must be a finite number, got {self.b0!r}")
+        if self.kappa is not None and not (math.isfinite(float(self.kappa)) and self.kappa > 0):
+            raise InvalidArgument(f"`kappa` must be a positive length, got {self.kappa!r}")
+
+    @property
+    def description(self) -> str:
+        """The wall as text, for the store's attributes."""
+        return self.wall if isinstance(self.wall, str) else self.wall.description
+
+    def wall_at(self, values: dict) -> Wall:
+        """The Wall with the scanned parameter ``values`` (a dict) on top of the fixed ones, scaled by 1/κ."""
+        if isinstance(self.wall, str):
+            wall = Wall.from_expression(self.wall, {**dict(self.params), **values})
+        elif values:
+            raise InvalidArgument(f"wall {self.description!r} is not an expression: its parameters "
+                                  f"{sorted(values)} cannot be scanned")
+        else:
+            wall = self.wall
+        return wall if self.kappa is None else wall.scaled(1.0 / self.kappa)
+
+    def table_at(self, values: dict, H: float):
+        """The :class:`~coinwall.forward.dynamics.billiard.Billiard` of a cell (H in the wall's length unit)."""
+        from ..dynamics.billiard import Billiard
+
+        kappa = 1.0 if self.kappa is None else float(self.kappa)
+        return Billiard(self.wall_at(values), float(H) / kappa, float(self.b0) / kappa)
+
+    def identity(self) -> dict:
+        """JSON-ready description (compared when a scan resumes into an existing store)."""
+        return {"wall": self.description, "params": dict(self.params), "b0": float(self.b0),
+                "kappa": None if self.kappa is None else float(self.kappa)}
