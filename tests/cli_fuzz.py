@@ -188,6 +188,8 @@ BASE_COMMANDS = {
     "simulate": ["case:coin", "--H", "3", "--collisions", "50", "--seed", "1"],
     "section": ["case:coin", "--H", "3", "--orbits", "2", "--collisions", "20", "--seed", "1", "-o", "out.csv"],
     "quantum": ["1", "--H", "3", "--levels", "4", "--cells", "4", "-o", "out.json"],
+    "scan": ["chaotic-fraction", "sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=2", "--H", "3", "--orbits", "4",
+             "--collisions", "50", "--workers", "1", "-o", "out.zarr"],
     "correlation": ["case:coin", "--H", "3", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1",
                     "-o", "out.json"],
 }
@@ -204,6 +206,8 @@ NUMERIC_FLAGS = {
     "section": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--collisions": "count",
                 "--orbits": "count", "--seed": "seed"},
     "quantum": {"--H": "positive", "--b0": "offset", "--levels": "count", "--cells": "count"},
+    # (scan's --H is a grid whose out-of-range cells are findings, exit 1: not certainly bad)
+    "scan": {"--orbits": "count", "--collisions": "count", "--workers": "count", "--seed": "seed"},
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
 }
