@@ -296,3 +296,29 @@ def test_cli_refused_cells_exit_1_with_a_warning(cli, tmp_path, capsys):
     assert "note       refused cell:" in captured.out
     status = arrays(store)["cell_status"]
     assert sorted(status.ravel().tolist()) == [1, 2]
+
+
+def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
+    """After its retries a cell whose workers died raises distributed's KilledWorker; the scan turns it into one
+    line that names the cell and says how to resume (not an internal error).  A fake client and futures stand in
+    for a cluster whose workers die (the real kill-and-retry path is test_killed_worker_does_not_lose_the_scan)."""
+    import distributed
+    from distributed import KilledWorker
+
+    from coinwall.forward.scan import driver
+
+    class DyingFuture:
+        def result(self):
+            raise KilledWorker("coinwall-cell", "tcp://127.0.0.1:1", 3)
+
+        def done(self):
+            return True
+
+    class Client:
+        def submit(self, *args, **kwargs):
+            return DyingFuture()
+
+    monkeypatch.setattr(distributed, "as_completed", lambda futures: iter(list(futures)))
+    todo = [((0, 0), (2.0, 3.0, 0.0))]
+    with pytest.raises(driver.ScanError, match=r"cell eps = 2, H = 3 died 4 times .* run the same command again"):
+        driver._run(Client(), "chaotic-fraction", None, ["eps", "H"], todo, 0, {}, 3, None, None)

@@ -28,14 +28,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..display import safe_repr
-from ..errors import InvalidArgument
+from ..errors import CoinwallError, InvalidArgument
 from ..validation import check_count, check_memory
 from .grid import cell_seed, cells, parse_axis
 from .quantities import QUANTITIES, check_options, compute_cell
 from .store import STATUS_REFUSED, STATUS_TODO, CellWriter, create_store, open_store
 from .table import TableSpec
 
-__all__ = ["ScanResult", "make_axes", "scan"]
+
+class ScanError(CoinwallError):
+    """A scan stopped before its last cell for a reason outside the input (workers that kept dying); the
+    cells finished are in the store and the same command resumes."""
+
+
+__all__ = ["ScanError", "ScanResult", "make_axes", "scan"]
 
 _BYTES_PER_CELL = 4000.0  # the driver's bookkeeping per submitted cell (a future, its key, its arguments)
 
@@ -247,17 +253,30 @@ def _run(client, quantity, table, names, todo, seed, options, retries, writer, p
     from distributed import as_completed
 
     token = f"{os.getpid()}-{time.time_ns()}"
-    futures = {}
+    futures, coords_of = {}, {}
     for index, coords in todo:
         values = dict(zip(names, coords[:-1]))
         key = f"coinwall-cell-{'-'.join(map(str, index))}-{token}"
         future = client.submit(compute_cell, quantity, table, values, coords[-1], cell_seed(seed, coords), options,
                                key=key, retries=retries, pure=False)
         futures[future] = index
+        coords_of[future] = coords[:-1]
     messages, done = [], 0
     try:
         for future in as_completed(futures):
-            result = future.result()  # a task that failed after its retries raises here: the scan stops
+            try:
+                result = future.result()  # a task that failed after its retries raises here: the scan stops
+            except Exception as exc:  # noqa: BLE001 - any failure of a task, said in one line with how to go on
+                from distributed import KilledWorker
+
+                if not isinstance(exc, KilledWorker):
+                    raise
+                # workers died on this cell more often than the retries allow (memory? a signal?): not a bug
+                # of ours, and nothing is lost — the cells done are in the store and the same command resumes
+                cell = ", ".join(f"{name} = {value:g}" for name, value in zip(names, coords_of[future]))
+                raise ScanError(f"the workers running the cell {cell} died {retries + 1} times (out of memory? "
+                                f"killed?); the {done} cells finished are in the store: run the same command again "
+                                "to compute the rest") from None
             writer.write(futures[future], result)
             done += 1
             if result["status"] == STATUS_REFUSED and result["error"] not in messages and len(messages) < 5:
