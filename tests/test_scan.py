@@ -322,3 +322,14 @@ def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
     todo = [((0, 0), (2.0, 3.0, 0.0))]
     with pytest.raises(driver.ScanError, match=r"cell eps = 2, H = 3 died 4 times .* run the same command again"):
         driver._run(Client(), "chaotic-fraction", None, ["eps", "H"], todo, 0, {}, 3, None, None)
+
+
+@pytest.mark.parametrize("options,text", [({"orbits": 10 ** 19}, r"collisions, more than the 1e\+10"),
+                                          ({"collisions": 10 ** 9}, r"collisions, more than the 1e\+10")])
+def test_cells_too_large_are_refused_before_any_work(options, text):
+    """Found by tests/benchmarks/fuzz_cli.py: `--orbits 1e19` used to start the cluster and refuse every cell."""
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.scan.quantities import check_options
+
+    with pytest.raises(InvalidArgument, match=text):
+        check_options("chaotic-fraction", options)

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InvalidArgument
-from ..validation import check_choice, check_count, check_positive
+from ..validation import check_choice, check_count, check_memory, check_positive
 
-__all__ = ["QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
+__all__ = ["MAX_CELL_WORK", "QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
 
 
 @dataclass(frozen=True)
@@ -144,6 +144,10 @@ QUANTITIES = {
 }
 
 
+#: the most collisions one cell may follow (about an hour of kernel time on one core, as for ``coinwall kam``)
+MAX_CELL_WORK = 1e10
+
+
 def check_options(quantity: str, options: dict | None) -> dict:
     """All options of ``quantity`` in canonical types, defaults filled in; unknown names are refused."""
     check_choice("quantity", quantity, tuple(QUANTITIES))
@@ -166,6 +170,15 @@ def check_options(quantity: str, options: dict | None) -> dict:
         out["threshold"] = check_positive("threshold", out["threshold"])
     if "count" in out:
         check_choice("count", out["count"], ("bottom", "all"))
+    work = work_of(quantity, out)
+    if work > MAX_CELL_WORK:  # (nan for splitting: its cost is the mesh's, bounded by `cells`)
+        raise InvalidArgument(f"one cell of {quantity!r} would follow about {work:.3g} collisions, more than the "
+                              f"{MAX_CELL_WORK:.0e} (about an hour on one core) a cell may take; lower `orbits`, "
+                              "`collisions` or `bounces`")
+    if quantity in ("chaotic-fraction", "lyapunov"):
+        # every orbit and its companion hold one renormalisation round of states (6 columns of 8 bytes)
+        check_memory(f"`orbits` = {out['orbits']} with `every` = {out['every']}",
+                     2.0 * out["orbits"] * (out["every"] + 2) * 48.0)
     if quantity == "tau":
         if out["orbits"] < 2:
             raise InvalidArgument(f"`orbits` must be at least 2 for tau (the error comes from the spread), got "
