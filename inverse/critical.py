@@ -73,6 +73,76 @@ def _smooth_curvature(wall, theta):
     return b + d2
 
 
+def _unresolved_minima(wall, theta, depth: int = 3, points: int = 257, most: int = 64):
+    """Values of ``b + b''`` inside grid intervals the grid does not resolve, as ``(angles, values)``.
+
+    On an interval of width ``w`` where ``b''`` varies on scales above ``w``, the trapezoid rule holds for
+    ``(b', b'')``: ``r = b'(a + w) − b'(a) − w (b''(a) + b''(a + w)) / 2`` is small against the size of its
+    terms (``|r| / s = O(w²)``; the same test as :mod:`coinwall.forward.singularities`).  A step narrower
+    than the grid (``tanh(1e5 sin t)``) breaks it: there ``b + b''`` can dip far below every grid value
+    and the grid minimum would be silently wrong.  Each such interval (the ``most`` with the largest terms,
+    intervals holding a kink or a break left out: there ``b''`` has a point mass the kinks handle) is
+    sampled at ``points`` angles, and the sub-intervals that still fail are sampled again, ``depth``
+    levels down (to ~1e-11 rad on the default grid).
+    """
+    found_theta, found_rho, found_step = [], [], []
+    skip = np.array([k.angle for k in wall.kinks] + list(getattr(wall, "breaks", ())), dtype=float)
+    with np.errstate(all="ignore"):
+        _, d1, d2 = wall.derivatives(theta)
+        a, b = theta, np.append(theta[1:], theta[0] + TWO_PI)
+        lo1, hi1, lo2, hi2 = d1, np.roll(d1, -1), d2, np.roll(d2, -1)
+        for _ in range(depth):
+            w = b - a
+            r = hi1 - lo1 - 0.5 * w * (lo2 + hi2)
+            size = np.abs(hi1 - lo1) + 0.5 * w * (np.abs(lo2) + np.abs(hi2))
+            floor = 1e-12 * max(1.0, float(np.median(np.abs(d2))))
+            suspect = (np.abs(r) > 0.1 * size) & (np.abs(r) > floor)
+            if skip.size:
+                inside = (np.mod(skip[None, :] - a[:, None], TWO_PI) <= w[:, None] + 1e-12)
+                suspect &= ~inside.any(axis=1)
+            idx = np.flatnonzero(suspect)
+            if not idx.size:
+                break
+            idx = idx[np.argsort(-size[idx])][:most]
+            fine = a[idx, None] + (b - a)[idx, None] * np.linspace(0.0, 1.0, points)[None, :]
+            bb, f1, f2 = (np.asarray(v, dtype=float).reshape(fine.shape) for v in wall.derivatives(fine.ravel()))
+            found_theta.append(fine.ravel())
+            found_rho.append((bb + f2).ravel())
+            found_step.append(np.repeat((b - a)[idx] / (points - 1), points))
+            a, b = fine[:, :-1].ravel(), fine[:, 1:].ravel()
+            lo1, hi1, lo2, hi2 = f1[:, :-1].ravel(), f1[:, 1:].ravel(), f2[:, :-1].ravel(), f2[:, 1:].ravel()
+    if not found_theta:
+        return np.empty(0), np.empty(0)
+    # one candidate per dip: the lowest sample of each cluster, polished by Brent between its neighbours
+    from scipy.optimize import minimize_scalar
+
+    t = np.concatenate(found_theta)
+    rho = np.concatenate(found_rho)
+    step = np.concatenate(found_step)
+    order = np.argsort(t, kind="stable")
+    t, rho, step = t[order], rho[order], step[order]
+    ok = np.isfinite(rho)
+    t, rho, step = t[ok], rho[ok], step[ok]
+    gap = 2.0 * float(np.max(np.diff(theta))) if theta.size > 1 else TWO_PI
+    starts = np.flatnonzero(np.concatenate([[True], np.diff(t) > gap]))
+    out_t, out_rho = [], []
+    for first, last in zip(starts, np.append(starts[1:], t.size)):
+        i = first + int(np.argmin(rho[first:last]))
+        # the lowest sample's neighbours at its own level (samples of several levels are interleaved here)
+        centre, half = float(t[i]), float(step[i])
+        where, value = centre, float(rho[i])
+        if half > 0:
+            # in the offset y from the sample: Brent's tolerance is relative to |x| (~1.5e-8 rad at θ ~ 1), far
+            # coarser than a dip 1e-5 rad wide; relative to |y| it resolves the dip
+            res = minimize_scalar(lambda y: float(_smooth_curvature(wall, np.array([centre + y]))[0]),
+                                  bounds=(-half, half), method="bounded", options={"xatol": 1e-15})
+            if np.isfinite(res.fun) and float(res.fun) < value:
+                where, value = centre + float(res.x), float(res.fun)
+        out_t.append(where)
+        out_rho.append(value)
+    return np.mod(np.array(out_t), TWO_PI), np.array(out_rho)
+
+
 def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
     """Exact critical offset of ``wall``: ``b_c = −min_θ (b + b'')``.
 
@@ -113,6 +183,17 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
             if abs(theta[i] - k.angle) < 1e-12 or abs(abs(theta[i] - k.angle) - TWO_PI) < 1e-12:
                 b, _, _ = wall.one_sided(k.angle, -1)
                 rho[i] = b + min(k.curvature_left, k.curvature_right)
+    if samples is None or samples.phi.size < grid // 2:
+        # a dip of b + b'' narrower than the grid (a steep step) is looked for where the grid fails to resolve
+        # b''; its samples join the grid only where they go below it, so resolved walls are not touched
+        extra_theta, extra_rho = _unresolved_minima(wall, theta)
+        finite = np.isfinite(rho)
+        deeper = extra_rho < (np.min(rho[finite]) if finite.any() else np.inf) - 1e-9 * max(1.0, wall.scale)
+        if deeper.any():
+            theta = np.concatenate([theta, extra_theta[deeper]])
+            rho = np.concatenate([rho, extra_rho[deeper]])
+            order = np.argsort(theta, kind="stable")
+            theta, rho = theta[order], rho[order]
     bad = np.flatnonzero(~np.isfinite(rho))
     if bad.size:  # a wall passed its checks but not here: say where, never report b_c = nan
         from coinwall.forward.errors import InvalidWall

@@ -295,3 +295,20 @@ def test_density_empty_or_huge_is_refused(density, message):
         warnings.simplefilter("error")
         with pytest.raises(CoinwallError, match=message):
             mass_properties(body.outline, density)
+
+
+def test_a_dip_narrower_than_the_grid_is_found_by_critical():
+    """b = 2 + tanh(k sin(θ − 1)), k = 1e5: b + b'' dips to about −4k²/(3√3) within 1e-5 rad of θ = 1 and
+    θ = 1 + π, far narrower than the 8192-point grid (7.7e-4 rad); the grid alone reported b_c = −1.
+    Reference: the same b + b'' written out by hand, b'' = −k sech²(u) sin(θ−1) − 2k² tanh(u) sech²(u) cos²(θ−1)
+    with u = k sin(θ−1), minimised on 2·10⁶ points across the dip with numpy (independent of casadi)."""
+    k = 1e5
+    c = critical_offset(Wall.from_expression("2+tanh(1e5*sin(t-1))"))
+    delta = np.linspace(-5e-5, 5e-5, 2_000_001)
+    s, co = np.sin(delta), np.cos(delta)
+    u = k * s
+    sech2 = 1.0 / np.cosh(u) ** 2
+    reference = -np.min(2 + np.tanh(u) - k * sech2 * s - 2 * k * k * np.tanh(u) * sech2 * co * co)
+    assert reference == pytest.approx(4 * k * k / (3 * math.sqrt(3)), rel=1e-5)  # the closed-form leading term
+    assert c.b_c == pytest.approx(reference, rel=1e-9)
+    assert min(abs(a - 1.0) for a in c.angles) < 1e-5 and min(abs(a - 1.0 - math.pi) for a in c.angles) < 1e-5
