@@ -547,3 +547,11 @@ def test_wall_nan_on_a_tiny_interval_writes_nothing(tmp_path, capsys, monkeypatc
                  "-o", "x.json", "-o", "x.csv", "--no-cross-check"]) == 2
     _one_error_line(capsys, "finite")
     assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "/dev/urandom"])
+def test_a_device_as_the_wall_is_named_as_a_file(path, capsys):
+    """Issue 12: `critical /dev/zero` read 1.9 GB and ended in a traceback; a path with no wall-file extension
+    was then read as an expression ("syntax error at column 1").  It is named as what it is."""
+    assert main(["critical", path]) == 2
+    _one_error_line(capsys, path, "is a file, but not a wall file")
