@@ -158,8 +158,10 @@ def parse_param(text: str) -> tuple[str, float]:
     return name, value
 
 
-def parse_params(texts) -> dict[str, float]:
+def parse_params(texts, what: str = "parameter") -> dict[str, float]:
     """Parse command-line ``NAME=VALUE`` parameters (:func:`parse_param`) into a dict.
+
+    ``what`` names them in the message (the command line passes ``"--param"``).
 
     Raises
     ------
@@ -170,8 +172,7 @@ def parse_params(texts) -> dict[str, float]:
     for text in texts:
         name, value = parse_param(text)
         if name in params:
-            raise InvalidParameter(f"parameter {_show(name)} is given twice ({params[name]:g} and {value:g}); "
-                                   "give each parameter once")
+            raise InvalidParameter(f"{what} {name} given twice ({params[name]:g} and {value:g}); give it once")
         params[name] = value
     return params
 

@@ -28,7 +28,7 @@ import tempfile
 
 __all__ = ["Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
-           "make_folder", "mutate"]
+           "make_folder", "mutate", "with_flag", "MUTATION_TARGETS", "MUTATIONS", "mutation_request"]
 
 # ------------------------------------------------------------------------------------------- the worker
 _WORKER = r"""
@@ -292,6 +292,32 @@ def hostile_files(folder) -> dict:
     os.mkfifo(fifo)
     files["fifo.csv"] = "a FIFO"
     return files
+
+
+def with_flag(argv, flag, value, joined):
+    """``argv`` with ``flag`` set to ``value`` (replacing a value already given), as ``--flag value`` or
+    ``--flag=value``."""
+    argv = list(argv)
+    if flag in argv:
+        i = argv.index(flag)
+        del argv[i:i + 2]
+    return argv + ([f"{flag}={value}"] if joined else [flag, value])
+
+
+#: what a broken file is given to: a file-reading subcommand, or ``wall`` given a drawing or a points file
+MUTATION_TARGETS = sorted(FILE_COMMANDS) + ["wall-svg", "wall-dxf", "wall-points"]
+#: the ways :func:`mutate` breaks a file
+MUTATIONS = ("truncate", "flip", "insert", "repeat", "replace")
+
+
+def mutation_request(target: str, name: str):
+    """``(argv, the valid file to break)`` for a :data:`MUTATION_TARGETS` entry whose broken file is ``name``
+    (it keeps the extension of the valid file: ``"broken" + ext``)."""
+    source = {"wall-svg": "body.svg", "wall-dxf": "body.dxf", "wall-points": "points.csv"}.get(
+        target, FILE_COMMANDS.get(target))
+    subcommand = "wall" if target.startswith("wall") else target
+    rest = ["-o", "out.csv"] if subcommand == "wall" else BASE_COMMANDS[subcommand][1:]
+    return [subcommand, name + os.path.splitext(source)[1]] + rest, source
 
 
 def mutate(data: bytes, how: str, where: float, junk: bytes) -> bytes:

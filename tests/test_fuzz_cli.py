@@ -19,6 +19,8 @@ from cli_fuzz import (  # noqa: E402
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
+    MUTATION_TARGETS,
+    MUTATIONS,
     NUMERIC_FLAGS,
     ODD_WALLS,
     VALID_FILES,
@@ -28,8 +30,10 @@ from cli_fuzz import (  # noqa: E402
     hostile_files,
     make_folder,
     mutate,
+    mutation_request,
     snapshot,
     valid_files,
+    with_flag,
 )
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
@@ -65,16 +69,6 @@ def run_checked(worker, base, tmp_path, argv, certainly_bad):
     problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=certainly_bad)
     assert not problems, "\n".join(problems)
     return result
-
-
-def with_flag(argv, flag, value, joined):
-    """``argv`` with ``flag`` set to ``value`` (replacing a value already given), as ``--flag value`` or
-    ``--flag=value``."""
-    argv = list(argv)
-    if flag in argv:
-        i = argv.index(flag)
-        del argv[i:i + 2]
-    return argv + ([f"{flag}={value}"] if joined else [flag, value])
 
 
 @pytest.mark.parametrize("command", sorted(BASE_COMMANDS))
@@ -131,25 +125,18 @@ def test_odd_walls_never_crash(worker, base, tmp_path, command, wall):
 
 
 @FUZZ
-@given(command=st.sampled_from(sorted(FILE_COMMANDS) + ["wall-svg", "wall-dxf", "wall-points"]),
-       how=st.sampled_from(["truncate", "flip", "insert", "repeat", "replace"]),
-       where=st.floats(0, 1), junk=st.sampled_from([b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",",
-                                                     b"inf", b"\xff\xfe", b"1e400", b'"x"', b"\n\n\n", b"-"]))
-def test_mutated_files_never_crash(worker, base, tmp_path, command, how, where, junk):
+@given(target=st.sampled_from(MUTATION_TARGETS), how=st.sampled_from(MUTATIONS), where=st.floats(0, 1),
+       junk=st.sampled_from([b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"\xff\xfe",
+                             b"1e400", b'"x"', b"\n\n\n", b"-"]))
+def test_mutated_files_never_crash(worker, base, tmp_path, target, how, where, junk):
     """A valid input broken in one place may still be valid; it must never crash, hang or leave a file."""
-    source = {"wall-svg": "body.svg", "wall-dxf": "body.dxf", "wall-points": "points.csv"}.get(command,
-                                                                                                FILE_COMMANDS.get(command))
-    subcommand = "wall" if command.startswith("wall") else command
+    argv, source = mutation_request(target, "broken")
     assert source in VALID_FILES
     with open(os.path.join(base, source), "rb") as fh:
         data = mutate(fh.read(), how, where, junk)
     folder = make_folder(base, tmp_path)
-    name = "broken" + os.path.splitext(source)[1]
-    with open(os.path.join(folder, name), "wb") as fh:
+    with open(os.path.join(folder, argv[1]), "wb") as fh:
         fh.write(data)
-    rest = BASE_COMMANDS["wall" if subcommand == "wall" else subcommand]
-    rest = ["-o", "out.csv"] if subcommand == "wall" else rest[1:]
-    argv = [subcommand, name] + rest
     before = snapshot(folder)
     result = worker.run(argv, folder)
     problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=False)

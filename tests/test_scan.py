@@ -278,7 +278,7 @@ def test_cli_scan_json_figure_and_refusals(cli, tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("coinwall: error: --output") and "different scan" in err and err.count("\n") == 1
     for bad, text in [(["--bounces", "5"], "--bounces is not an option"), (["--H", "2:3:0"], "N in START"),
-                      (["--H", "1,1"], "twice")]:
+                      (["--H", "1,1"], "twice"), (["--param", "eps=3"], "--param eps given twice")]:
         assert cli([*args[:-2], "-o", str(tmp_path / "b.zarr"), *bad]) == 2
         assert text in capsys.readouterr().err
     assert not os.path.exists(tmp_path / "b.zarr")

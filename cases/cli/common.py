@@ -99,16 +99,9 @@ def count(text: str) -> int:
 def parse_params(params) -> dict:
     """``--param NAME=VALUE`` options as ``{name: value}``; a name given twice is refused (the last one
     used to win silently, hiding a typo in a long command line)."""
-    from coinwall.forward.errors import InvalidParameter
-    from coinwall.forward.expression import parse_param
+    from coinwall.forward.expression import parse_params as parse
 
-    values = {}
-    for text in params:
-        name, value = parse_param(text)
-        if name in values:
-            raise InvalidParameter(f"--param {name} given twice ({values[name]:g} and {value:g}); give it once")
-        values[name] = value
-    return values
+    return parse(params, what="--param")
 
 
 def check_body_finite(body, what="the body") -> None:

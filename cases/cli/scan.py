@@ -95,6 +95,9 @@ def _table(args):
         else:
             fixed.append(text)
     params = parse_params(fixed)
+    both = sorted(set(params) & set(grid))
+    if both:  # a fixed value and a scanned axis for one name: which would the wall use?
+        raise InvalidParameter(f"--param {both[0]} given twice; give it once")
     if args.wall.startswith("case:") or args.wall.lower().endswith((".csv", ".json")):
         import pickle
 

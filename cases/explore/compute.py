@@ -85,18 +85,12 @@ def _remember(key, wall):
 def _params(spec) -> dict:
     """``params``: a dict ``{name: value}`` or text ``"eps=1, a=0.5"`` (parsed by the library's parser)."""
     from coinwall.forward.errors import InvalidParameter
-    from coinwall.forward.expression import parse_param
+    from coinwall.forward.expression import parse_params
 
     raw = spec.get("params") or {}
     if isinstance(raw, str):
         items = [part.strip() for part in raw.replace(";", ",").replace("\n", ",").split(",") if part.strip()]
-        values = {}
-        for item in items:
-            name, value = parse_param(item)
-            if name in values:
-                raise InvalidParameter(f"parameter {name} given twice; give it once")
-            values[name] = value
-        return values
+        return parse_params(items)
     if not isinstance(raw, dict):
         raise InvalidParameter(f"`params` must be NAME=VALUE pairs, got {raw!r}")
     return {str(k): v for k, v in raw.items()}

@@ -30,6 +30,8 @@ from cli_fuzz import (  # noqa: E402
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
+    MUTATION_TARGETS,
+    MUTATIONS,
     NUMERIC_FLAGS,
     ODD_WALLS,
     WALL_COMMANDS,
@@ -38,8 +40,10 @@ from cli_fuzz import (  # noqa: E402
     hostile_files,
     make_folder,
     mutate,
+    mutation_request,
     snapshot,
     valid_files,
+    with_flag,
 )
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
@@ -53,12 +57,8 @@ def draw(rng: random.Random, base: str, hostile: tuple):
     if kind == "number":
         command = rng.choice(sorted(NUMERIC_FLAGS.keys() - {"critical"}))
         flag, value_kind = rng.choice(sorted(NUMERIC_FLAGS[command].items()))
-        argv = [a for a in BASE_COMMANDS[command]]
-        if flag in argv:
-            i = argv.index(flag)
-            del argv[i:i + 2]
         value = rng.choice(BAD_NUMBERS[value_kind])
-        argv += [f"{flag}={value}"] if rng.random() < 0.5 else [flag, value]
+        argv = with_flag(BASE_COMMANDS[command], flag, value, joined=rng.random() < 0.5)
         return kind, [command] + argv, True, {}
     if kind in ("wall", "odd-wall", "text-wall"):
         command = rng.choice(list(WALL_COMMANDS))
@@ -74,18 +74,12 @@ def draw(rng: random.Random, base: str, hostile: tuple):
         command = rng.choice(sorted(FILE_COMMANDS))
         name = rng.choice(sorted(files))
         return kind, [command, os.path.join(folder, name)] + BASE_COMMANDS[command][1:], True, {}
-    command = rng.choice(sorted(FILE_COMMANDS) + ["wall-svg", "wall-dxf", "wall-points"])
-    source = {"wall-svg": "body.svg", "wall-dxf": "body.dxf", "wall-points": "points.csv"}.get(
-        command, FILE_COMMANDS.get(command))
-    subcommand = "wall" if command.startswith("wall") else command
+    argv, source = mutation_request(rng.choice(MUTATION_TARGETS), "broken")
     with open(os.path.join(base, source), "rb") as fh:
         data = fh.read()
     for _ in range(rng.randint(1, 3)):
-        data = mutate(data, rng.choice(["truncate", "flip", "insert", "repeat", "replace"]), rng.random(),
-                      rng.choice(_JUNK))
-    name = "broken" + os.path.splitext(source)[1]
-    rest = ["-o", "out.csv"] if subcommand == "wall" else BASE_COMMANDS[subcommand][1:]
-    return kind, [subcommand, name] + rest, False, {name: data}
+        data = mutate(data, rng.choice(MUTATIONS), rng.random(), rng.choice(_JUNK))
+    return kind, argv, False, {argv[1]: data}
 
 
 def main(argv=None) -> int:
