@@ -69,21 +69,11 @@ class BodyJson(NamedTuple):
 def _pairs(value, path, key, shape):
     """``value`` as a finite float array of ``shape`` (None: any count), refusing strings, booleans, NaN and
     ragged lists with a message naming ``key`` and the index."""
-    import math
-    import numbers
-    import reprlib
+    from .inputfile import json_number
 
     def check(item, where, depth):
         if depth == len(shape):
-            if isinstance(item, bool) or not isinstance(item, numbers.Real):
-                raise InvalidOutline(f"body file {path!r}: {where} must be a number, got {reprlib.repr(item)}")
-            try:
-                number = float(item)
-            except OverflowError:
-                number = math.inf
-            if not math.isfinite(number):
-                raise InvalidOutline(f"body file {path!r}: {where} must be a finite number, got {item!r:.30} "
-                                     "(NaN and Infinity are not coordinates)")
+            json_number(item, where, f"body file {path!r}: ", what="coordinates")
             return
         size = shape[depth]
         if not isinstance(item, list) or (size is not None and len(item) != size):

@@ -24,8 +24,8 @@ import stat
 
 from ..errors import InvalidOutline
 
-__all__ = ["MAX_BYTES", "MAX_NESTING", "check_regular", "file_kind", "json_nesting", "read_bytes", "read_json",
-           "read_text"]
+__all__ = ["MAX_BYTES", "MAX_NESTING", "check_regular", "file_kind", "json_nesting", "json_number", "read_bytes",
+           "read_json", "read_text"]
 
 #: largest file read, by format, in bytes.  CSV and JSON samples: 64 MiB is ~3·10⁶ rows, beyond the rows
 #: the solver takes in reasonable time (the readers bound rows separately).  SVG: 32 MiB holds 10⁶ path
@@ -190,3 +190,28 @@ def read_json(path, *, what: str = "input file", error=InvalidOutline, max_bytes
 
 def _encoding_name(encoding: str) -> str:
     return "UTF-8" if encoding.lower().replace("_", "-").startswith("utf-8") else encoding
+
+
+def json_number(item, where: str, prefix: str, *, error=InvalidOutline, what: str = "numbers") -> float:
+    """``item`` from a JSON document as a finite float, or ``error`` naming ``where`` (a key and index).
+
+    Strings, booleans and ``null`` are not numbers (Python's ``float`` would take ``"1"`` and ``True``);
+    NaN and Infinity (which Python's :mod:`json` reads) and integers too large for a float are refused.
+    ``prefix`` starts every message (e.g. "body file 'b.json': "), ``what`` says what the numbers are.
+    """
+    import math
+    import numbers
+    import reprlib
+
+    if isinstance(item, bool) or not isinstance(item, numbers.Real):
+        raise error(f"{prefix}{where} must be a number, got {reprlib.repr(item)}")
+    try:
+        number = float(item)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        if not isinstance(item, float):
+            raise error(f"{prefix}{where} is an integer of {len(str(item))} digits, too large for a floating-point "
+                        "number")
+        raise error(f"{prefix}{where} must be a finite number, got {item!r:.30} (NaN and Infinity are not {what})")
+    return number

@@ -219,9 +219,7 @@ def load_wall_file(path: str, *, degrees: bool = False):
 def _numbers(value, path, key):
     """A finite number or a flat list of finite numbers (no strings, booleans, nested lists, NaN or Infinity),
     as floats; the message names the key and the index."""
-    import math
-    import numbers
-    import reprlib
+    from .inputfile import json_number
 
     items = value if isinstance(value, list) else [value]
     if len(items) > MAX_SAMPLES:
@@ -229,19 +227,7 @@ def _numbers(value, path, key):
     out = []
     for index, item in enumerate(items):
         where = f"`{key}`[{index}]" if isinstance(value, list) else f"`{key}`"
-        if isinstance(item, bool) or not isinstance(item, numbers.Real):
-            raise InvalidWall(f"wall file {path!r}: {where} must be a number, got {reprlib.repr(item)}")
-        try:
-            number = float(item)
-        except OverflowError:
-            number = math.inf
-        if not math.isfinite(number):
-            if not isinstance(item, float):
-                raise InvalidWall(f"wall file {path!r}: {where} is an integer of {len(str(item))} digits, too large "
-                                  "for a floating-point number")
-            raise InvalidWall(f"wall file {path!r}: {where} must be a finite number, got {item} (NaN and "
-                              "Infinity are not numbers a wall can take)")
-        out.append(number)
+        out.append(json_number(item, where, f"wall file {path!r}: ", error=InvalidWall, what="values of a wall"))
     return out if isinstance(value, list) else out[0]
 
 
