@@ -150,8 +150,11 @@ class Wall:
     samples : tuple of ndarray or None
         For a wall made from samples: the distinct angles in [0, 2π), sorted, and their values.
     sample_rounding : ndarray or None
-        How far each sample may be off (aligned with ``samples``), when the maker knows: a measurement's
-        accuracy, a solver's tolerance, the digits a file carried; None: the values at face value.
+        How far the wall at each sample's angle may be from its value (aligned with ``samples``): the
+        values' and the angles' rounding (the digits a file carried, a measurement's accuracy, a
+        solver's tolerance) and merged duplicates; a few ulps for values at face value.
+    sample_data : coinwall.forward.sampledata.SampleData or None
+        The samples as intervals, with the half-widths of values and angles they came from.
 
     A wall is immutable, like every result: it is shared by the forward and the inverse side, and
     caches (its scale, its check grid) are only valid for the function it was made with.
@@ -166,6 +169,7 @@ class Wall:
         init(self, "params", MappingProxyType(dict(params or {})))
         init(self, "samples", samples)
         init(self, "sample_rounding", None)
+        init(self, "sample_data", None)
         init(self, "kinks", ())
         init(self, "breaks", ())
         if samples is not None:
@@ -261,18 +265,27 @@ class Wall:
 
     @classmethod
     def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None,
-                     rounding: float | None = None) -> Wall:
+                     rounding=None, theta_rounding=None, labels=None) -> Wall:
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
+
+        Each sample is an interval (:mod:`coinwall.forward.sampledata`): ``b_i`` is known to ``±rounding``
+        and ``θ_i`` to ``±theta_rounding`` (radians; default: both at face value, a few ulps).  Samples at
+        the same angle (θ and θ + 2π, duplicates) are merged into the intersection of their intervals;
+        two that cannot both hold are an error naming them (``labels``, e.g. the file's line numbers).
+        The intervals are kept as :attr:`sample_data`; :attr:`samples` holds the distinct angles and the
+        middle of each interval, :attr:`sample_rounding` its half-width.
 
         The samples are replaced by a trigonometric polynomial: the interpolant
         (FFT) for uniform samples, a least-squares fit with at most a third as
         many harmonics as samples (at most 256) for non-uniform ones.  Derivatives are those
         of the trigonometric polynomial, hence spectrally accurate for smooth
-        walls.  Samples at θ and θ + 2π must agree; the samples must cover the
-        whole period.  The interpolant is made on first use (the critical offset and the half-plane body
-        of the data never need it).  At most :data:`MAX_SAMPLES` distinct angles, and
-        :data:`~.wallbackends.MAX_LSQ_SAMPLES` non-uniform ones for the interpolant.
+        walls.  The samples must cover the whole period.  The interpolant is made on first use (the
+        critical offset and the half-plane body of the data never need it).  At most
+        :data:`MAX_SAMPLES` distinct angles, and :data:`~.wallbackends.MAX_LSQ_SAMPLES` non-uniform ones
+        for the interpolant.
         """
+        from .sampledata import sample_intervals
+
         theta = np.asarray(theta, dtype=float).ravel()
         b = np.asarray(b, dtype=float).ravel()
         if theta.size != b.size:
@@ -282,24 +295,13 @@ class Wall:
             if bad.size:
                 raise InvalidWall(f"samples: {name} of sample {bad[0]} is {arr[bad[0]]}; every sample must be finite")
         check_magnitude("samples", theta, b)
-        reduced = np.mod(theta, TWO_PI)
-        order = np.argsort(reduced, kind="stable")
-        reduced, values = reduced[order], b[order]
-        scale = max(1.0, float(np.max(np.abs(values)))) if values.size else 1.0
-        # samples that land on the same angle modulo 2π (θ and θ + 2π) must agree
-        close = np.diff(reduced) <= 1e-9
-        wrap = reduced.size > 1 and (reduced[0] + TWO_PI - reduced[-1]) <= 1e-9
-        pairs = [(i, i + 1) for i in np.flatnonzero(close)] + ([(reduced.size - 1, 0)] if wrap else [])
-        for i, j in pairs:
-            if abs(values[i] - values[j]) > 1e-9 * scale:
-                raise InvalidWall(
-                    f"samples: the wall is not 2π-periodic: b = {values[i]:.6g} and b = {values[j]:.6g} "
-                    f"at θ ≡ {reduced[i]:.6g} (mod 2π)")
-        keep = np.ones(reduced.size, bool)
-        keep[np.flatnonzero(close) + 1] = False
-        if wrap:
-            keep[-1] = False
-        reduced, values = reduced[keep], values[keep]
+        if theta.size > 4 * MAX_SAMPLES:
+            raise InvalidWall(f"samples: {theta.size} samples, at most {4 * MAX_SAMPLES}; thin the samples")
+        if theta.size < _MIN_SAMPLES:
+            raise InvalidWall(f"samples: too short: {theta.size} samples, need at least {_MIN_SAMPLES}")
+        data = sample_intervals(theta, b, rounding, theta_rounding, labels)
+        reduced, values = data.theta, data.b
+        scale = max(1.0, float(np.max(np.abs(values))))
         n = reduced.size
         if n < _MIN_SAMPLES:
             raise InvalidWall(f"samples: too short: {n} distinct angles, need at least {_MIN_SAMPLES}")
@@ -324,15 +326,8 @@ class Wall:
         # the interpolant is made on first use: the data's own geometry (critical offset, half-plane body)
         # never needs it, and a least-squares fit of many non-uniform samples costs n·k²
         wall = cls(_SampledBackend(reduced, values, harmonics, scale), desc, "samples", samples=(reduced, values))
-        if rounding is not None:
-            # per sample (in the input order) or one number for all; kept in the sorted order
-            spread = np.broadcast_to(np.asarray(rounding, dtype=float), b.shape) if np.ndim(rounding) <= 1 \
-                and np.size(rounding) in (1, b.size) else None
-            if spread is None or not np.all(np.isfinite(spread)) or np.any(spread < 0):
-                raise InvalidWall(f"`rounding` must be one finite number ≥ 0 or one per sample, got {rounding!r}")
-            kept = spread[order][keep].copy()
-            kept.setflags(write=False)
-            object.__setattr__(wall, "sample_rounding", kept)
+        object.__setattr__(wall, "sample_rounding", data.halfwidth)
+        object.__setattr__(wall, "sample_data", data)
         return wall
 
     # ------------------------------------------------------------------ evaluation

@@ -72,6 +72,12 @@ class Body:
         Everything that makes this body *not* the answer as asked: a wall error or a solver
         disagreement above :attr:`accuracy`, an outline that is not simple and convex.  Empty when
         all is well; the command line prints each as a ``warning:`` line and exits with status 1.
+    b_c_lower, b_c_upper : float or None
+        For a wall given as data: the certified interval of ``b_c`` over every wall consistent with
+        the samples (the upper end under the assumption in the notes); None for a formula wall.
+    regimes : tuple of str
+        Every regime the data allow at ``b0`` (``("corner", "critical", "convex")`` where they cannot
+        decide; :attr:`regime` is then ``"critical"``); for a formula wall, ``(regime,)``.
     """
 
     wall: object
@@ -99,6 +105,14 @@ class Body:
     b_c_tolerance: float = 0.0
     accuracy: float = 0.0
     warnings: tuple = field(default=())
+    b_c_lower: float | None = None
+    b_c_upper: float | None = None
+    regimes: tuple = field(default=())
+
+    @property
+    def regime_decided(self) -> bool:
+        """Whether the data (or the formula) decide the regime at ``b0``."""
+        return len(self.regimes) <= 1
 
     def __post_init__(self):
         """Refuse a body with a non-finite number: it would be written to files and reported as an answer.
@@ -174,6 +188,10 @@ class Body:
             "critical_angles": list(self.critical_angles),
             "regime": self.regime,
             "method": self.method,
+            "regimes": list(self.regimes or (self.regime,)),
+            "regime_decided": self.regime_decided,
+            "b_c_lower": num(self.b_c_lower),
+            "b_c_upper": num(self.b_c_upper),
             "points": int(self.x.size),
             "max_wall_error": num(self.max_wall_error),
             "cross_check": num(self.cross_check),

@@ -47,7 +47,16 @@ class CriticalOffset:
         ``b + b''`` changes less than its rounding error.  An angle within it of
         0 (or of 2π) *is* 0 for a reader; :meth:`format_angle` prints it so.
     b_c_tolerance : float
-        The rounding level of ``b + b''`` (a b_c within it of 0 prints as 0).
+        The rounding level of ``b + b''`` (a b_c within it of 0 prints as 0); for data, the larger
+        distance from :attr:`b_c` to an end of the certified interval.
+    lower, upper : float or None
+        For data: every wall consistent with the samples' intervals has ``b_c ≥ lower`` (certified by a
+        linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).
+        None for a formula wall (exact to :attr:`b_c_tolerance`).
+    assumption : str
+        What :attr:`upper` rests on (empty for a formula wall).
+    samples_used : int
+        For data: how many samples the geometry used (dense data are thinned); 0 otherwise.
     """
 
     b_c: float
@@ -55,6 +64,24 @@ class CriticalOffset:
     intervals: tuple[tuple[float, float], ...] = ()
     angle_tolerance: float = ANGLE_TOLERANCE
     b_c_tolerance: float = 0.0
+    lower: float | None = None
+    upper: float | None = None
+    assumption: str = ""
+    samples_used: int = 0
+
+    def regimes(self, b0: float, scale: float = 1.0) -> tuple[str, ...]:
+        """The regimes an offset ``b0`` may be in: one for a formula wall (:func:`regime_of`); for data,
+        every regime some wall consistent with the samples allows (``("corner", "critical", "convex")``
+        where the data cannot decide)."""
+        if self.lower is None or self.upper is None or math.isinf(self.b_c):
+            return (regime_of(b0, self.b_c, scale, self.b_c_tolerance),)
+        tol = 1e-9 * max(1.0, scale)
+        if b0 < self.lower - tol:
+            return ("corner",)
+        if b0 > self.upper + tol:
+            return ("convex",)
+        return tuple(r for r, keep in (("corner", b0 > self.lower + tol), ("critical", True),
+                                       ("convex", b0 < self.upper - tol)) if keep)
 
     def format_angle(self, angle: float, digits: int = 6) -> str:
         """``angle`` as a reader should see it: 0 when it is 0 or 2π within :attr:`angle_tolerance`."""
@@ -65,7 +92,8 @@ class CriticalOffset:
     @safe_repr
     def __repr__(self) -> str:
         angles = ", ".join(self.format_angle(a) for a in self.angles)
-        return f"CriticalOffset(b_c={format_number(self.b_c, self.b_c_tolerance, 12)}, angles=[{angles}])"
+        within = "" if self.lower is None else f" in [{self.lower:.6g}, {self.upper:.6g}]"
+        return f"CriticalOffset(b_c={format_number(self.b_c, self.b_c_tolerance, 12)}{within}, angles=[{angles}])"
 
 
 def _smooth_curvature(wall, theta):
@@ -166,9 +194,9 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
     from scipy.optimize import minimize_scalar
 
     if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
-        from .discrete import discrete_support, sampled_critical_offset
+        from .discrete import data_critical_offset
 
-        return sampled_critical_offset(discrete_support(*wall.samples, wall.sample_rounding))
+        return data_critical_offset(wall)
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
         return CriticalOffset(math.inf, tuple(k.angle for k in concave))

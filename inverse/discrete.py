@@ -34,7 +34,7 @@ from coinwall.forward.formats.wallfile import rounding_of
 from .support import interior_point
 
 __all__ = ["rounding_of", "machine_rounding", "discrete_curvature", "DiscreteSupport", "discrete_support",
-           "SampledBody", "support_polygon", "halfspace_polygon", "sampled_critical_offset"]
+           "SampledBody", "support_polygon", "halfspace_polygon", "sampled_critical_offset", "data_critical_offset"]
 
 _EPS = np.finfo(float).eps
 
@@ -193,6 +193,15 @@ def _least_squares_point(theta, h):
     return point
 
 
+def _concurrent(theta, h, rounding, scale) -> bool:
+    """Whether the lines ``x·n(θ_k) = h_k`` pass through one point within their rounding."""
+    if theta.size <= 2:
+        return True
+    point = _least_squares_point(theta, h)
+    standoff = h - np.cos(theta) * point[0] - np.sin(theta) * point[1]
+    return bool(np.all(np.abs(standoff) <= 4.0 * rounding + 16.0 * _EPS * scale))
+
+
 def support_polygon(theta, h, rounding, rho) -> SampledBody:
     """The body under the support lines ``x·n(θ_i) ≤ h_i`` (all ``h_i >= 0``).
 
@@ -225,20 +234,25 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
     slack = (rounding[active] + rounding[nxt]) / np.maximum(np.sin(np.minimum(gap, np.pi / 2)), 1e-300)
     slack = 4.0 * slack + 16.0 * _EPS * scale
 
-    # merge runs of vertices that are one point within rounding (a vertex window cut up by rounding)
+    # merge runs of vertices that are one point within rounding (a vertex window cut up by rounding): two
+    # vertices closer than their lines resolve, and only while every line of the run passes within its
+    # rounding of the run's common point (a chain of close vertices along an arc is not one vertex)
     m = len(points)
     same_as_next = np.hypot(*(np.roll(points, -1, axis=0) - points).T) <= np.maximum(slack, np.roll(slack, -1))
-    if same_as_next.all():
+    if same_as_next.all() and _concurrent(theta[active], h[active], rounding[active], scale):
         raise InvalidWall("samples: every support line passes through one point; the body would be a point")
-    first = int(np.flatnonzero(~np.roll(same_as_next, 1))[0])  # a vertex that does not continue a run
+    breaks = np.flatnonzero(~np.roll(same_as_next, 1))
+    first = int(breaks[0]) if breaks.size else 0  # a vertex that does not continue a run
     groups, current = [], [first]
     for k in range(1, m):
         j = (first + k) % m
-        if same_as_next[(j - 1) % m]:
-            current.append(j)
-        else:
-            groups.append(current)
-            current = [j]
+        if same_as_next[(j - 1) % m] and len(current) < m - 1:
+            lines = np.append(active[current], nxt[j])
+            if _concurrent(theta[lines], h[lines], rounding[lines], scale):
+                current.append(j)
+                continue
+        groups.append(current)
+        current = [j]
     groups.append(current)
 
     vertices, cone_start, cone_end, first_line, last_line = [], [], [], [], []
@@ -366,3 +380,23 @@ def sampled_critical_offset(support: DiscreteSupport):
     angle_tolerance = float(np.max(np.maximum(before, after)))
     return CriticalOffset(-value + 0.0, tuple(angles[j] for j in order), tuple(sorted(intervals)), angle_tolerance,
                           tolerance)
+
+
+def data_critical_offset(wall, bound=None):
+    """The critical offset of a sampled wall: the certified interval of :mod:`coinwall.inverse.certify` (over
+    every wall consistent with the samples' intervals), its best estimate, and where the minimum lies (from
+    the samples the geometry used: dense data are thinned).  ``bound``: a
+    :class:`~coinwall.inverse.certify.CriticalBound` already computed for this wall."""
+    import dataclasses
+
+    from .certify import certified_critical
+
+    theta, b = wall.samples
+    w = wall.sample_rounding if wall.sample_rounding is not None else machine_rounding(b)
+    if bound is None:
+        bound = certified_critical(theta, b, w)
+    idx = bound.used
+    base = sampled_critical_offset(discrete_support(theta[idx], b[idx], w[idx]))
+    tolerance = max(bound.estimate - bound.lower, bound.upper - bound.estimate)
+    return dataclasses.replace(base, b_c=bound.estimate, b_c_tolerance=tolerance, lower=bound.lower,
+                               upper=bound.upper, assumption=bound.assumption, samples_used=int(idx.size))

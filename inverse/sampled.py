@@ -26,13 +26,17 @@ from coinwall.forward.outline import Outline, support_function
 
 from .body import Body
 from .corners import Corner
-from .critical import regime_of
-from .discrete import discrete_support, halfspace_polygon, sampled_critical_offset, support_polygon
+from .discrete import data_critical_offset, discrete_support, halfspace_polygon, machine_rounding, support_polygon
 
-__all__ = ["interpolant_agrees", "solve_samples"]
+__all__ = ["MAX_GEOMETRY_SAMPLES", "interpolant_agrees", "solve_samples"]
+
+#: the half-plane body is built from every sample up to this many; denser data from the samples the certified
+#: interval of b_c was computed on (dense data are thinned: coinwall.inverse.certify), with the lines they
+#: leave out added where the body crosses them
+MAX_GEOMETRY_SAMPLES = 100_000
 
 
-def interpolant_agrees(wall, support) -> bool:
+def interpolant_agrees(wall, support, bound=None) -> bool:
     """Whether the wall's trigonometric interpolant reads the data faithfully: its ``b + b''`` at every
     sample within what rounding and spacing allow of the discrete radius of curvature.
 
@@ -56,7 +60,17 @@ def interpolant_agrees(wall, support) -> bool:
         rho_interpolant = values + second
     spacing = np.maximum.reduce([np.roll(support.spacing_error, s) for s in (-2, -1, 0, 1, 2)])
     allowed = 4.0 * (support.rho_tolerance + spacing) + 1e-9 * max(1.0, float(np.max(np.abs(b))))
-    return bool(np.all(np.abs(rho_interpolant - support.rho) <= allowed))
+    if not np.all(np.abs(rho_interpolant - support.rho) <= allowed):
+        return False
+    if bound is None:
+        return True
+    # the interpolant is a reading of the data only if it is one of the walls they allow: its own b_c (between
+    # the samples too, where it rings next to a jump of the curvature) inside the certified interval
+    fine = np.linspace(0.0, TWO_PI, 8 * n, endpoint=False)
+    values, _, second = wall.derivatives(fine)
+    own = -float(np.min(values + second))
+    slack = 1e-9 * max(1.0, float(np.max(np.abs(b))))
+    return bound.lower - slack <= own <= bound.upper + slack
 
 
 def _closure(outline, theta, h, windows, convex=False):
@@ -73,41 +87,163 @@ def _closure(outline, theta, h, windows, convex=False):
     return max(float(np.max(error)) if error.size else 0.0, float(np.max(excess)) if excess.size else 0.0)
 
 
+def _corners_where_allowed(polygon, theta, b, w, b0):
+    """``polygon`` with its corner flags kept only on vertices whose window meets a run of samples where zero
+    curvature is within the data's tolerance (``ρ_i + b0 ≤ tol_i``), or that cut the data (a deficit: Case
+    III); of several flagged vertices in one run, the one with the widest window stands for the run."""
+    from .critical import _cyclic_runs
+
+    support = discrete_support(theta, b, w)
+    zero = support.rho + b0 - support.rho_tolerance <= 0
+    # a deficit within the lines' own rounding (a line standing off a vertex that two other rounded lines make)
+    # is no cut
+    deficit = np.where(polygon.deficit > 8.0 * float(np.max(w)), polygon.deficit, 0.0)
+    polygon = dataclasses.replace(polygon, deficit=deficit)
+    runs = []
+    for start, length in _cyclic_runs(zero):
+        lo = theta[(start - 1) % theta.size] if length < theta.size else 0.0
+        hi = theta[(start + length) % theta.size] if length < theta.size else TWO_PI
+        runs.append((lo, lo + np.mod(hi - lo, TWO_PI) if length < theta.size else TWO_PI))
+    corner = polygon.corner.copy()
+    best = {}
+    for k in np.flatnonzero(corner):
+        if polygon.deficit[k] > 0:
+            continue
+        lo, hi = float(polygon.cone_start[k]), float(polygon.cone_end[k])
+        mid = np.mod(0.5 * (lo + hi), TWO_PI)
+        # the run that holds the window's middle, else any run the window meets
+        found = next((r for r, (a, c) in enumerate(runs) if np.mod(mid - a, TWO_PI) <= c - a), None)
+        if found is None:
+            found = next((r for r, (a, c) in enumerate(runs)
+                          if np.mod(lo - a, TWO_PI) <= c - a or np.mod(hi - a, TWO_PI) <= c - a
+                          or np.mod(a - lo, TWO_PI) <= hi - lo), None)
+        if found is None:
+            corner[k] = False
+            continue
+        if found in best:
+            other = best[found]
+            if hi - lo > polygon.cone_end[other] - polygon.cone_start[other]:
+                corner[other] = False
+                best[found] = k
+            else:
+                corner[k] = False
+        else:
+            best[found] = k
+    return dataclasses.replace(polygon, corner=corner)
+
+
+def _owner(polygon, theta):
+    """The vertex of a :class:`~.discrete.SampledBody` polygon whose window holds each direction."""
+    start = np.mod(polygon.cone_start, TWO_PI)
+    order = np.argsort(start)
+    return order[(np.searchsorted(start[order], np.mod(theta, TWO_PI), side="right") - 1) % order.size]
+
+
+def _polygon_support(polygon, theta):
+    """The support function of a :class:`~.discrete.SampledBody` polygon at ``theta``."""
+    v = polygon.vertices[_owner(polygon, theta)]
+    return v[:, 0] * np.cos(theta) + v[:, 1] * np.sin(theta)
+
+
 def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float) -> Body:
     """The body of a sampled wall at offset ``b0`` (see the module docstring)."""
     from .solve import WALL_ACCURACY, body_warnings, shape_check, solve_smooth
 
-    theta, b = wall.samples
-    h = b0 + b
-    support = discrete_support(theta, b, wall.sample_rounding)
-    scale = max(1.0, float(np.max(np.abs(h))))
-    lowest = int(np.argmin(h))
-    if h[lowest] < -4.0 * support.rounding[lowest]:
-        raise InvalidWall(
-            f"b0 + b(θ) = {h[lowest]:.6g} < 0 at the sample θ = {theta[lowest]:.6g}: the centre of mass would "
-            f"lie outside the body; choose b0 ≥ {-b[lowest]:.6g}")
-    # the data's rounding sets how well the body can match them
-    accuracy = max(WALL_ACCURACY * scale, 8.0 * float(np.max(support.rounding)))
-    critical = sampled_critical_offset(support)
-    sampled_note = (f"sampled wall ({theta.size} samples): b_c = {critical.b_c:.6g} ± {critical.b_c_tolerance:.2g} "
-                    f"from the discrete radius of curvature of the samples")
+    from .certify import certified_critical
 
-    if interpolant_agrees(wall, support):
-        body = solve_smooth(wall, b0, method=method, points=points, cross_check=cross_check, started=started,
+    all_theta, all_b = wall.samples
+    all_w = wall.sample_rounding if wall.sample_rounding is not None else machine_rounding(all_b)
+    all_h = b0 + all_b
+    lowest = int(np.argmin(all_h))
+    if all_h[lowest] < -4.0 * all_w[lowest]:
+        raise InvalidWall(
+            f"b0 + b(θ) = {all_h[lowest]:.6g} < 0 at the sample θ = {all_theta[lowest]:.6g}: the centre of mass "
+            f"would lie outside the body; choose b0 ≥ {-all_b[lowest]:.6g}")
+    bound = certified_critical(all_theta, all_b, all_w)
+    critical = data_critical_offset(wall, bound)
+    # dense data: the geometry uses the samples the certified interval was narrowest on; every sample is
+    # still checked against the body at the end
+    # the geometry uses every sample up to MAX_GEOMETRY_SAMPLES (exact at each), the thinned ones beyond
+    used = np.arange(all_theta.size) if all_theta.size <= MAX_GEOMETRY_SAMPLES else bound.used
+    theta, b = all_theta[used], all_b[used]
+    h = b0 + b
+    support = discrete_support(theta, b, all_w[used])
+    scale = max(1.0, float(np.max(np.abs(all_h))))
+    # the data's rounding sets how well the body can match them
+    accuracy = max(WALL_ACCURACY * scale, 8.0 * float(np.max(all_w)))
+    regimes = critical.regimes(b0, wall.scale)
+    regime = regimes[0] if len(regimes) == 1 else "critical"
+    sampled_note = (f"sampled wall ({all_theta.size} samples as intervals, half-widths up to {np.max(all_w):.2g}): "
+                    f"b_c = {critical.b_c:.6g}, certified in [{critical.lower:.6g}, {critical.upper:.6g}] "
+                    f"(the lower end for every wall within the samples' intervals; the upper end assuming "
+                    f"{critical.assumption})")
+    notes_data = [sampled_note]
+    if used.size < all_theta.size:
+        notes_data.append(f"dense data: the body was built from {used.size} of the {all_theta.size} samples "
+                          f"(at least {bound.spacing:.3g} rad apart, where the interval of b_c is narrowest); "
+                          "the body is checked against all of them")
+    if len(regimes) > 1:
+        notes_data.append(f"regime undecided at b0 = {b0:.6g}: the data allow {' or '.join(regimes)} "
+                          f"(b_c in [{critical.lower:.6g}, {critical.upper:.6g}])")
+    extra = {"b_c_lower": critical.lower, "b_c_upper": critical.upper, "regimes": regimes}
+
+    geo_wall = wall
+    if used.size < all_theta.size:
+        from coinwall.forward.wall import Wall
+
+        geo_wall = Wall.from_samples(theta, b, rounding=all_w[used])
+    if interpolant_agrees(geo_wall, support, bound):
+        body = solve_smooth(geo_wall, b0, method=method, points=points, cross_check=cross_check, started=started,
                             accuracy=accuracy)
         windows = [c.window for c in body.corners if c.max_deficit > 0]
-        error = max(body.max_wall_error, _closure(body.outline, theta, h, windows, body.convex and body.valid))
-        notes = (*body.notes, sampled_note,
+        error = max(body.max_wall_error, _closure(body.outline, all_theta, all_h, windows,
+                                                  body.convex and body.valid))
+        notes = (*body.notes, *notes_data,
                  "the samples are smooth: their trigonometric interpolant agrees with the discrete curvature, "
                  "and the body was solved from it")
-        return dataclasses.replace(
-            body, max_wall_error=error, notes=notes, seconds=time.perf_counter() - started,
-            warnings=body_warnings(error, body.cross_check, body.convex, body.valid, accuracy))
+        warnings = body_warnings(error, body.cross_check, body.convex, body.valid, accuracy)
+        if not warnings:
+            return dataclasses.replace(
+                body, wall=wall, max_wall_error=error, notes=notes, seconds=time.perf_counter() - started,
+                regime=regime, b_c=critical.b_c, b_c_tolerance=critical.b_c_tolerance,
+                critical_angles=critical.angles, warnings=(), **extra)
+        # the interpolant reads the data, but its body fails a check here (near a critical angle within the
+        # data's accuracy it may need corners narrower than the spacing): the lines' own body is exact
+        notes_data.append(f"the body of the samples' trigonometric interpolant failed its checks "
+                          f"({'; '.join(warnings)}); the body was built from the sampled lines instead")
 
-    regime = regime_of(b0, critical.b_c, wall.scale, critical.b_c_tolerance)
     polygon = support_polygon(theta, h, support.rounding, support.rho + b0)
+    if used.size < all_theta.size:
+        # the lines left out by thinning may cut what the used ones leave (an edge's sliver): add the ones
+        # the polygon crosses, and build it again
+        for _ in range(4):
+            excess = _polygon_support(polygon, all_theta) - (all_h + all_w)
+            crossing = np.flatnonzero(excess > 0)
+            if crossing.size == 0:
+                break
+            # the worst crossing line in each vertex's window: lines far apart, so no vertex is made of two
+            # lines closer than their rounding resolves
+            owner = _owner(polygon, all_theta[crossing])
+            order = np.lexsort((-excess[crossing], owner))
+            first = np.ones(order.size, bool)
+            first[1:] = owner[order][1:] != owner[order][:-1]
+            crossing = crossing[order[first]]
+            used = np.union1d(used, crossing)
+            theta, b = all_theta[used], all_b[used]
+            h = b0 + b
+            support = discrete_support(theta, b, all_w[used])
+            polygon = support_polygon(theta, h, support.rounding, support.rho + b0)
     outline = Outline.from_polygon(polygon.vertices)
     corners = []
+    if regimes == ("convex",):
+        # the data allow no corner at this offset (b0 is above every b_c they allow: the body's radius of
+        # curvature is positive everywhere); a vertex whose window holds samples is their rounding, not a corner
+        polygon = dataclasses.replace(polygon, corner=np.zeros_like(polygon.corner),
+                                      deficit=np.zeros_like(polygon.deficit))
+    else:
+        # a vertex window is a corner only where the data, at the spacing that resolves their curvature (the
+        # samples b_c was certified on), allow zero curvature; one corner per such run of samples
+        polygon = _corners_where_allowed(polygon, all_theta[bound.used], all_b[bound.used], all_w[bound.used], b0)
     for k in np.flatnonzero(polygon.corner):
         px, py = polygon.vertices[k]
         lo, hi = float(polygon.cone_start[k]), float(polygon.cone_end[k])
@@ -117,7 +253,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
                               float(polygon.deficit[k]), (start, start + hi - lo), float(polygon.deficit_angle[k])))
     windows = [c.window for c in corners if c.max_deficit > 0]
     valid, convex = shape_check(polygon.vertices)
-    max_wall_error = _closure(outline, theta, h, windows, convex)
+    max_wall_error = _closure(outline, all_theta, all_h, windows, convex)
 
     cross = None
     if cross_check:
@@ -127,7 +263,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
 
     with np.errstate(divide="ignore"):
         curvature = np.where(polygon.corner | (polygon.rho <= 0), np.inf, 1.0 / np.maximum(polygon.rho, 1e-300))
-    notes = [sampled_note,
+    notes = [*notes_data,
              f"the samples are not smooth (vertex windows, kinks or noise): the body is built from the "
              f"{theta.size} sampled support lines (their half-plane intersection, with edges joining vertex "
              "windows), exact at every sample; `points` does not apply"]
@@ -145,6 +281,6 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         outline=outline, x=x, y=y, K=curvature, phi_in=np.mod(polygon.cone_start, TWO_PI),
         phi_out=np.mod(polygon.cone_start, TWO_PI) + (polygon.cone_end - polygon.cone_start),
         corners=tuple(corners), folds=(), max_wall_error=max_wall_error, cross_check=cross, polar_residual=None,
-        convex=convex, valid=valid, com_inside=bool(h[lowest] > 0), seconds=time.perf_counter() - started,
+        convex=convex, valid=valid, com_inside=bool(all_h[lowest] > 0), seconds=time.perf_counter() - started,
         notes=tuple(notes), b_c_tolerance=critical.b_c_tolerance, accuracy=accuracy,
-        warnings=body_warnings(max_wall_error, cross, convex, valid, accuracy))
+        warnings=body_warnings(max_wall_error, cross, convex, valid, accuracy), **extra)

@@ -122,7 +122,13 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
     critical = critical_offset(wall, samples=samples)
     regime = regime_of(b0, critical.b_c, wall.scale, critical.b_c_tolerance)
-    nodes, extras = METHODS[method](wall, b0, points, regime, samples)
+    geometry = regime
+    if wall.samples is not None and samples is not None and regime != "corner" \
+            and float(np.min(samples.h + samples.h2)) < -1e-12 * max(1.0, wall.scale):
+        # data read through their interpolant: the construction follows the interpolant's own curvature,
+        # which may dip below 0 where the data are critical within their accuracy (a corner, not a fold)
+        geometry = "corner"
+    nodes, extras = METHODS[method](wall, b0, points, geometry, samples)
     scale = max(1.0, float(np.max(np.hypot(*nodes.x.T))))
     nodes = nodes.collapse(1e-12 * scale)
     outline = nodes.outline()
@@ -164,7 +170,7 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     cross = None
     if cross_check:
         other = "polar" if method == "envelope" else "envelope"
-        other_nodes, _ = METHODS[other](wall, b0, points, regime, samples)
+        other_nodes, _ = METHODS[other](wall, b0, points, geometry, samples)
         other_outline = other_nodes.collapse(1e-12 * scale).outline()
         cross = float(np.max(np.abs(support_function(other_outline, theta) - support_function(outline, theta))))
 

@@ -215,14 +215,18 @@ def _write(path, text):
 
 
 def test_a_file_carries_its_rounding(tmp_path, capsys):
-    """Values written with 6 decimals are rounded at the 6th: the tolerance of b_c says so (≈ 4·5e-7/Δ²
-    at 720 samples); the same values given as an array are taken at face value."""
+    """Values written with 6 decimals are rounded at the 6th: the certified interval of b_c says so (it
+    holds the truth, 0 for a polygon, and is far wider than the face-value rounding allows: a half-width of
+    5e-7 moves the discrete curvature by ~4·5e-7/Δ² at the spacing Δ the interval is computed on); the same
+    values given as an array are taken at face value."""
     triangle = np.array([[1.0, 0.0], [-0.4, 0.9], [-0.6, -0.7]])
     h = polygon_support(triangle, THETA720)
     path = _write(tmp_path / "tri6.csv", "theta,b\n" + "".join(f"{float(a)!r},{v:.6f}\n" for a, v in zip(THETA720, h)))
     assert main(["critical", path, "--json"]) == 0
-    tolerance = json.loads(capsys.readouterr().out)["b_c_tolerance"]
-    assert 4 * 5e-7 / (2 * np.pi / 720) ** 2 / 4 < tolerance < 0.1
+    doc = json.loads(capsys.readouterr().out)
+    tolerance = doc["b_c_tolerance"]
+    assert doc["b_c_lower"] <= 0.0 <= doc["b_c_upper"]
+    assert 4 * 5e-7 / 0.5**2 < tolerance < 0.1
     # the same numbers as an array: no rounding is assumed, only the spacing term remains
     assert critical_offset(Wall.from_samples(THETA720, np.round(h, 6))).b_c_tolerance < tolerance / 2
 

@@ -123,6 +123,12 @@ def wall_arguments(parser, optional=False):
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="value of a parameter of the expression (repeatable)")
     parser.add_argument("--degrees", action="store_true", help="the angles of a sample file are in degrees")
+    parser.add_argument("--sigma-b", type=number, default=0.0, metavar="S",
+                        help="half-width of a sample file's wall values where larger than half their last digit "
+                             "(a measurement's accuracy; a column sigma_b does the same per sample)")
+    parser.add_argument("--sigma-theta", type=number, default=0.0, metavar="S",
+                        help="half-width of a sample file's angles, in the file's angle unit, where larger than "
+                             "half their last digit (a column sigma_theta does the same per sample)")
 
 
 def table_arguments(parser):
@@ -152,13 +158,19 @@ def load_table(args):
     kappa = args.kappa
     if kappa is not None and not (math.isfinite(kappa) and kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length, got {kappa}")
-    wall = load_wall(args.wall, args.param, degrees=args.degrees)
+    wall = load_wall(args.wall, args.param, **wall_options(args))
     if kappa is None:
         return wall, Billiard(wall, args.H, args.b0)
     return wall, Billiard(wall.scaled(1.0 / kappa), args.H / kappa, args.b0 / kappa)
 
 
-def load_wall(text, params, degrees=False):
+def wall_options(args) -> dict:
+    """The sample-file options of ``wall_arguments`` (degrees, half-widths) as keywords of :func:`load_wall`."""
+    return {"degrees": getattr(args, "degrees", False), "sigma_b": getattr(args, "sigma_b", 0.0),
+            "sigma_theta": getattr(args, "sigma_theta", 0.0)}
+
+
+def load_wall(text, params, degrees=False, sigma_b=0.0, sigma_theta=0.0):
     """The :class:`forward.Wall` named on the command line: ``case:NAME``, or what
     :func:`coinwall.forward.formats.load_wall` reads (expression, .csv samples, .json Fourier)."""
     from coinwall.forward.errors import InvalidWall
@@ -170,8 +182,10 @@ def load_wall(text, params, degrees=False):
 
         if values:
             raise InvalidWall(f"--param does not apply to {text!r}: a case fixes its own parameters")
+        if sigma_b or sigma_theta:
+            raise InvalidWall(f"--sigma-b and --sigma-theta apply to sample files, not to {text!r}")
         return get_case(text).wall()
-    return load_wall_text(text, values, degrees=degrees)
+    return load_wall_text(text, values, degrees=degrees, sigma_b=sigma_b, sigma_theta=sigma_theta)
 
 
 def progress_bar(args, total, unit):

@@ -37,24 +37,34 @@ def run(args):
     from coinwall.forward.display import format_number
     from coinwall.inverse import critical_offset
 
-    from .common import load_wall
+    from .common import load_wall, wall_options
 
-    wall = load_wall(args.wall, args.param, degrees=args.degrees)
+    wall = load_wall(args.wall, args.param, **wall_options(args))
     result = critical_offset(wall)
     finite = math.isfinite(result.b_c)
     if args.json:
-        print(json.dumps({"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
-                          "b_c_tolerance": result.b_c_tolerance,
-                          "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]},
-                         indent=1, allow_nan=False))
+        doc = {"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
+               "b_c_tolerance": result.b_c_tolerance,
+               "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
+        if result.lower is not None:
+            doc.update({"b_c_lower": result.lower, "b_c_upper": result.upper, "assumption": result.assumption,
+                        "samples": int(wall.samples[0].size), "samples_used": result.samples_used})
+        print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
     print(f"wall       {wall!r}")
     if finite:
         tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
         line = f"b_c        {format_number(result.b_c, tolerance, 15)}"
-        if result.b_c_tolerance > OFFSET_TOLERANCE * max(1.0, wall.scale):
-            line += f" ± {result.b_c_tolerance:.2g} (what the samples' rounding and spacing allow)"
+        if result.lower is not None:
+            line += (f", certified in [{format_number(result.lower, tolerance, 6)}, "
+                     f"{format_number(result.upper, tolerance, 6)}]")
         print(line)
+        if result.lower is not None:
+            used = "" if result.samples_used == wall.samples[0].size else \
+                f" (dense data: {result.samples_used} of {wall.samples[0].size} samples used)"
+            print(f"certified  lower end: no wall within the samples' intervals has a smaller b_c (a linear "
+                  f"programme){used}")
+            print(f"assuming   upper end: {result.assumption}")
     else:
         print("b_c        inf (a concave kink: no convex body for any b0)")
     print(f"angles     {format_angles(result.angles)} (rad, where b + b'' is smallest)")

@@ -152,7 +152,7 @@ def _cmd_quantum(args):
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    from .common import load_wall
+    from .common import load_wall, wall_options
 
     heights = _heights(args.H)
     body = _body(args.body)
@@ -164,7 +164,7 @@ def _cmd_quantum(args):
     if args.splittings and args.method != "fem":
         raise InvalidArgument("--splittings (and a scan of several --H) need --method fem: Herring's flux formula "
                               "uses the eigenvectors")
-    wall = load_wall(args.wall, args.param, degrees=args.degrees)
+    wall = load_wall(args.wall, args.param, **wall_options(args))
     bar = progress_bar(args, None, "class")
     try:
         results = [_solve(args, wall, H, bar) for H in heights]

@@ -82,7 +82,7 @@ def _table(args):
     from coinwall.forward.errors import InvalidArgument, InvalidParameter
     from coinwall.forward.scan import TableSpec
 
-    from .common import load_wall, parse_params
+    from .common import load_wall, parse_params, wall_options
 
     fixed, grid = [], {}
     for text in args.param:
@@ -103,7 +103,7 @@ def _table(args):
 
         if grid:
             raise InvalidArgument(f"--param: {args.wall!r} is not an expression, its parameters cannot be scanned")
-        spec = TableSpec(load_wall(args.wall, [f"{k}={v!r}" for k, v in params.items()], degrees=args.degrees), (),
+        spec = TableSpec(load_wall(args.wall, [f"{k}={v!r}" for k, v in params.items()], **wall_options(args)), (),
                          args.b0, args.kappa)
         if not isinstance(spec.wall, str):
             try:

@@ -115,7 +115,7 @@ def run(args):
     from coinwall.inverse import realizability, solve_body
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
 
-    from .common import check_body_finite, load_wall
+    from .common import check_body_finite, load_wall, wall_options
 
     wall_text, params, b0 = _wall_and_offset(args)
     if args.wall is None and not args.json:
@@ -123,7 +123,7 @@ def run(args):
               "critical offset b0 = -0.5 (paper Fig. 4).")
     # bad input fails before any work; missing folders are created only once everything else is good
     ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance)
-    wall = load_wall(wall_text, params, degrees=args.degrees)
+    wall = load_wall(wall_text, params, **wall_options(args))
     check_paths(args.output, sorted(exporters()))
     check_outputs(args.output)
     b0 = _offset(b0, wall)

@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 
 from ..errors import InvalidArgument, InvalidWall
@@ -36,7 +37,7 @@ MAX_SAMPLES = 1_000_000
 FOURIER_KEYS = ("a0", "cos", "sin")
 
 
-def load_wall(text: str, params=None, *, degrees: bool = False):
+def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0):
     """A wall from an expression in ``t`` or from a wall file (``.csv`` samples, ``.json`` Fourier or samples).
 
     Parameters
@@ -47,6 +48,9 @@ def load_wall(text: str, params=None, *, degrees: bool = False):
         Values of the expression's parameters; a file takes none.
     degrees : bool
         The angles of a sample file are in degrees (a header ``theta_deg`` or ``Theta (deg)`` says so too).
+    sigma_b, sigma_theta : float
+        Half-widths of a sample file's values and angles (in the file's angle unit), where they exceed
+        half a unit of the last digit written.
 
     Returns
     -------
@@ -69,13 +73,15 @@ def load_wall(text: str, params=None, *, degrees: bool = False):
     if lower.endswith(WALL_FORMATS):
         if params:
             raise InvalidWall(f"`params` apply to wall expressions, not to the wall file {text!r}")
-        return load_wall_file(text.strip(), degrees=degrees)
+        return load_wall_file(text.strip(), degrees=degrees, sigma_b=sigma_b, sigma_theta=sigma_theta)
     if os.sep in text and os.path.exists(text.strip()):
         # a path (``/dev/zero``, ``data/wall.txt``) read as an expression would only give a syntax error
         raise InvalidWall(f"{text!r} is a file, but not a wall file: coinwall reads walls from "
                           f"{' and '.join(WALL_FORMATS)} files (or give an expression in t)")
     if degrees:
         raise InvalidArgument("`degrees` applies to sample files, not to expressions (write the angle in radians)")
+    if sigma_b or sigma_theta:
+        raise InvalidArgument("`sigma_b` and `sigma_theta` apply to sample files, not to expressions")
     return Wall.from_expression(text, params)
 
 
@@ -86,9 +92,20 @@ def _read_text(path: str) -> str:
 
 
 def _column_kind(name: str):
-    """('angle', in_degrees) or ('value', None) or (None, None) for a header cell."""
+    """('angle', in_degrees), ('value', None), ('sigma_angle', in_degrees), ('sigma_value', None) or
+    (None, None) for a header cell.  Half-widths: ``sigma_b``/``db``/``b_err``, ``sigma_theta``/``dtheta``."""
     key = name.strip().lower()
     degrees = any(mark in key for mark in ("deg", "°"))
+    for prefix in ("sigma_", "sigma", "delta_", "δ", "d"):
+        if key.startswith(prefix) and len(key) > len(prefix):
+            kind, deg = _column_kind(key[len(prefix):])
+            if kind in ("angle", "value"):
+                return "sigma_" + kind, (deg or degrees) if kind == "angle" else None
+    for suffix in ("_err", "_error", "_sigma"):
+        if key.endswith(suffix) and len(key) > len(suffix):
+            kind, deg = _column_kind(key[: -len(suffix)])
+            if kind in ("angle", "value"):
+                return "sigma_" + kind, (deg or degrees) if kind == "angle" else None
     bare = "".join(ch for ch in key if ch.isalnum() or ch in "θ_").replace("_deg", "").replace("deg", "")
     bare = bare.replace("rad", "").rstrip("_")
     if bare in ("theta", "θ", "angle", "t", "phi", "φ"):
@@ -99,14 +116,43 @@ def _column_kind(name: str):
 
 
 def read_samples_csv(path: str, *, degrees: bool = False):
-    """``(theta, b)`` in radians from a CSV of samples, as people write them.
+    """``(theta, b)`` in radians from a CSV of samples, as people write them (:func:`read_sample_table`)."""
+    table = read_sample_table(path, degrees=degrees)
+    return table["theta"], table["b"]
+
+
+def _angle_rounding(values, period):
+    """Half a unit of the last digit of each angle as written (in the file's unit), or a few ulps where
+    the angles are a designed uniform grid (0°, 1°, …; distinct, every step equal): a grid is exact."""
+    import numpy as np
+
+    values = np.asarray(values, dtype=float)
+    distinct = np.unique(values)
+    if distinct.size == values.size and distinct.size >= 8:
+        steps = np.diff(distinct)
+        if np.all(np.abs(steps - steps[0]) <= 64 * np.finfo(float).eps * max(period, float(np.max(np.abs(values))))):
+            return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period)
+    return rounding_of(values)
+
+
+def read_sample_table(path: str, *, degrees: bool = False) -> dict:
+    """Samples from a CSV as people write them: angles, values, their half-widths and line numbers.
 
     The delimiter is a comma, a semicolon, a tab or white space (decimal commas are read with a
     semicolon or tab delimiter).  A header row names the columns: ``theta``/``θ``/``angle`` for the
-    angle (``theta_deg``, ``Theta (deg)``, ``angle [°]`` in degrees) and ``b``/``h``/``wall`` for the
-    wall; without a header there must be exactly two columns, θ in radians (or ``degrees=True``) and b.
-    Radian angles spanning more than 2π are refused (they look like degrees).  Every row must be
-    complete and numeric: a bad row is an error naming its line, never silently dropped.
+    angle (``theta_deg``, ``Theta (deg)``, ``angle [°]`` in degrees), ``b``/``h``/``wall`` for the
+    wall, and optionally the half-widths ``sigma_b`` (or ``db``, ``b_err``) and ``sigma_theta`` (or
+    ``dtheta``, ``theta_err``; in the angle column's unit).  Without a header there must be exactly two
+    columns, θ in radians (or ``degrees=True``) and b.  Radian angles spanning more than 2π are refused
+    (they look like degrees).  Every row must be complete and numeric: a bad row is an error naming its
+    line, never silently dropped.
+
+    Returns
+    -------
+    dict
+        ``theta`` (radians), ``b``, ``theta_rounding`` (radians) and ``b_rounding``: half a unit of the
+        last digit written (or the file's half-width columns, whichever is larger; angles on a designed
+        uniform grid are exact), and ``labels`` (``"line N"`` of each sample).
     """
     import numpy as np
 
@@ -135,6 +181,7 @@ def read_samples_csv(path: str, *, degrees: bool = False):
         header = None
     except ValueError:
         rows = rows[1:]
+    sigma_cols = {}
     if header is None:
         angle_col, value_col, width = 0, 1, None
         in_degrees = degrees
@@ -145,12 +192,25 @@ def read_samples_csv(path: str, *, degrees: bool = False):
         if len(angles) != 1 or len(values) != 1:
             raise InvalidWall(f"wall file {path!r}: columns {header}: name one angle column (theta, θ, angle; "
                               "theta_deg for degrees) and one wall column (b, h, wall)")
+        for kind in ("sigma_angle", "sigma_value"):
+            found = [i for i, (k, _) in enumerate(kinds) if k == kind]
+            if len(found) > 1:
+                raise InvalidWall(f"wall file {path!r}: columns {header}: more than one {kind.replace('_', ' ')} "
+                                  "column")
+            if found:
+                sigma_cols[kind] = found[0]
         angle_col, value_col, width = angles[0], values[0], len(header)
         in_degrees = degrees or bool(kinds[angle_col][1])
+        if "sigma_angle" in sigma_cols and bool(kinds[sigma_cols["sigma_angle"]][1]) != in_degrees \
+                and kinds[sigma_cols["sigma_angle"]][1]:
+            raise InvalidWall(f"wall file {path!r}: the angle half-width column is in degrees but the angles "
+                              "are not; give both in one unit")
     if len(rows) > MAX_SAMPLES:
         raise InvalidWall(f"wall file {path!r} has {len(rows)} rows; at most {MAX_SAMPLES} samples are read "
                           "(the solvers take minutes beyond): thin the data")
-    theta, b = [], []
+    columns = [angle_col, value_col] + [sigma_cols[k] for k in ("sigma_angle", "sigma_value") if k in sigma_cols]
+    data = [[] for _ in columns]
+    lines = []
     for number_, line in rows:
         parts = cells(line)
         if (width is None and len(parts) != 2) or (width is not None and len(parts) != width):
@@ -158,31 +218,56 @@ def read_samples_csv(path: str, *, degrees: bool = False):
                 else str(width)
             raise InvalidWall(f"wall file {path!r}, line {number_}: {len(parts)} columns, expected {expected}")
         try:
-            theta.append(number(parts[angle_col]))
-            b.append(number(parts[value_col]))
+            for store, col in zip(data, columns):
+                store.append(number(parts[col]))
         except ValueError:
             raise InvalidWall(f"wall file {path!r}, line {number_}: not a number in {line!r}") from None
-    theta, b = np.array(theta), np.array(b)
-    if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(b))):
-        bad = int(np.flatnonzero(~(np.isfinite(theta) & np.isfinite(b)))[0])
-        raise InvalidWall(f"wall file {path!r}: sample {bad + 1} is not finite")
+        lines.append(number_)
+    arrays = [np.array(d) for d in data]
+    theta, b = arrays[0], arrays[1]
+    for arr in arrays:
+        if not np.all(np.isfinite(arr)):
+            bad = int(np.flatnonzero(~np.isfinite(arr))[0])
+            raise InvalidWall(f"wall file {path!r}, line {lines[bad]}: a value is not finite")
+    sigma = dict(zip([k for k in ("sigma_angle", "sigma_value") if k in sigma_cols], arrays[2:]))
+    for kind, arr in sigma.items():
+        if np.any(arr < 0):
+            bad = int(np.flatnonzero(arr < 0)[0])
+            raise InvalidWall(f"wall file {path!r}, line {lines[bad]}: a half-width is negative")
+    period = 360.0 if in_degrees else 2 * np.pi
+    theta_rounding = np.maximum(_angle_rounding(theta, period), sigma.get("sigma_angle", 0.0))
+    b_rounding = np.maximum(rounding_of(b), sigma.get("sigma_value", 0.0))
     if in_degrees:
-        theta = np.radians(theta)
+        theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
     elif theta.size and np.ptp(theta) > 2 * np.pi * (1 + 1e-9):
         raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: are they "
                           "degrees? Name the column theta_deg, or pass --degrees")
-    return theta, b
+    return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
+            "labels": [f"line {k}" for k in lines], "degrees": in_degrees}
 
 
-def load_wall_file(path: str, *, degrees: bool = False):
-    """A wall from a file: ``.csv`` samples (:func:`read_samples_csv`) or ``.json``: Fourier coefficients
-    ``{"a0", "cos", "sin"}`` or samples ``{"theta": […], "b": […]}`` (``"degrees": true`` allowed)."""
+def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0):
+    """A wall from a file: ``.csv`` samples (:func:`read_sample_table`) or ``.json``: Fourier coefficients
+    ``{"a0", "cos", "sin"}`` or samples ``{"theta": […], "b": […]}`` (``"degrees": true`` allowed).
+
+    Samples are intervals: half a unit of the last digit of each number, or ``sigma_b`` and ``sigma_theta``
+    (the angle's half-width in the file's angle unit) where those are larger."""
+    import numpy as np
+
     from ..wall import Wall
 
+    for name, value in (("sigma_b", sigma_b), ("sigma_theta", sigma_theta)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            raise InvalidArgument(f"`{name}` must be a finite number ≥ 0, got {value!r}")
+
     if path.lower().endswith(".csv"):
-        theta, b = read_samples_csv(path, degrees=degrees)
         # numbers written as text carry their rounding in their digits
-        return Wall.from_samples(theta, b, rounding=rounding_of(b))
+        table = read_sample_table(path, degrees=degrees)
+        if degrees or table.get("degrees"):
+            sigma_theta = math.radians(sigma_theta)
+        return Wall.from_samples(table["theta"], table["b"], rounding=np.maximum(table["b_rounding"], sigma_b),
+                                 theta_rounding=np.maximum(table["theta_rounding"], sigma_theta),
+                                 labels=table["labels"])
     from .inputfile import read_json
 
     doc = read_json(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
@@ -198,11 +283,14 @@ def load_wall_file(path: str, *, degrees: bool = False):
             theta, b = (_numbers(doc.get(k), path, k) for k in SAMPLE_KEYS)
             if not isinstance(doc.get("degrees", False), bool):
                 raise InvalidWall(f"wall file {path!r}: `degrees` must be true or false, got {doc['degrees']!r}")
-            if doc.get("degrees", False) is True or degrees:
-                import numpy as np
-
-                theta = np.radians(theta)
-            return Wall.from_samples(theta, b, rounding=rounding_of(b))
+            in_degrees = doc.get("degrees", False) is True or degrees
+            period = 360.0 if in_degrees else 2 * np.pi
+            theta_rounding = np.maximum(_angle_rounding(theta, period), sigma_theta)
+            if in_degrees:
+                theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
+            return Wall.from_samples(theta, b, rounding=np.maximum(rounding_of(b), sigma_b),
+                                     theta_rounding=theta_rounding,
+                                     labels=[f"`theta`[{k}]" for k in range(len(theta))])
         unknown = set(doc) - set(FOURIER_KEYS)
         if unknown:
             raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected "

@@ -1,0 +1,271 @@
+"""Walls as data: every sample is an interval.
+
+A sample ``(θ_i, b_i)`` written in a file is known only to its digits: ``θ_i`` to ``±σθ_i`` and
+``b_i`` to ``±σb_i`` (half a unit of the last digit written, or what the user says).  What the
+geometry needs is how far the wall *at the nominal angle* ``θ_i`` may be from ``b_i``:
+
+    |b(θ_i) − b_i| ≤ w_i = σb_i + S_i σθ_i,     S_i ≥ max |b'| on [θ_i − σθ_i, θ_i + σθ_i].
+
+The slope bound ``S_i`` is certified for any wall that is a support function at some offset (the
+premise of the whole question): with ``h = b0 + b`` and ``ρ = h + h'' ≥ 0``, ``h'' ≥ −h ≥ −H`` where
+``H`` bounds ``h``; so on an angular span ``s`` to the left of θ_i the secant is at most
+``h'(θ_i) + s H`` and to the right at least ``h'(θ_i) − s H``:
+
+    sec(θ_a, θ_i) − s H ≤ h'(θ_i) ≤ sec(θ_i, θ_c) + s H.
+
+The secants are taken over spans long enough that the values' own rounding does not swamp them,
+and their rounding is added.  ``b'`` may jump *up* at an edge of the body (inside the window), never
+down, and the two one-sided secants bound both sides.
+
+Samples at the same angle (duplicates, or angles that round to the same value) are merged: the wall
+at that angle lies in the intersection of their intervals; an empty intersection is an
+inconsistency in the data, named with the two samples.
+
+This module only builds the intervals (:func:`sample_intervals`); what they imply for the critical
+offset and the body is in :mod:`coinwall.inverse.certify` (docs/theory.md, "Data as intervals").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .angles import TWO_PI
+from .errors import InvalidWall
+
+__all__ = ["SampleData", "sample_intervals", "exact_grid"]
+
+_EPS = float(np.finfo(float).eps)
+#: angles closer than this (rad, after reduction mod 2π) are one angle: a duplicate sample
+SAME_ANGLE = 1e-9
+
+
+@dataclass(frozen=True, repr=False)
+class SampleData:
+    """Samples of a wall as intervals at distinct nominal angles.
+
+    Attributes
+    ----------
+    theta : ndarray
+        Distinct angles in [0, 2π), sorted.
+    b : ndarray
+        The middle of the interval in which the wall at ``theta`` lies.
+    halfwidth : ndarray
+        ``|b(θ_i) − b_i| ≤ halfwidth_i``: the values' rounding plus the slope times the angles' rounding
+        (and, for merged duplicates, the intersection of their intervals).
+    sigma_b, sigma_theta : ndarray
+        The largest value and angle half-widths of the samples merged at each angle.
+    slope : ndarray
+        The certified bound on ``|b'|`` near each angle that turned ``sigma_theta`` into a value error.
+    count : ndarray
+        How many input samples each angle holds.
+    """
+
+    theta: np.ndarray
+    b: np.ndarray
+    halfwidth: np.ndarray
+    sigma_b: np.ndarray
+    sigma_theta: np.ndarray
+    slope: np.ndarray
+    count: np.ndarray
+
+    @property
+    def merged(self) -> int:
+        """Input samples merged into another at the same angle."""
+        return int(np.sum(self.count) - self.count.size)
+
+    @property
+    def lower(self) -> np.ndarray:
+        return self.b - self.halfwidth
+
+    @property
+    def upper(self) -> np.ndarray:
+        return self.b + self.halfwidth
+
+    def __repr__(self) -> str:
+        return (f"SampleData({self.theta.size} angles, {self.merged} merged duplicates, "
+                f"largest half-width {float(np.max(self.halfwidth)):.3g})")
+
+
+def exact_grid(values, period: float) -> bool:
+    """Whether angles as written lie on a uniform grid that divides the period (0°, 1°, …, 359° or
+    0, 0.5, … in degrees): then the grid is the design of the data, not a rounding, and the angles are
+    exact.  Needs at least 8 distinct values."""
+    v = np.unique(np.mod(np.asarray(values, dtype=float), period))
+    if v.size < 8:
+        return False
+    count = round(period / float(np.min(np.diff(v)))) if np.min(np.diff(v)) > 0 else 0
+    if count <= 0 or count > 10**7:
+        return False
+    step = period / count
+    k = np.round(v / step)
+    return bool(np.all(np.abs(v - k * step) <= 8 * _EPS * period))
+
+
+def _neighbours_at_least(theta, span):
+    """Index of the nearest sample at least ``span`` before (cyclically) each sample, and after."""
+    n = theta.size
+    ext = np.concatenate([theta - TWO_PI, theta, theta + TWO_PI])
+    before = np.searchsorted(ext, theta - span, side="right") - 1  # last with ext <= theta - span
+    after = np.searchsorted(ext, theta + span, side="left")  # first with ext >= theta + span
+    return before, after, ext, n
+
+
+def _slope_bound(theta, b, sigma_b, sigma_theta, h_bound, noise):
+    """A bound ``S_i`` on |b'| near each sample (module docstring), from secants over spans that the
+    rounding of values and angles does not swamp.
+
+    The values at the nominal angles are off by up to ``σb + S σθ`` themselves, so a secant over a span
+    ``s`` is off by ``(σb_i + σb_a + S (σθ_i + σθ_a)) / s``; with the curvature term ``s H`` this gives
+    ``S (1 − (σθ_i + σθ_a)/s) ≥ |secant| + (σb_i + σb_a)/s + s H``, solved for S (spans ≥ 4 σθ)."""
+    n = theta.size
+    typical = float(np.median(noise)) if n else 0.0
+    span = math.sqrt(4.0 * typical / max(h_bound, 1e-300)) if typical > 0 else 0.0
+    gaps = np.diff(np.append(theta, theta[0] + TWO_PI))
+    span = min(max(span, float(np.min(gaps)), 4.0 * float(np.max(sigma_theta))), TWO_PI / 16)
+    before, after, ext, _ = _neighbours_at_least(theta, span)
+    ext_b = np.concatenate([b, b, b])
+    ext_s = np.concatenate([sigma_b, sigma_b, sigma_b])
+    ext_t = np.concatenate([sigma_theta, sigma_theta, sigma_theta])
+    i = np.arange(n) + n
+    bounds = []
+    for j in (before, after):
+        length = np.abs(ext[i] - ext[j])
+        secant = np.abs(ext_b[i] - ext_b[j]) / length
+        shrink = np.maximum(1.0 - (ext_t[i] + ext_t[j]) / length, 0.25)
+        bounds.append((secant + (ext_s[i] + ext_s[j]) / length + length * h_bound) / shrink)
+    # h'(θ_i) lies between the left secant's lower and the right secant's upper bound
+    return np.maximum(bounds[0], bounds[1])
+
+
+def _thin(theta, spacing):
+    """Indices of a subset of sorted angles at least ``spacing`` apart (greedy)."""
+    keep, last = [0], theta[0]
+    limit = theta[0] + TWO_PI - spacing
+    while True:
+        j = int(np.searchsorted(theta, last + spacing, side="left"))
+        if j >= theta.size or theta[j] > limit:
+            return np.asarray(keep)
+        keep.append(j)
+        last = theta[j]
+
+
+def _h_bound(theta, b, noise):
+    """A bound on ``h = b0 + b`` at the least offset that makes the wall convex — the scale of ``h''``
+    the slope bound needs.  Estimated from the discrete curvature of the data on samples far enough
+    apart that their rounding (``noise``) moves it by less than a tenth of the wall's size, with a
+    margin of 2."""
+    scale = max(float(np.max(np.abs(b))), 1e-300)
+    spacing = min(math.sqrt(40.0 * float(np.max(noise)) / scale), TWO_PI / 16)
+    idx = _thin(theta, spacing) if theta.size > 16 and spacing > 0 else np.arange(theta.size)
+    if idx.size < 8:
+        return 4.0 * scale
+    t, v = theta[idx], b[idx]
+    before = np.diff(np.concatenate([[t[-1] - TWO_PI], t]))
+    after = np.roll(before, -1)
+    rho = ((np.roll(v, 1) - v * np.cos(before)) / np.sin(before)
+           + (np.roll(v, -1) - v * np.cos(after)) / np.sin(after)) / (np.tan(before / 2) + np.tan(after / 2))
+    b_c = max(-float(np.min(rho)), -float(np.min(b)))
+    return 2.0 * max(float(np.max(b)) + b_c, scale)
+
+
+def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None) -> SampleData:
+    """The samples as intervals at distinct angles (module docstring).
+
+    Parameters
+    ----------
+    theta, b : array_like
+        Angles (radians, any range: reduced mod 2π) and wall values, finite, same length.
+    sigma_b, sigma_theta : float or array_like, optional
+        Half-widths of the values and of the angles (radians), one or one per sample; default a few
+        ulps (numbers at face value).
+    labels : sequence of str, optional
+        How to name each sample in a message (``"line 17"``); default ``"sample k"`` (1-based).
+
+    Raises
+    ------
+    InvalidWall
+        Two samples at the same angle whose intervals do not overlap (named), or bad half-widths.
+    """
+    theta = np.asarray(theta, dtype=float).ravel()
+    b = np.asarray(b, dtype=float).ravel()
+    n_in = theta.size
+    face = 2.0 * _EPS * np.maximum(np.abs(b), np.finfo(float).tiny)
+
+    def spread(value, name, floor):
+        if value is None:
+            return floor
+        arr = np.asarray(value, dtype=float)
+        if arr.ndim > 1 or arr.size not in (1, n_in) or not np.all(np.isfinite(arr)) or np.any(arr < 0):
+            raise InvalidWall(f"`{name}` must be one finite number ≥ 0 or one per sample")
+        return np.maximum(np.broadcast_to(arr, (n_in,)).astype(float), floor)
+
+    sb = spread(sigma_b, "sigma_b", face)
+    st = spread(sigma_theta, "sigma_theta", 4.0 * _EPS * np.maximum(np.abs(theta), TWO_PI))
+    reduced = np.mod(theta, TWO_PI)
+    reduced[reduced >= TWO_PI] = 0.0
+    order = np.argsort(reduced, kind="stable")
+    reduced, values, sb, st = reduced[order], b[order], sb[order], st[order]
+    # groups of one angle: consecutive angles within SAME_ANGLE (and the wrap from 2π to 0)
+    new = np.ones(reduced.size, bool)
+    new[1:] = np.diff(reduced) > SAME_ANGLE
+    group = np.cumsum(new) - 1
+    if reduced.size > 1 and reduced[0] + TWO_PI - reduced[-1] <= SAME_ANGLE and group[-1] > 0:
+        group[group == group[-1]] = 0
+    m = int(group.max()) + 1
+    count = np.bincount(group, minlength=m)
+    # the nominal angle of a group: its first member (a wrapped group keeps the angle near 0)
+    first = np.full(m, -1)
+    first[group[::-1]] = np.arange(reduced.size)[::-1]
+    angle = reduced[first]
+    spread_angle = np.zeros(m)
+    np.maximum.at(spread_angle, group, np.abs(np.mod(reduced - angle[group] + np.pi, TWO_PI) - np.pi))
+    mean = np.bincount(group, weights=values, minlength=m) / count
+    sig_b = np.zeros(m)
+    np.maximum.at(sig_b, group, sb)
+    sig_t = np.zeros(m)
+    np.maximum.at(sig_t, group, st)
+    sig_t = sig_t + spread_angle
+    key = np.argsort(angle, kind="stable")
+    if not np.array_equal(key, np.arange(m)):  # the wrapped group moved to the front
+        remap = np.empty(m, int)
+        remap[key] = np.arange(m)
+        group = remap[group]
+        angle, mean, sig_b, sig_t, count = angle[key], mean[key], sig_b[key], sig_t[key], count[key]
+    if m >= 3:
+        # the angles' rounding makes the values noisy too, by up to |b'| σθ (|b'| ≤ the wall's size, roughly)
+        noise = sig_b + np.max(np.abs(values)) * sig_t
+        bound = _h_bound(angle, mean, noise)
+        slope = _slope_bound(angle, mean, sig_b, sig_t, bound, noise)
+    else:
+        slope = np.full(m, 2.0 * float(np.max(np.abs(values))) if values.size else 0.0)
+    # each input sample's interval at its group's nominal angle
+    offset = np.abs(np.mod(reduced - angle[group] + np.pi, TWO_PI) - np.pi)
+    width = sb + slope[group] * (st + offset)
+    lo = np.full(m, -np.inf)
+    hi = np.full(m, np.inf)
+    np.maximum.at(lo, group, values - width)
+    np.minimum.at(hi, group, values + width)
+    bad = np.flatnonzero(lo > hi)
+    if bad.size:
+        g = int(bad[0])
+        members = np.flatnonzero(group == g)
+        a = members[np.argmax((values - width)[members])]
+        c = members[np.argmin((values + width)[members])]
+        name = (lambda k: labels[order[k]]) if labels is not None else (lambda k: f"sample {order[k] + 1}")
+        raise InvalidWall(
+            f"samples: {name(a)} and {name(c)} are at the same angle θ ≡ {angle[g]:.9g} (mod 2π) but disagree: "
+            f"b = {values[a]:.9g} ± {width[a]:.2g} and b = {values[c]:.9g} ± {width[c]:.2g} do not overlap")
+    middle = 0.5 * (lo + hi)
+    halfwidth = 0.5 * (hi - lo)
+    # a lone sample keeps its own value and half-width exactly
+    member = np.empty(m, int)
+    member[group] = np.arange(reduced.size)
+    single = count == 1
+    middle[single] = values[member[single]]
+    halfwidth[single] = width[member[single]]
+    for arr in (angle, middle, halfwidth, sig_b, sig_t, slope, count):
+        arr.setflags(write=False)
+    return SampleData(angle, middle, halfwidth, sig_b, sig_t, slope, count)
