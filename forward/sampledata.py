@@ -171,7 +171,7 @@ def _h_bound(theta, b, noise):
     return 2.0 * max(float(np.max(b)) + b_c, scale)
 
 
-def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None) -> SampleData:
+def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None, *, merge: str = "intersect") -> SampleData:
     """The samples as intervals at distinct angles (module docstring).
 
     Parameters
@@ -183,6 +183,10 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None) -> S
         ulps (numbers at face value).
     labels : sequence of str, optional
         How to name each sample in a message (``"line 17"``); default ``"sample k"`` (1-based).
+    merge : {"intersect", "mean"}
+        Samples at one angle: the intersection of their intervals (data known to their digits), or, for
+        noisy measurements that scatter beyond their digits, their mean with a half-width that covers
+        every one of them.
 
     Raises
     ------
@@ -248,6 +252,13 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None) -> S
     hi = np.full(m, np.inf)
     np.maximum.at(lo, group, values - width)
     np.minimum.at(hi, group, values + width)
+    if merge == "mean":
+        lo = np.full(m, np.inf)
+        hi = np.full(m, -np.inf)
+        np.minimum.at(lo, group, values - width)
+        np.maximum.at(hi, group, values + width)
+    elif merge != "intersect":
+        raise InvalidWall(f"`merge` must be 'intersect' or 'mean', got {merge!r}")
     bad = np.flatnonzero(lo > hi)
     if bad.size:
         g = int(bad[0])
@@ -258,8 +269,8 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None) -> S
         raise InvalidWall(
             f"samples: {name(a)} and {name(c)} are at the same angle θ ≡ {angle[g]:.9g} (mod 2π) but disagree: "
             f"b = {values[a]:.9g} ± {width[a]:.2g} and b = {values[c]:.9g} ± {width[c]:.2g} do not overlap")
-    middle = 0.5 * (lo + hi)
-    halfwidth = 0.5 * (hi - lo)
+    middle = 0.5 * (lo + hi) if merge == "intersect" else mean
+    halfwidth = 0.5 * (hi - lo) if merge == "intersect" else np.maximum(hi - mean, mean - lo)
     # a lone sample keeps its own value and half-width exactly
     member = np.empty(m, int)
     member[group] = np.arange(reduced.size)

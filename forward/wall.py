@@ -265,13 +265,14 @@ class Wall:
 
     @classmethod
     def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None,
-                     rounding=None, theta_rounding=None, labels=None) -> Wall:
+                     rounding=None, theta_rounding=None, labels=None, merge: str = "intersect") -> Wall:
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
 
         Each sample is an interval (:mod:`coinwall.forward.sampledata`): ``b_i`` is known to ``±rounding``
         and ``θ_i`` to ``±theta_rounding`` (radians; default: both at face value, a few ulps).  Samples at
         the same angle (θ and θ + 2π, duplicates) are merged into the intersection of their intervals;
-        two that cannot both hold are an error naming them (``labels``, e.g. the file's line numbers).
+        two that cannot both hold are an error naming them (``labels``, e.g. the file's line numbers);
+        ``merge="mean"`` averages them instead (noisy measurements, :func:`coinwall.inverse.fit.fit_convex`).
         The intervals are kept as :attr:`sample_data`; :attr:`samples` holds the distinct angles and the
         middle of each interval, :attr:`sample_rounding` its half-width.
 
@@ -299,7 +300,7 @@ class Wall:
             raise InvalidWall(f"samples: {theta.size} samples, at most {4 * MAX_SAMPLES}; thin the samples")
         if theta.size < _MIN_SAMPLES:
             raise InvalidWall(f"samples: too short: {theta.size} samples, need at least {_MIN_SAMPLES}")
-        data = sample_intervals(theta, b, rounding, theta_rounding, labels)
+        data = sample_intervals(theta, b, rounding, theta_rounding, labels, merge=merge)
         reduced, values = data.theta, data.b
         scale = max(1.0, float(np.max(np.abs(values))))
         n = reduced.size

@@ -34,6 +34,8 @@ __all__ = ["MAX_GEOMETRY_SAMPLES", "interpolant_agrees", "solve_samples"]
 #: interval of b_c was computed on (dense data are thinned: coinwall.inverse.certify), with the lines they
 #: leave out added where the body crosses them
 MAX_GEOMETRY_SAMPLES = 100_000
+#: non-uniform samples read through a least-squares interpolant at most (beyond: the half-plane body)
+MAX_LSQ_CHECK = 5_000
 
 
 def interpolant_agrees(wall, support, bound=None) -> bool:
@@ -43,13 +45,13 @@ def interpolant_agrees(wall, support, bound=None) -> bool:
     A Fourier interpolant rings at every kink and vertex window (``b + b''`` overshoots by O(1) next to
     them); for smooth data the two agree to ``Δ²ρ''/12``, which the spacing error estimates.
     """
-    from coinwall.forward.wallbackends import MAX_LSQ_SAMPLES
-
     theta, b = support.theta, support.b
     n = theta.size
     uniform = np.allclose(np.diff(theta), TWO_PI / n, rtol=0, atol=1e-9)
-    if not uniform and n > MAX_LSQ_SAMPLES:
-        return False  # no interpolant is made of so many: the half-plane body, exact for the data, is used
+    if not uniform and n > MAX_LSQ_CHECK:
+        # a least-squares interpolant of so many costs n·k² (~10 s at 2·10⁴ samples, 256 harmonics): the
+        # half-plane body, exact for the data, is used
+        return False
     if uniform:
         # b'' of the interpolant at the grid points, by FFT (the interpolant of Wall.from_samples)
         k = np.arange(n // 2 + 1)
@@ -161,9 +163,8 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
             f"would lie outside the body; choose b0 ≥ {-all_b[lowest]:.6g}")
     bound = certified_critical(all_theta, all_b, all_w)
     critical = data_critical_offset(wall, bound)
-    # dense data: the geometry uses the samples the certified interval was narrowest on; every sample is
-    # still checked against the body at the end
-    # the geometry uses every sample up to MAX_GEOMETRY_SAMPLES (exact at each), the thinned ones beyond
+    # the geometry uses every sample up to MAX_GEOMETRY_SAMPLES (exact at each); denser data the samples the
+    # certified interval was narrowest on, and every sample is still checked against the body at the end
     used = np.arange(all_theta.size) if all_theta.size <= MAX_GEOMETRY_SAMPLES else bound.used
     theta, b = all_theta[used], all_b[used]
     h = b0 + b
@@ -192,9 +193,16 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         from coinwall.forward.wall import Wall
 
         geo_wall = Wall.from_samples(theta, b, rounding=all_w[used])
+    body = None
     if interpolant_agrees(geo_wall, support, bound):
-        body = solve_smooth(geo_wall, b0, method=method, points=points, cross_check=cross_check, started=started,
-                            accuracy=accuracy)
+        try:
+            body = solve_smooth(geo_wall, b0, method=method, points=points, cross_check=cross_check,
+                                started=started, accuracy=accuracy)
+        except InvalidWall as exc:
+            # the interpolant, not the data, fails between the samples (it dips below 0 where the data touch it)
+            notes_data.append(f"the samples' trigonometric interpolant cannot be solved here ({exc}); the body was "
+                              "built from the sampled lines instead")
+    if body is not None:
         windows = [c.window for c in body.corners if c.max_deficit > 0]
         error = max(body.max_wall_error, _closure(body.outline, all_theta, all_h, windows,
                                                   body.convex and body.valid))
@@ -218,7 +226,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         # the polygon crosses, and build it again
         for _ in range(4):
             excess = _polygon_support(polygon, all_theta) - (all_h + all_w)
-            crossing = np.flatnonzero(excess > 0)
+            crossing = np.flatnonzero(excess > 0.5 * accuracy)
             if crossing.size == 0:
                 break
             # the worst crossing line in each vertex's window: lines far apart, so no vertex is made of two

@@ -70,7 +70,7 @@ def run(args):
     check_outputs(body_outputs)
     if not args.samples.lower().endswith((".csv", ".json")):
         raise OutputError(f"samples {args.samples!r}: give a .csv (theta,b) or .json ({{theta, b}}) file")
-    wall = load_wall_file(args.samples, degrees=args.degrees)
+    wall = load_wall_file(args.samples, degrees=args.degrees, noisy=True)
     if wall.samples is None:
         raise OutputError(f"samples {args.samples!r}: a Fourier wall file has no samples to fit")
     theta, values = wall.samples

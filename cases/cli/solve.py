@@ -166,12 +166,17 @@ def run(args):
     size = max(1.0, float(body.R.max()))
     print(f"wall       {body.wall!r}")
     print(f"offset     b0 = {body.b0:g}")
-    print(f"critical   b_c = {b_c} at θ = {format_angles(body.critical_angles)}")
-    regime = f"{body.regime} ({_CASES[body.regime]})"
-    if body.b_c_tolerance > OFFSET_TOLERANCE * scale and body.regime == "critical":
-        regime += f"; critical within the sampling accuracy (b_c ± {body.b_c_tolerance:.2g})"
-    elif body.b_c_tolerance > OFFSET_TOLERANCE * scale:
-        regime += f"; b_c is known to ± {body.b_c_tolerance:.2g} from the samples"
+    interval = ""
+    if body.b_c_lower is not None and math.isfinite(body.b_c):
+        tolerance = OFFSET_TOLERANCE * scale
+        interval = (f", certified in [{format_number(body.b_c_lower, tolerance, 6)}, "
+                    f"{format_number(body.b_c_upper, tolerance, 6)}] by the samples' intervals")
+    print(f"critical   b_c = {b_c}{interval} at θ = {format_angles(body.critical_angles)}")
+    if body.regime_decided:
+        regime = f"{body.regime} ({_CASES[body.regime]})"
+    else:
+        regime = (f"undecided: the data allow {' or '.join(body.regimes)} at b0 = {body.b0:g}; the body is the "
+                  f"simplest one within the samples' intervals ({body.regime})")
     print(f"regime     {regime}")
     print(f"body       {body.x.size} nodes, area {format_number(body.area, AREA_TOLERANCE * size**2)}, "
           f"perimeter {format_number(body.perimeter)}, R from {format_number(radius.min(), 1e-12 * size)} to "
