@@ -56,12 +56,14 @@ def run(args):
         tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
         line = f"b_c        {format_number(result.b_c, tolerance, 15)}"
         if result.lower is not None:
-            line += (f", certified in [{format_number(result.lower, tolerance, 6)}, "
-                     f"{format_number(result.upper, tolerance, 6)}]")
+            fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
+            line = (f"b_c        {format_number(result.b_c, fine, 6)} (best estimate), certified in "
+                    f"[{format_number(result.lower, fine, 6)}, {format_number(result.upper, fine, 6)}]")
         print(line)
         if result.lower is not None:
             used = "" if result.samples_used == wall.samples[0].size else \
-                f" (dense data: {result.samples_used} of {wall.samples[0].size} samples used)"
+                f" (computed on {result.samples_used} of the {wall.samples[0].size} samples, spaced where the " \
+                "interval is narrowest)"
             print(f"certified  lower end: no wall within the samples' intervals has a smaller b_c (a linear "
                   f"programme){used}")
             print(f"assuming   upper end: {result.assumption}")

@@ -177,6 +177,10 @@ def _bc_text(wall, result) -> str:
     if not math.isfinite(result.b_c):
         return "inf"
     tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
+    if result.lower is not None:  # data: the certified interval, as `coinwall critical` prints it
+        fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
+        return (f"{format_number(result.b_c, fine, 6)}, certified in [{format_number(result.lower, fine, 6)}, "
+                f"{format_number(result.upper, fine, 6)}]")
     return format_number(result.b_c, tolerance, 15)
 
 
@@ -205,6 +209,8 @@ def wall_info(spec: dict) -> dict:
         start = min(max(start, low), high)
     return {"description": wall.description, "b_c": _num(result.b_c), "b_c_text": _bc_text(wall, result),
             "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": _num(result.b_c_tolerance),
+            "b_c_lower": _num(result.lower) if result.lower is not None else None,
+            "b_c_upper": _num(result.upper) if result.upper is not None else None,
             "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
             "range": [low, high], "b0": float(start), "sampled": wall.samples is not None}
 

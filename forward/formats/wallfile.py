@@ -135,21 +135,69 @@ def _angle_rounding(values, period):
     return rounding_of(values)
 
 
-def _fast_columns(rows, delimiter, decimal_comma, width, columns):
-    """The numeric columns of ``rows`` by numpy's C reader (10⁶ rows in well under a second), or None where it
-    cannot read them all (a bad row, decimal commas): the careful reader then names the row."""
+def _data_rows(text, most=None, skip=0):
+    """``(line number, row)`` of the non-empty rows of ``text`` with ``#`` comments removed (the first
+    ``most``; ``skip`` rows left out)."""
+    rows = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.split("#", 1)[0].strip()
+        if stripped:
+            if skip:
+                skip -= 1
+                continue
+            rows.append((number, stripped))
+            if most is not None and len(rows) >= most:
+                break
+    return rows
+
+
+class _LazyRows:
+    """The data rows of a file, split only when asked for: the fast reader never needs them, and a message
+    naming a sample by its line number needs them once."""
+
+    def __init__(self, text, skip=0):
+        self._text, self._skip, self._rows = text, skip, None
+
+    def _all(self):
+        if self._rows is None:
+            self._rows = _data_rows(self._text, skip=self._skip)
+        return self._rows
+
+    def __iter__(self):
+        return iter(self._all())
+
+    def line_numbers(self):
+        return _LineLabels(self)
+
+
+class _LineLabels:
+    """``labels[k]`` is ``"line N"`` of sample k, computed on first use."""
+
+    def __init__(self, rows):
+        self._rows = rows
+
+    def __getitem__(self, k):
+        return f"line {self._rows._all()[k][0]}"
+
+    def __len__(self):
+        return len(self._rows._all())
+
+
+def _fast_columns(text, header_line, delimiter, decimal_comma, width, columns):
+    """The numeric columns of the file's rows by numpy's C reader (10⁶ rows in about a second), or None where
+    it cannot read them all (a bad row, decimal commas): the careful reader then names the row."""
     import io
 
     import numpy as np
 
-    if decimal_comma or not rows:
+    if decimal_comma:
         return None
     try:
-        table = np.loadtxt(io.StringIO("\n".join(line for _, line in rows)), delimiter=delimiter, dtype=float,
-                           ndmin=2, comments=None)
+        table = np.loadtxt(io.StringIO(text), delimiter=delimiter, dtype=float, ndmin=2, comments="#",
+                           skiprows=header_line)
     except (ValueError, IndexError):
         return None
-    if table.shape != (len(rows), width):
+    if table.ndim != 2 or table.shape[1] != width or table.shape[0] == 0:
         return None
     return [np.ascontiguousarray(table[:, col]) for col in columns]
 
@@ -195,16 +243,13 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     import numpy as np
 
     text = _read_text(path)
-    rows = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        stripped = line.split("#", 1)[0].strip()
-        if stripped:
-            rows.append((number, stripped))
-    if not rows:
+    head = _data_rows(text, most=6)  # the first rows decide the delimiter and the header
+    if not head:
         raise InvalidWall(f"wall file {path!r} has no rows")
-    first = rows[0][1]
+    first = head[0][1]
     delimiter = next((d for d in (";", "\t", ",") if d in first), None)
-    decimal_comma = delimiter in (";", "\t") and any("," in r for _, r in rows[1:6] + rows[:1])
+    decimal_comma = delimiter in (";", "\t") and any("," in r for _, r in head)
+    rows = _LazyRows(text)
 
     def cells(line):
         parts = line.split(delimiter) if delimiter else line.split()
@@ -218,7 +263,7 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
         [number(c) for c in header]
         header = None
     except ValueError:
-        rows = rows[1:]
+        rows = _LazyRows(text, skip=1)
     sigma_cols = {}
     if header is None:
         angle_col, value_col, width = 0, 1, None
@@ -243,24 +288,25 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
                 and kinds[sigma_cols["sigma_angle"]][1]:
             raise InvalidWall(f"wall file {path!r}: the angle half-width column is in degrees but the angles "
                               "are not; give both in one unit")
-    if len(rows) > MAX_SAMPLES:
-        raise InvalidWall(f"wall file {path!r} has {len(rows)} rows; at most {MAX_SAMPLES} samples are read "
-                          "(the solvers take minutes beyond): thin the data")
     columns = [angle_col, value_col] + [sigma_cols[k] for k in ("sigma_angle", "sigma_value") if k in sigma_cols]
-    lines = [number_ for number_, _ in rows]
-    arrays = _fast_columns(rows, delimiter, decimal_comma, width or 2, columns)
+    arrays = _fast_columns(text, head[0][0] if header is not None else 0, delimiter, decimal_comma, width or 2,
+                           columns)
     if arrays is None:  # the careful reader names the first bad row
         arrays = _careful_columns(path, rows, cells, number, width, columns)
+    if arrays[0].size > MAX_SAMPLES:
+        raise InvalidWall(f"wall file {path!r} has {arrays[0].size} rows; at most {MAX_SAMPLES} samples are read "
+                          "(the solvers take minutes beyond): thin the data")
+    lines = rows.line_numbers()
     theta, b = arrays[0], arrays[1]
     for arr in arrays:
         if not np.all(np.isfinite(arr)):
             bad = int(np.flatnonzero(~np.isfinite(arr))[0])
-            raise InvalidWall(f"wall file {path!r}, line {lines[bad]}: a value is not finite")
+            raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a value is not finite")
     sigma = dict(zip([k for k in ("sigma_angle", "sigma_value") if k in sigma_cols], arrays[2:]))
     for kind, arr in sigma.items():
         if np.any(arr < 0):
             bad = int(np.flatnonzero(arr < 0)[0])
-            raise InvalidWall(f"wall file {path!r}, line {lines[bad]}: a half-width is negative")
+            raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a half-width is negative")
     period = 360.0 if in_degrees else 2 * np.pi
     theta_rounding = np.maximum(_angle_rounding(theta, period), sigma.get("sigma_angle", 0.0))
     b_rounding = np.maximum(rounding_of(b), sigma.get("sigma_value", 0.0))
@@ -270,7 +316,7 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
         raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: are they "
                           "degrees? Name the column theta_deg, or pass --degrees")
     return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
-            "labels": [f"line {k}" for k in lines], "degrees": in_degrees}
+            "labels": lines, "degrees": in_degrees}
 
 
 def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0,
