@@ -130,8 +130,8 @@ def test_solved_svg_round_trips_and_so_does_a_foreign_copy(tmp_path, capsys):
     drawing.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="60mm" viewBox="0 0 600 600">'
                        f'<path d="{moved}"/></svg>')
     csv = str(tmp_path / "f.csv")
-    # the centre of mass in drawing coordinates: SVG's y points down, the reader's up
-    com = f"{shift[0]!r},{-shift[1]!r}"
+    # the centre of mass in drawing coordinates, as written in the file (SVG user units, y down)
+    com = f"{shift[0]!r},{shift[1]!r}"
     assert main(["wall", str(drawing), "--kappa", "12", "--units", "mm", "--com", com, "-o", csv]) == 0
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert np.max(np.abs(data[:, 1] - prescribed)) < 1e-7

@@ -59,7 +59,8 @@ def register(subparsers):
                         help="DXF layer to read (default: all layers but annotation layers, ANNOTATION*)")
     parser.add_argument("--element", default=None, metavar="ID", help="SVG: read only the element with this id")
     parser.add_argument("--com", default=None, metavar="X,Y",
-                        help="centre of mass in drawing coordinates (default: as recorded by coinwall, else centroid)")
+                        help="centre of mass in drawing coordinates, as written in the file and in its units (SVG: "
+                             "user units, y down; DXF: y up); default: as recorded by coinwall, else the centroid")
     parser.add_argument("--kappa", type=number, default=None,
                         help="radius of gyration in --units (default: as recorded by coinwall, else 1 drawing unit)")
     parser.add_argument("--units", choices=["mm", "cm", "m", "in", "pt", "px"], default=None,

@@ -71,7 +71,9 @@ class Drawing(NamedTuple):
     recorded : dict
         What the file records: from coinwall's own export ``com`` (x, y), ``kappa`` and ``units``;
         from any drawing ``unit`` = (name, length of one drawing coordinate in mm) when it states a
-        physical unit, and for SVG ``page`` = the area of the page (viewBox) in drawing coordinates.
+        physical unit, and for SVG ``page`` = the area of the page (viewBox) in drawing coordinates and
+        ``frame`` = the 3×3 affine map from the drawing's own coordinates (as written in the file, in
+        which ``com`` is given) to those of the shapes (y up); absent means the same coordinates.
     what : str
         A note saying what was read.
     """

@@ -9,6 +9,12 @@ mass at the origin, and a note saying what was done.
   in a file written by coinwall (the JSON/CSV of ``solve``, the centre-of-mass mark of its SVG, the
   POINT on its DXF's centre-of-mass layer); otherwise the centroid of the drawn shape (uniform
   density).  A polar expression R(α) is measured from the centre of mass, like the paper's R(α).
+* **Drawing coordinates.**  ``com`` and the points the notes print are in the file's own coordinates,
+  as written, before any unit conversion: SVG user units with y pointing *down* (the coordinates of
+  the viewBox, under a root ``transform`` if there is one; see :mod:`.svg`), DXF drawing units with y
+  up, the x, y of a JSON/CSV file of points, the coordinates of a polar curve.  The readers turn the
+  body to the mathematical orientation (an SVG is flipped so that y points up); ``com`` is mapped the
+  same way (``recorded["frame"]``), so it names the same point of the drawing.
 * **Scale (one rule).**  ``kappa`` is a length in ``units``; ``units`` defaults to the drawing's own
   unit (SVG ``width``/``height`` over its ``viewBox``, DXF ``$INSUNITS``).  Coordinates are converted
   from the drawing's unit to ``units`` and divided by ``kappa``; a drawing that records no unit is
@@ -166,12 +172,34 @@ def _merged(shapes, loose, notes, warnings, choose):
         notes.append(f"{inside} shape{'s' if inside != 1 else ''} inside the largest one (no effect on the hull)")
 
 
-def _check_inside(path, hull, hull_area, centre, given):
+def _to_frame(frame, point):
+    """A point in drawing coordinates (as written in the file) in the reader's frame (``recorded["frame"]``)."""
+    point = np.asarray(point, float).reshape(2)
+    if frame is None:
+        return point
+    frame = np.asarray(frame, float)
+    with np.errstate(over="ignore", invalid="ignore"):  # a huge point lands at inf: outside, refused as such
+        return frame[:2, :2] @ point + frame[:2, 2]
+
+
+def _from_frame(frame, point):
+    """A point in the reader's frame in drawing coordinates (the inverse of :func:`_to_frame`)."""
+    point = np.asarray(point, float).reshape(2)
+    if frame is None:
+        return point
+    frame = np.asarray(frame, float)
+    return np.linalg.solve(frame[:2, :2], point - frame[:2, 2])
+
+
+def _check_inside(path, hull, hull_area, centre, given, shown=None):
     """Refuse a centre of mass outside the body: the centre of mass of any mass distribution lies in the
-    convex hull of the body (on its boundary at most, within ``_COM_OUTSIDE`` of its size)."""
-    if hull_area <= 0 or _inside_convex(hull, centre[None, :], tolerance=_COM_OUTSIDE):
+    convex hull of the body (on its boundary at most, within ``_COM_OUTSIDE`` of its size).  The message
+    gives the point as ``shown`` (in drawing coordinates), else as ``centre``."""
+    if hull_area <= 0 or (np.all(np.isfinite(centre))
+                          and _inside_convex(hull, centre[None, :], tolerance=_COM_OUTSIDE)):
         return
-    where = f"({centre[0]:.6g}, {centre[1]:.6g})"
+    shown = centre if shown is None else shown
+    where = f"({shown[0]:.6g}, {shown[1]:.6g})"
     if given:
         raise InvalidArgument(f"`com` {where} lies outside the body of {path!r}; the centre of mass of a body lies "
                               "inside its outline")
@@ -227,11 +255,14 @@ def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (S
         notes.append(f"non-convex outline replaced by its convex hull (area {drawn[0]:.6g} -> {hull_area:.6g})")
     elif drawn is None and loose:
         notes.append("outline = convex hull of all entities")
+    frame = recorded.get("frame")  # drawing coordinates -> the shapes' coordinates (SVG: y flipped)
     if com is not None:
-        centre = check_com(com)
-        notes.append(f"centre of mass given at ({centre[0]:.6g}, {centre[1]:.6g})")
+        shown = check_com(com)
+        centre = _to_frame(frame, shown)
+        notes.append(f"centre of mass given at ({shown[0]:.6g}, {shown[1]:.6g})")
     elif recorded.get("com") is not None:
         centre = np.asarray(recorded["com"], float)
+        shown = _from_frame(frame, centre)
         notes.append("centre of mass as recorded in the file")
     else:
         if drawn is not None:
@@ -240,8 +271,9 @@ def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (S
             centre = polygon_area_centroid(hull)[1]
         else:
             centre = hull.mean(axis=0)
-        notes.append(f"centre of mass = centroid ({centre[0]:.6g}, {centre[1]:.6g}), uniform density")
-    _check_inside(path, hull, hull_area, centre, com is not None)
+        shown = _from_frame(frame, centre)  # in the coordinates `com` takes
+        notes.append(f"centre of mass = centroid ({shown[0]:.6g}, {shown[1]:.6g}), uniform density")
+    _check_inside(path, hull, hull_area, centre, com is not None, shown)
     scale = _scale(path, recorded, kappa, units, notes)
     size = float(np.ptp(hull, axis=0).max()) / scale
     if not MIN_SIZE <= size <= MAX_COORDINATE:
@@ -268,7 +300,8 @@ def read_outline(path: str, *, layer: str | None = None, element: str | None = N
     element : str, optional
         SVG: the id of the element to read (default: the whole drawing).
     com : (float, float), optional
-        Centre of mass in drawing coordinates (default: recorded by coinwall, else the centroid).
+        Centre of mass in drawing coordinates, as written in the file and in its own units (SVG: user
+        units, y pointing down; DXF, JSON, CSV: y up); default: recorded by coinwall, else the centroid.
     kappa : float, optional
         Radius of gyration in ``units`` (default: recorded by coinwall, else 1 drawing unit).
     units : str, optional

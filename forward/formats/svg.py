@@ -5,6 +5,14 @@ the transforms of its groups; open paths and lines are counted and ignored.  Bé
 flattened on the exact geometry (arcs by the SVG 1.1 endpoint-to-centre conversion, implementation
 notes F.6.5).  SVG's y axis points down; the body frame's points up, so y is flipped.
 
+**Drawing coordinates.**  A point given by the caller (``com``) is in the drawing's own coordinates:
+the user units of the SVG as written in the file, y down, i.e. the ``cx``, ``cy`` a circle placed
+directly in the ``<svg>`` element would have there (the viewBox offset changes nothing; a
+``transform`` on the root applies, as it does to every shape and to ``data-coinwall-com``).  They are
+not converted to a physical unit: a drawing with ``width="60mm" viewBox="0 0 600 600"`` takes ``com``
+in its 0.1 mm user units.  The reader records the map from these coordinates to its own (y up) as
+``recorded["frame"]``, a 3×3 affine matrix.
+
 **Limits.**  The file is read by :mod:`.inputfile` (a regular file of at most 32 MiB) and parsed by
 ``defusedxml`` with entities and external references forbidden (a DOCTYPE naming the SVG DTD is
 fine).  Elements nest at most :data:`~.inputfile.MAX_NESTING` deep; a drawing has at most
@@ -326,11 +334,15 @@ def _read_root(path, root, element):
         shapes.append(apply(matrix, pts, where, check_size=True))
 
     try:
+        # drawing coordinates (user units, y down, as a child of the root writes them) -> the reader's frame
+        frame = svg_transform(root.get("transform"))
+        _check_invertible(frame, "<svg>")
+        recorded["frame"] = flip @ frame
         if root.get(COM_ATTRIBUTE) is not None:
             com = _numbers(root.get(COM_ATTRIBUTE))
             if len(com) != 2:
                 raise InvalidOutline(f"{COM_ATTRIBUTE}={root.get(COM_ATTRIBUTE)!r} must be two numbers x,y")
-            recorded["com"] = apply(svg_transform(root.get("transform")), com)[0]
+            recorded["com"] = apply(frame, com)[0]
     except InvalidOutline as exc:
         raise InvalidOutline(f"body file {path!r}, <svg>: {exc}") from None
 
