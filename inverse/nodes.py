@@ -47,8 +47,8 @@ class Nodes:
         """Merge runs of consecutive nodes at the same point into one corner node.
 
         Nodes merge when they are within ``tol`` of each other and the
-        envelope between them does not move (ρ ≤ tol on both sides, or no
-        turn of the normal at all): this is a corner of the body whose support
+        envelope between them does not move (ρ ≤ tol on both sides, no
+        turn of the normal at all, or ρ·Δφ ≤ 1000·tol): this is a corner of the body whose support
         function is ``R cos(φ − φ_k)`` on the merged window (the stick's ends,
         for example), or one point on either side of a break of the wall.
         """
@@ -58,7 +58,12 @@ class Nodes:
         # the wall, where only the curvature jumps) are one node too: a zero-length segment has no
         # direction, and the support function's search by segment normals needs one
         step = np.abs(np.mod(self.phi_in[nxt] - self.phi_out + np.pi, TWO_PI) - np.pi)
-        still = ((np.abs(self.rho_out) <= tol) & (np.abs(self.rho_in[nxt]) <= tol)) | (step <= 1e-15)
+        # the envelope between them moves by about ρ·Δφ: a radius of curvature at the rounding level of the
+        # wall's second derivative (1e-9 from a one-sided limit at a kink, say) over one grid step does not
+        # move it, and two such nodes kept apart make a zigzag of 1e-15 that crosses itself
+        moves = np.maximum(np.abs(self.rho_out), np.abs(self.rho_in[nxt])) * step
+        still = ((np.abs(self.rho_out) <= tol) & (np.abs(self.rho_in[nxt]) <= tol)) | (step <= 1e-15) \
+            | (moves <= 1e3 * tol)
         same = (np.hypot(*(self.x[nxt] - self.x).T) <= tol) & still
         if not same.any():
             return self

@@ -78,12 +78,13 @@ class _Branch:
     alpha: np.ndarray          # sampled α(φ) (monotone)
     h_k: float = 0.0           # lines: h at the kink
     start: int = 0             # index into the sample array
-    sides: tuple = ()          # arcs: (φ, h, h') at an end that is one side of a kink, one-sided values
+    sides: tuple = ()          # arcs: (φ, h, h') at an end that is one side of a kink or break, one-sided
 
 
 def _arc_values(wall, b0, br, phi):
     """``h, h'`` on an arc branch at the roots ``phi``.  At an end that is a kink of the wall the two-sided
-    derivative belongs to either side: there the branch's own one-sided values count."""
+    derivative belongs to either side (and at a break where ``max`` ties, it is their mean): there the
+    branch's own one-sided values count."""
     _, h, d1, _ = _g(wall, b0, phi)
     for end, h_end, d1_end in br.sides:
         at = np.abs(phi - end) <= 1e-12 * (1.0 + abs(end))
@@ -149,7 +150,7 @@ def _branches(wall, b0, samples):
                 p, a = np.r_[p, fold_phis[k]], np.r_[a, ga[0]]
             kind = "point" if np.ptp(a) < 1e-12 else "arc"
             sides = tuple((phi[i], h[i], h1[i]) for i, outer in ((lo + i0, k == 0), (lo + i1 - 1, k == len(bounds) - 2))
-                          if outer and (edge_after[i] or edge_after[i - 1]))
+                          if outer and (edge_after[i] or edge_after[i - 1] or breaks[i] or breaks[i - 1]))
             branches.append(_Branch(kind, p, a, start=lo + i0, sides=sides))
         for f in fold_phis:
             ga, hh, dd1, _ = _g(wall, b0, np.array([f]))
@@ -328,6 +329,14 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
                 b_side, _, d2_side = wall.one_sided(float(np.mod(k, TWO_PI)), side)
                 rho_side = max(b0 + float(b_side) + float(d2_side), 0.0)
                 special.append((float(np.mod(a, TWO_PI)), x, k, k, rho_side, rho_side, straight))
+    if dense.break_after is not None:
+        # a break of the wall (only b'' jumps): one point, with the radius of curvature of either side; a
+        # target landing on it would take the two-sided b'' there, which belongs to neither
+        for i in np.flatnonzero(dense.break_after):
+            j = (i + 1) % dense.phi.size
+            x = envelope_point(dense.phi[i], dense.h[i], dense.h1[i])
+            special.append((float(np.mod(math.atan2(x[1], x[0]), TWO_PI)), x, dense.phi[i], dense.phi[i],
+                            float(dense.rho[i]), float(dense.rho[j]), False))
     if special:
         # a corner of the envelope or an end of an edge is a point of the body only when no other support
         # line passes nearer the centre of mass in its direction; below b_c (a polygon's wall lowered, say)
