@@ -93,8 +93,8 @@ class Nodes:
         straight = self.straight_after | (steps <= 1e-15)
         # a full turn between two nodes only happens for a single-node body: treat as zero
         steps = np.where(straight, 0.0, steps)
-        outline = Outline.from_hermite(self.x, self.rho_out[:, None] * tangent_out,
-                                       self.rho_in[:, None] * tangent_in, steps)
+        rho_out, rho_in = self._capped_radii(tangent_out, tangent_in, steps)
+        outline = Outline.from_hermite(self.x, rho_out[:, None] * tangent_out, rho_in[:, None] * tangent_in, steps)
         if straight.any():
             nxt = np.roll(self.x, -1, axis=0)
             controls = outline.controls.copy()
@@ -102,3 +102,29 @@ class Nodes:
             controls[straight, 1] = self.x[straight] + 2 * (nxt[straight] - self.x[straight]) / 3
             outline = Outline(outline.nodes, controls)
         return outline
+
+    def _capped_radii(self, tangent_out, tangent_in, steps):
+        """``rho_out, rho_in`` with every Bézier arm no longer than the distance from its node to where the
+        two tangent lines of the segment meet.
+
+        The Hermite arm is ``ρ·Δφ/3``, shorter than that distance (``≈ ρ·Δφ/2``) wherever ρ is resolved by
+        the grid; where it is not (ρ → ∞ at the flat points of |x|⁴ + |y|⁴ = 1, where b'' is unbounded)
+        an arm 10⁴ times too long loops far outside the body.  Capped, the segment stays inside the
+        triangle of its chord and tangents: convex, and as close to the body as the grid allows.
+        """
+        rho_out, rho_in = self.rho_out.copy(), self.rho_in.copy()
+        nxt = np.roll(np.arange(len(self.x)), -1)
+        t0, t1 = tangent_out, tangent_in[nxt]
+        chord = self.x[nxt] - self.x
+        det = t0[:, 0] * t1[:, 1] - t0[:, 1] * t1[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # x_i + a t0 = x_{i+1} − b t1
+            a = (chord[:, 0] * t1[:, 1] - chord[:, 1] * t1[:, 0]) / det
+            b = (t0[:, 0] * chord[:, 1] - t0[:, 1] * chord[:, 0]) / det
+            ok = (np.abs(det) > 1e-12) & (a > 0) & (b > 0) & (steps > 0)
+            cap_out = np.where(ok, 3 * a / steps, np.inf)
+            cap_in = np.where(ok, 3 * b / steps, np.inf)
+        rho_out = np.where(rho_out > cap_out, cap_out, rho_out)
+        rho_in[nxt] = np.where(rho_in[nxt] > cap_in, cap_in, rho_in[nxt])
+        return rho_out, rho_in
+
