@@ -446,7 +446,7 @@ class Wall:
         kinks, breaks = [], []
         # several switching functions may find one kink: keep the first of any within 1e-11 (no
         # rounding of the angles themselves: a break's angle places the solvers' nodes)
-        for angle in sorted(float(np.mod(c, TWO_PI)) for c in candidates):
+        for angle in sorted(self._place_switch(float(np.mod(c, TWO_PI))) for c in candidates):
             if (kinks and abs(angle - kinks[-1].angle) < 1e-11) or (breaks and abs(angle - breaks[-1]) < 1e-11):
                 continue
             b, left, c_left = self.one_sided(angle, -1)
@@ -463,6 +463,26 @@ class Wall:
         if len(breaks) > 1 and abs(breaks[-1] - TWO_PI) < 1e-11:
             breaks.pop()
         return tuple(kinks), tuple(breaks)
+
+    def _place_switch(self, angle: float) -> float:
+        """Where a switch found near ``angle`` really is, when it is a break.
+
+        A ``min``/``max`` whose branches meet with equal slope (a break: the lens's and the Reuleaux
+        body's corner windows) has a switching function that vanishes quadratically on one side, so its
+        root is only known to ~1e-8 (√eps); there the one-sided slopes, each its own branch extrapolated to
+        ``angle``, differ by (curvature jump)·(error), a false kink, and two nodes 1e-8 apart cross.  One
+        Newton step on the slope difference, ``e = (b'₊ − b'₋)/(b''₋ − b''₊)``, finds where the branches
+        are tangent; it is kept when the slopes then agree ten times better (a true kink stays put).
+        """
+        _, left, c_left = self.one_sided(angle, -1)
+        _, right, c_right = self.one_sided(angle, +1)
+        jump, bend = right - left, c_left - c_right
+        if jump == 0 or bend == 0 or not abs(jump) < 1e-6 * abs(bend):
+            return angle
+        moved = angle + jump / bend
+        _, left2, _ = self.one_sided(moved, -1)
+        _, right2, _ = self.one_sided(moved, +1)
+        return float(np.mod(moved, TWO_PI)) if abs(right2 - left2) < 0.1 * abs(jump) else angle
 
     def _switching_scalar(self, k):
         backend = self._backend

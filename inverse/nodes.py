@@ -47,8 +47,8 @@ class Nodes:
         """Merge runs of consecutive nodes at the same point into one corner node.
 
         Nodes merge when they are within ``tol`` of each other and the
-        envelope between them does not move (ρ ≤ tol on both sides, or no
-        turn of the normal at all): this is a corner of the body whose support
+        envelope between them does not move (ρ ≤ tol on both sides, no
+        turn of the normal at all, or ρ·Δφ ≤ 1000·tol): this is a corner of the body whose support
         function is ``R cos(φ − φ_k)`` on the merged window (the stick's ends,
         for example), or one point on either side of a break of the wall.
         """
@@ -58,7 +58,12 @@ class Nodes:
         # the wall, where only the curvature jumps) are one node too: a zero-length segment has no
         # direction, and the support function's search by segment normals needs one
         step = np.abs(np.mod(self.phi_in[nxt] - self.phi_out + np.pi, TWO_PI) - np.pi)
-        still = ((np.abs(self.rho_out) <= tol) & (np.abs(self.rho_in[nxt]) <= tol)) | (step <= 1e-15)
+        # the envelope between them moves by about ρ·Δφ: a radius of curvature at the rounding level of the
+        # wall's second derivative (1e-9 from a one-sided limit at a kink, say) over one grid step does not
+        # move it, and two such nodes kept apart make a zigzag of 1e-15 that crosses itself
+        moves = np.maximum(np.abs(self.rho_out), np.abs(self.rho_in[nxt])) * step
+        still = ((np.abs(self.rho_out) <= tol) & (np.abs(self.rho_in[nxt]) <= tol)) | (step <= 1e-15) \
+            | (moves <= 1e3 * tol)
         same = (np.hypot(*(self.x[nxt] - self.x).T) <= tol) & still
         if not same.any():
             return self
@@ -88,8 +93,8 @@ class Nodes:
         straight = self.straight_after | (steps <= 1e-15)
         # a full turn between two nodes only happens for a single-node body: treat as zero
         steps = np.where(straight, 0.0, steps)
-        outline = Outline.from_hermite(self.x, self.rho_out[:, None] * tangent_out,
-                                       self.rho_in[:, None] * tangent_in, steps)
+        rho_out, rho_in = self._capped_radii(tangent_out, tangent_in, steps)
+        outline = Outline.from_hermite(self.x, rho_out[:, None] * tangent_out, rho_in[:, None] * tangent_in, steps)
         if straight.any():
             nxt = np.roll(self.x, -1, axis=0)
             controls = outline.controls.copy()
@@ -97,3 +102,29 @@ class Nodes:
             controls[straight, 1] = self.x[straight] + 2 * (nxt[straight] - self.x[straight]) / 3
             outline = Outline(outline.nodes, controls)
         return outline
+
+    def _capped_radii(self, tangent_out, tangent_in, steps):
+        """``rho_out, rho_in`` with every Bézier arm no longer than the distance from its node to where the
+        two tangent lines of the segment meet.
+
+        The Hermite arm is ``ρ·Δφ/3``, shorter than that distance (``≈ ρ·Δφ/2``) wherever ρ is resolved by
+        the grid; where it is not (ρ → ∞ at the flat points of |x|⁴ + |y|⁴ = 1, where b'' is unbounded)
+        an arm 10⁴ times too long loops far outside the body.  Capped, the segment stays inside the
+        triangle of its chord and tangents: convex, and as close to the body as the grid allows.
+        """
+        rho_out, rho_in = self.rho_out.copy(), self.rho_in.copy()
+        nxt = np.roll(np.arange(len(self.x)), -1)
+        t0, t1 = tangent_out, tangent_in[nxt]
+        chord = self.x[nxt] - self.x
+        det = t0[:, 0] * t1[:, 1] - t0[:, 1] * t1[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # x_i + a t0 = x_{i+1} − b t1
+            a = (chord[:, 0] * t1[:, 1] - chord[:, 1] * t1[:, 0]) / det
+            b = (t0[:, 0] * chord[:, 1] - t0[:, 1] * chord[:, 0]) / det
+            ok = (np.abs(det) > 1e-12) & (a > 0) & (b > 0) & (steps > 0)
+            cap_out = np.where(ok, 3 * a / steps, np.inf)
+            cap_in = np.where(ok, 3 * b / steps, np.inf)
+        rho_out = np.where(rho_out > cap_out, cap_out, rho_out)
+        rho_in[nxt] = np.where(rho_in[nxt] > cap_in, cap_in, rho_in[nxt])
+        return rho_out, rho_in
+

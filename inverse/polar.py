@@ -38,7 +38,7 @@ import numpy as np
 from coinwall.forward.angles import TWO_PI
 
 from .nodes import Nodes
-from .support import sample_support
+from .support import envelope_point, sample_support
 
 __all__ = ["Fold", "PolarSolution", "polar_nodes"]
 
@@ -78,6 +78,18 @@ class _Branch:
     alpha: np.ndarray          # sampled α(φ) (monotone)
     h_k: float = 0.0           # lines: h at the kink
     start: int = 0             # index into the sample array
+    sides: tuple = ()          # arcs: (φ, h, h') at an end that is one side of a kink or break, one-sided
+
+
+def _arc_values(wall, b0, br, phi):
+    """``h, h'`` on an arc branch at the roots ``phi``.  At an end that is a kink of the wall the two-sided
+    derivative belongs to either side (and at a break where ``max`` ties, it is their mean): there the
+    branch's own one-sided values count."""
+    _, h, d1, _ = _g(wall, b0, phi)
+    for end, h_end, d1_end in br.sides:
+        at = np.abs(phi - end) <= 1e-12 * (1.0 + abs(end))
+        h, d1 = np.where(at, h_end, h), np.where(at, d1_end, d1)
+    return h, d1
 
 
 def _g(wall, b0, phi):
@@ -137,7 +149,9 @@ def _branches(wall, b0, samples):
                 ga, *_ = _g(wall, b0, np.array([fold_phis[k]]))
                 p, a = np.r_[p, fold_phis[k]], np.r_[a, ga[0]]
             kind = "point" if np.ptp(a) < 1e-12 else "arc"
-            branches.append(_Branch(kind, p, a, start=lo + i0))
+            sides = tuple((phi[i], h[i], h1[i]) for i, outer in ((lo + i0, k == 0), (lo + i1 - 1, k == len(bounds) - 2))
+                          if outer and (edge_after[i] or edge_after[i - 1] or breaks[i] or breaks[i - 1]))
+            branches.append(_Branch(kind, p, a, start=lo + i0, sides=sides))
         for f in fold_phis:
             ga, hh, dd1, _ = _g(wall, b0, np.array([f]))
             folds.append(Fold(float(np.mod(f, TWO_PI)), float(np.mod(ga[0], TWO_PI)), float(np.hypot(hh[0], dd1[0]))))
@@ -191,6 +205,46 @@ def _solve_arc(wall, b0, br, targets):
     return mask, x, t
 
 
+def _boundary_order(alpha, phi_in, phi_out):
+    """The order of outline nodes along the boundary, from their polar angles ``alpha`` and normal angles.
+
+    Sorting by α alone misorders the nodes of one corner of a polygon: the corner's own node and the ends
+    of the two edges that meet there have the same α up to rounding, and their order decides the corner's
+    window of normal angles.  Along a convex boundary the normal angle φ increases (cyclically), so the
+    nodes are sorted by where their window starts, then by its width (the end of the edge arriving at a
+    corner before the corner); nodes with one φ and no width are on one straight edge, ordered along it
+    by α (with the centre of mass inside, ``|α − φ| < π/2`` on the edge, so no wrap-around).
+    """
+    start = np.mod(phi_in, TWO_PI)
+    start = np.where(start >= TWO_PI - 1e-12, 0.0, start)  # np.mod(-1e-17, 2π) rounds to 2π
+    # one kink's angle reached from either side of the 2π seam differs by rounding: starts within 1e-12
+    # are one start, so that the width and the position along the edge decide
+    by_start = np.argsort(start, kind="stable")
+    group = np.concatenate([[0], np.cumsum(np.diff(start[by_start]) > 1e-12)])
+    start[by_start] = group
+    width = np.mod(phi_out - phi_in, TWO_PI)
+    width = np.where(width >= TWO_PI - 1e-12, 0.0, width)
+    along_edge = np.mod(alpha - phi_in + np.pi, TWO_PI) - np.pi
+    return np.lexsort((along_edge, width, start))
+
+
+def _radius_on(wall, b0, branch, a):
+    """``(R, φ)`` of ``branch`` at the polar angle ``a`` (nan where the branch does not reach ``a``)."""
+    if branch.kind == "line":
+        lo, hi = branch.alpha
+        t = a - math.floor((a - lo) / TWO_PI) * TWO_PI
+        if not lo < t < hi:
+            return np.nan, np.nan
+        return max(branch.h_k, 0.0) / math.cos(t - branch.phi[0]), float(branch.phi[0])
+    if branch.kind != "arc":
+        return np.nan, np.nan
+    mask, ph, _ = _solve_arc(wall, b0, branch, np.array([a]))
+    if not mask[0]:
+        return np.nan, np.nan
+    h, d1 = _arc_values(wall, b0, branch, ph)
+    return float(np.hypot(h[0], d1[0])), float(ph[0])
+
+
 def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
     """Solve the paper's equation on ``points`` uniform polar angles.
 
@@ -213,8 +267,7 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
             if br.kind == "arc":
                 mask, phi, _ = _solve_arc(wall, b0, br, alpha)
                 if phi.size:
-                    _, h, d1, _ = _g(wall, b0, phi)
-                    r = np.hypot(h, d1)
+                    r = np.hypot(*_arc_values(wall, b0, br, phi))
             elif br.kind == "line":
                 lo, hi = br.alpha
                 t = alpha - np.floor((alpha - lo) / TWO_PI) * TWO_PI
@@ -256,9 +309,10 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
     special = []
     for ib, br in enumerate(branches):
         if br.kind == "point":
-            _, h, d1, _ = _g(wall, b0, br.phi[[0, -1]])
-            x = np.array([h[0] * np.cos(br.phi[0]) - d1[0] * np.sin(br.phi[0]),
-                          h[0] * np.sin(br.phi[0]) + d1[0] * np.cos(br.phi[0])])
+            # the corner seen from inside its window: at a kink of the wall (a polygon's vertex windows start
+            # and end at kinks) the two-sided b' there belongs to either neighbour, so take the right-hand limit
+            b_first, d1_first, _ = wall.one_sided(float(np.mod(br.phi[0], TWO_PI)), +1)
+            x = envelope_point(br.phi[0], b0 + b_first, d1_first)
             # the arcs that meet the corner arrive and leave with their own (one-sided) radius of
             # curvature: a break of the wall at either end of the window (0 for a kink-free corner)
             b_in, _, d2_in = wall.one_sided(float(np.mod(br.phi[0], TWO_PI)), -1)
@@ -275,25 +329,31 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
                 b_side, _, d2_side = wall.one_sided(float(np.mod(k, TWO_PI)), side)
                 rho_side = max(b0 + float(b_side) + float(d2_side), 0.0)
                 special.append((float(np.mod(a, TWO_PI)), x, k, k, rho_side, rho_side, straight))
+    if dense.break_after is not None:
+        # a break of the wall (only b'' jumps): one point, with the radius of curvature of either side; a
+        # target landing on it would take the two-sided b'' there, which belongs to neither
+        for i in np.flatnonzero(dense.break_after):
+            j = (i + 1) % dense.phi.size
+            x = envelope_point(dense.phi[i], dense.h[i], dense.h1[i])
+            special.append((float(np.mod(math.atan2(x[1], x[0]), TWO_PI)), x, dense.phi[i], dense.phi[i],
+                            float(dense.rho[i]), float(dense.rho[j]), False))
+    if special:
+        # a corner of the envelope or an end of an edge is a point of the body only when no other support
+        # line passes nearer the centre of mass in its direction; below b_c (a polygon's wall lowered, say)
+        # the edges cross before their ends and the vertex windows are swallowtails
+        nearest, _, _ = candidates(np.array([item[0] for item in special]))
+        reach = np.array([math.hypot(*item[1]) for item in special])
+        special = [item for item, r, rn in zip(special, reach, nearest) if r <= rn + 1e-12 * scale]
     # corners: the chosen branch jumps between branches that do not join continuously
     switches = []
     nxt = np.roll(np.arange(points), -1)
     for j in np.flatnonzero((chosen != chosen[nxt]) & (chosen >= 0) & (chosen[nxt] >= 0)):
         ba, bb = branches[chosen[j]], branches[chosen[nxt[j]]]
-        if ba.kind != "arc" or bb.kind != "arc":
-            continue
         a0 = targets[j]
         a1 = targets[nxt[j]] + (TWO_PI if nxt[j] == 0 else 0.0)
 
-        def radius_on(branch, a):
-            mask, ph, _ = _solve_arc(wall, b0, branch, np.array([a]))
-            if not mask[0]:
-                return np.nan, np.nan
-            _, h, d1, _ = _g(wall, b0, ph)
-            return float(np.hypot(h[0], d1[0])), float(ph[0])
-
         def diff(a):
-            return radius_on(ba, a)[0] - radius_on(bb, a)[0]
+            return _radius_on(wall, b0, ba, a)[0] - _radius_on(wall, b0, bb, a)[0]
 
         # both branches need not cover all of [a0, a1]: find a sub-bracket where both exist and R_A − R_B changes sign
         # The crossing may sit exactly on a target (a corner on the α = 0 seam, say), where rounding
@@ -306,16 +366,19 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
         finite = np.isfinite(values)
         pairs = [k for k in range(32) if finite[k] and finite[k + 1] and values[k] * values[k + 1] <= 0]
         if not pairs:
-            continue
+            continue  # the branches meet at an edge end or a corner already among the special nodes
         k = pairs[0]
         astar = brentq(diff, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200) \
             if values[k] * values[k + 1] < 0 else (grid[k] if values[k] == 0 else grid[k + 1])
-        ra, pa = radius_on(ba, astar)
-        _, pb = radius_on(bb, astar)
+        ra, pa = _radius_on(wall, b0, ba, astar)
+        _, pb = _radius_on(wall, b0, bb, astar)
         x = ra * np.array([math.cos(astar), math.sin(astar)])
         _, _, _, d2a = _g(wall, b0, np.array([pa, pb]))
         ha = b0 + wall(np.array([pa, pb]))
-        special.append((float(np.mod(astar, TWO_PI)), x, pa, pb, float(ha[0] + d2a[0]), float(ha[1] + d2a[1]), False))
+        # a straight edge (a kink's line branch) has no curvature: ρ = 0 on its side of the corner
+        rho_a = 0.0 if ba.kind == "line" else float(ha[0] + d2a[0])
+        rho_b = 0.0 if bb.kind == "line" else float(ha[1] + d2a[1])
+        special.append((float(np.mod(astar, TWO_PI)), x, pa, pb, rho_a, rho_b, bb.kind == "line"))
         switches.append(float(np.mod(astar, TWO_PI)))
 
     ok = np.isfinite(radius)
@@ -338,7 +401,7 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
         rin.append(r_in)
         rout.append(r_out)
         st.append(straight)
-    order = np.argsort(np.array(keys), kind="stable")
+    order = _boundary_order(np.array(keys), np.array(pin), np.array(pout))
     nodes = Nodes(np.array(xs_l)[order], np.mod(np.array(pin)[order], TWO_PI),
                   np.mod(np.array(pin)[order], TWO_PI) + np.mod(np.array(pout) - np.array(pin), TWO_PI)[order],
                   np.array(rin)[order], np.array(rout)[order], np.array(st)[order])

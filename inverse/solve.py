@@ -165,7 +165,6 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     error = np.abs(body_wall - prescribed)[keep]
     excess = (body_wall - prescribed)[~keep]
     max_wall_error = max(float(np.max(error)) if error.size else 0.0, float(np.max(excess)) if excess.size else 0.0)
-    theta = theta[keep]
 
     cross = None
     if cross_check:
