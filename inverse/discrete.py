@@ -436,7 +436,11 @@ def data_critical_offset(wall, bound=None):
     theta, b = wall.samples
     w = wall.sample_rounding if wall.sample_rounding is not None else machine_rounding(b)
     if bound is None:
+        # a wall is immutable: its data's bound is computed once (solve_body asks for it twice)
+        bound = wall.__dict__.get("_certified_bound")
+    if bound is None:
         bound = certified_critical(theta, b, w)
+        object.__setattr__(wall, "_certified_bound", bound)
     idx = bound.used
     base = sampled_critical_offset(discrete_support(theta[idx], b[idx], w[idx]))
     tolerance = max(bound.estimate - bound.lower, bound.upper - bound.estimate)
