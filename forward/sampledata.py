@@ -35,7 +35,7 @@ import numpy as np
 from .angles import TWO_PI
 from .errors import InvalidWall
 
-__all__ = ["SampleData", "sample_intervals", "exact_grid"]
+__all__ = ["SampleData", "sample_intervals", "exact_grid", "curvature_coefficients", "discrete_rho"]
 
 _EPS = float(np.finfo(float).eps)
 #: angles closer than this (rad, after reduction mod 2π) are one angle: a duplicate sample
@@ -152,6 +152,31 @@ def _thin(theta, spacing):
         last = theta[j]
 
 
+def curvature_coefficients(theta):
+    """``ρ_i = a_i h_{i−1} + c_i h_i + d_i h_{i+1}`` (cyclic): the discrete radius of curvature of support values
+    at sorted angles, the length of the piece of line i between lines i∓1 over ``tan(Δ₋/2) + tan(Δ₊/2)``
+    (docs/theory.md, "Walls as data").  The one place the formula is written."""
+    theta = np.asarray(theta, dtype=float)
+    before = np.diff(np.concatenate([[theta[-1] - TWO_PI], theta]))
+    after = np.roll(before, -1)
+    norm = np.tan(before / 2) + np.tan(after / 2)
+    return 1.0 / (np.sin(before) * norm), -(1.0 / np.tan(before) + 1.0 / np.tan(after)) / norm, \
+        1.0 / (np.sin(after) * norm)
+
+
+def discrete_rho(theta, values):
+    """The discrete radius of curvature of support ``values`` at sorted ``theta``: the same linear form as
+    :func:`curvature_coefficients`, evaluated as the piece length ``(h_{i∓1} − h_i cos Δ∓)/sin Δ∓`` (which
+    keeps its digits where lines a hair apart make the coefficients cancel)."""
+    theta = np.asarray(theta, dtype=float)
+    values = np.asarray(values, dtype=float)
+    before = np.diff(np.concatenate([[theta[-1] - TWO_PI], theta]))
+    after = np.roll(before, -1)
+    length = ((np.roll(values, 1) - values * np.cos(before)) / np.sin(before)
+              + (np.roll(values, -1) - values * np.cos(after)) / np.sin(after))
+    return length / (np.tan(before / 2) + np.tan(after / 2))
+
+
 def _h_bound(theta, b, noise):
     """A bound on ``h = b0 + b`` at the least offset that makes the wall convex — the scale of ``h''``
     the slope bound needs.  Estimated from the discrete curvature of the data on samples far enough
@@ -162,11 +187,7 @@ def _h_bound(theta, b, noise):
     idx = _thin(theta, spacing) if theta.size > 16 and spacing > 0 else np.arange(theta.size)
     if idx.size < 8:
         return 4.0 * scale
-    t, v = theta[idx], b[idx]
-    before = np.diff(np.concatenate([[t[-1] - TWO_PI], t]))
-    after = np.roll(before, -1)
-    rho = ((np.roll(v, 1) - v * np.cos(before)) / np.sin(before)
-           + (np.roll(v, -1) - v * np.cos(after)) / np.sin(after)) / (np.tan(before / 2) + np.tan(after / 2))
+    rho = discrete_rho(theta[idx], b[idx])
     b_c = max(-float(np.min(rho)), -float(np.min(b)))
     return 2.0 * max(float(np.max(b)) + b_c, scale)
 

@@ -45,6 +45,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
+from coinwall.forward.sampledata import curvature_coefficients
+from coinwall.forward.sampledata import discrete_rho as curvature  # noqa: F401 (re-exported: the data's ρ)
 
 __all__ = ["ASSUMPTION", "CriticalBound", "certified_critical", "lp_lower_bound", "upper_bound", "thin"]
 
@@ -106,27 +108,10 @@ class CriticalBound:
                 f"{self.used.size} samples used)")
 
 
-def _coefficients(theta):
-    """``ρ_i(s) = a_i s_{i−1} + c_i s_i + d_i s_{i+1}`` (cyclic) for sorted angles."""
-    before = np.diff(np.concatenate([[theta[-1] - TWO_PI], theta]))
-    after = np.roll(before, -1)
-    norm = np.tan(before / 2) + np.tan(after / 2)
-    a = 1.0 / (np.sin(before) * norm)
-    d = 1.0 / (np.sin(after) * norm)
-    c = -(1.0 / np.tan(before) + 1.0 / np.tan(after)) / norm
-    return a, c, d
-
-
-def curvature(theta, values):
-    """Discrete radius of curvature of support values ``values`` at sorted ``theta``."""
-    a, c, d = _coefficients(theta)
-    return a * np.roll(values, 1) + c * values + d * np.roll(values, -1)
-
-
 def curvature_range(theta, lo, hi):
     """The least and the largest ``ρ_i`` over values in the boxes ``[lo, hi]`` (each ρ_i depends on
     three values, so its extremes are taken independently)."""
-    a, c, d = _coefficients(theta)
+    a, c, d = curvature_coefficients(theta)
     lo_prev, hi_prev, lo_next, hi_next = np.roll(lo, 1), np.roll(hi, 1), np.roll(lo, -1), np.roll(hi, -1)
     least = (np.minimum(a * lo_prev, a * hi_prev) + np.minimum(c * lo, c * hi)
              + np.minimum(d * lo_next, d * hi_next))
@@ -146,7 +131,7 @@ def lp_lower_bound(theta, lo, hi) -> tuple[float, float]:
     lo = np.asarray(lo, float)
     hi = np.asarray(hi, float)
     n = theta.size
-    a, c, d = _coefficients(theta)
+    a, c, d = curvature_coefficients(theta)
     # variables: s_0 … s_{n−1}, t.  Rows: −t − ρ_i(s) ≤ 0
     rows = np.repeat(np.arange(n), 4)
     cols = np.stack([(np.arange(n) - 1) % n, np.arange(n), (np.arange(n) + 1) % n, np.full(n, n)], axis=1).ravel()

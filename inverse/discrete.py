@@ -30,6 +30,7 @@ import numpy as np
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidWall
 from coinwall.forward.formats.wallfile import rounding_of
+from coinwall.forward.sampledata import curvature_coefficients, discrete_rho
 
 from .support import interior_point
 
@@ -78,13 +79,9 @@ def discrete_curvature(theta, h, rounding=None):
     if np.max(np.maximum(before, after)) >= math.pi * (1 - 1e-9):
         raise InvalidWall("samples: two consecutive angles are π or more apart; the lines do not bound a body")
     delta = machine_rounding(h) if rounding is None else np.maximum(machine_rounding(h), rounding)
-    sb, cb, sa, ca = np.sin(before), np.cos(before), np.sin(after), np.cos(after)
-    norm = np.tan(before / 2) + np.tan(after / 2)
-    prev, nxt = np.roll(h, 1), np.roll(h, -1)
-    length = (prev - h * cb) / sb + (nxt - h * ca) / sa
-    rho = length / norm
-    tolerance = (np.roll(delta, 1) / sb + delta * (np.abs(cb) / sb + np.abs(ca) / sa)
-                 + np.roll(delta, -1) / sa) / norm
+    a, c, d = curvature_coefficients(theta)
+    rho = discrete_rho(theta, h)
+    tolerance = np.abs(a) * np.roll(delta, 1) + np.abs(c) * delta + np.abs(d) * np.roll(delta, -1)
     return rho, tolerance
 
 

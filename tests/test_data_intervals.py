@@ -49,9 +49,10 @@ def _check(doc, ref, b0=0.0):
 
 # ---------------------------------------------------------------------------------------------- polygons, Reuleaux
 @pytest.mark.parametrize("make, samples", [
-    (lambda n: W.polygon(None, n), 200), (lambda n: W.polygon(None, n), 1000), (lambda n: W.polygon(None, n), 5000),
-    (lambda n: W.reuleaux(5, n), 720), (lambda n: W.reuleaux(5, n), 5000), (lambda n: W.reuleaux(3, n), 200),
-    (lambda n: W.polygon(7, n, phase=0.3), 2000),
+    (lambda n: W.polygon(None, n), 200), (lambda n: W.polygon(None, n), 1000),
+    pytest.param(lambda n: W.polygon(None, n), 5000, marks=pytest.mark.slow),
+    (lambda n: W.reuleaux(5, n), 720), pytest.param(lambda n: W.reuleaux(5, n), 5000, marks=pytest.mark.slow),
+    (lambda n: W.reuleaux(3, n), 200), pytest.param(lambda n: W.polygon(7, n, phase=0.3), 2000, marks=pytest.mark.slow),
 ])
 def test_polygons_at_six_significant_digits(tmp_path, capsys, make, samples):
     """θ and b written with 6 significant digits: the regime at b0 = 0 (truly critical) is undecided or
@@ -91,7 +92,7 @@ def test_the_nine_gon_written_at_six_digits_is_one_outline(tmp_path, capsys):
 @pytest.mark.parametrize("law", ["cycloidal", "345", "modified-trapezoid", "shm"])
 @pytest.mark.parametrize("samples, b_digits, theta_decimals", [
     (360, None, None),  # 1°, 17 digits
-    (3600, None, None),  # 0.1°, 17 digits
+    pytest.param(3600, None, None, marks=pytest.mark.slow),  # 0.1°, 17 digits
     (360, 6, 0),  # a rounded table: whole degrees, 6 significant digits of the lift
 ])
 def test_cams(tmp_path, capsys, law, samples, b_digits, theta_decimals):
@@ -122,7 +123,7 @@ def test_modified_trapezoid_truth_is_in_the_interval_from_the_issue():
 
 
 # ------------------------------------------------------------------------------------------- smooth walls, dense data
-@pytest.mark.parametrize("samples, digits", [(5000, 6), (200, 6), (720, 4)])
+@pytest.mark.parametrize("samples, digits", [pytest.param(5000, 6, marks=pytest.mark.slow), (200, 6), (720, 4)])
 def test_stadium_and_paper_wall_rounded(tmp_path, capsys, samples, digits):
     """A stadium (b_c = −0.5; was 19.99 ± 17 at 5,000 samples, 6 digits) and the paper's wall at ε = 1: where
     the data decide (convex at b0 = 0), no corner; 4 digits at 0.5° leave b_c between about −0.5 and above 0,
@@ -137,8 +138,11 @@ def test_stadium_and_paper_wall_rounded(tmp_path, capsys, samples, digits):
             assert digits == 4 and doc["b_c_upper"] > 0  # 4 digits at 0.5°: the data cannot decide
 
 
-@pytest.mark.parametrize("count, decimals", [(10_000, 4), (10_000, 8), (10_000, None), (100_000, 4),
-                                             (100_000, 8), (1_000_000, 8)])
+@pytest.mark.parametrize("count, decimals", [(10_000, 4), (10_000, 8), (10_000, None),
+                                             pytest.param(100_000, 4, marks=pytest.mark.slow),
+                                             pytest.param(100_000, 8, marks=pytest.mark.slow), (1_000_000, 8),
+                                             pytest.param(1_000_000, None, marks=pytest.mark.slow),
+                                             pytest.param(1_000_000, 4, marks=pytest.mark.slow)])
 def test_random_angles_as_written(count, decimals):
     """Random angles (and values) written with 4, 8 or 17 digits; at 4 decimals up to a sixth of 10⁵ angles
     round to the same value and are merged as intervals.  The ellipse (1.25, 0.8): b_c = −0.8²/1.25."""
