@@ -92,7 +92,7 @@ def test_the_nine_gon_written_at_six_digits_is_one_outline(tmp_path, capsys):
 @pytest.mark.parametrize("law", ["cycloidal", "345", "modified-trapezoid", "shm"])
 @pytest.mark.parametrize("samples, b_digits, theta_decimals", [
     (360, None, None),  # 1°, 17 digits
-    pytest.param(3600, None, None, marks=pytest.mark.slow),  # 0.1°, 17 digits
+    (3600, None, None),  # 0.1°, 17 digits
     (360, 6, 0),  # a rounded table: whole degrees, 6 significant digits of the lift
 ])
 def test_cams(tmp_path, capsys, law, samples, b_digits, theta_decimals):
