@@ -98,7 +98,8 @@ def kappa_max(outline, per_segment: int = 8):
     active = weights > 1e-12 * max(weights.max(), 1e-300)
     points = pts[subset]
     support = np.column_stack([points[active], weights[active] / weights[active].sum()])
-    return math.sqrt(max(res.fun, 0.0)), support
+    # the objective at the solver's λ, evaluated over every point (not the solver's own rounding of it)
+    return math.sqrt(max(float(np.max(sq - pts @ res.x[:2])), 0.0)), support
 
 
 @dataclass(frozen=True, repr=False)

@@ -113,10 +113,14 @@ def test_methods_agree_and_round_trip():
     assert body.polar_residual < 1e-12
 
 
-@settings(max_examples=25, deadline=None)
-@given(st.lists(st.floats(-0.03, 0.03), min_size=6, max_size=6))
+@settings(max_examples=25, deadline=None, derandomize=True)
+@given(st.lists(st.floats(-0.02, 0.02), min_size=6, max_size=6))
 def test_cauchy_perimeter_and_area(coeffs):
-    """Cauchy: L = ∫h dφ; area A = ½∫(h² − h'²) dφ, on random smooth convex walls (trapezoid rule is spectral)."""
+    """Cauchy: L = ∫h dφ; area A = ½∫(h² − h'²) dφ, on random smooth convex walls (trapezoid rule is spectral).
+
+    The coefficients are those of cos/sin of orders 2, 3, 4; ``b + b'' = 1 + Σ (1 − k²)(a_k cos kθ + b_k sin kθ)``
+    stays above ``1 − √2·0.02·(3 + 8 + 15) = 0.26`` at |a_k|, |b_k| ≤ 0.02, so every wall drawn is convex
+    (at 0.03 the bound is −0.10 and a drawn wall could need corners: a flaky test)."""
     wall = Wall.from_fourier(1.0, [0.0, coeffs[0], coeffs[1], coeffs[2]], [0.0, coeffs[3], coeffs[4], coeffs[5]])
     body = solve_body(wall, 0.0, points=1024)
     assert body.regime == "convex"
