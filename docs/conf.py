@@ -76,6 +76,7 @@ sphinx_gallery_conf = {
     "image_scrapers": ("matplotlib",),
     "abort_on_example_error": True,
     "show_memory": False,
+    "thumbnail_size": (560, 240),
 }
 
 # numba / dask chatter must not turn into Sphinx warnings
@@ -96,3 +97,4 @@ html_theme_options = {
 }
 html_context = {"default_mode": "light"}
 html_show_sourcelink = False
+html_sidebars = {"auto_examples/index": []}   # the gallery cards get the whole width
