@@ -29,11 +29,21 @@ ax_body.set_xlabel("x / κ   (+ centre of mass)")
 
 order = np.argsort(body.alpha)
 ax_polar.plot(body.alpha[order], body.R[order], "k-", label="R(α), envelope solver")
-ax_polar.plot(critical.angles, [b0 + wall(a) for a in critical.angles], "o", color="tab:red",
-              label="b0 + b at the critical angles")
+ax_polar.plot(
+    critical.angles,
+    [b0 + wall(a) for a in critical.angles],
+    "o",
+    color="tab:red",
+    label="b0 + b at the critical angles",
+)
 ax_polar.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
-ax_polar.set(xlabel="polar angle α (rad)", ylabel="radius R (κ)",
-             title=f"envelope vs polar solver: {body.cross_check:.1e} κ")
-ax_polar.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
+ax_polar.set(
+    xlabel="polar angle α (rad)",
+    ylabel="radius R (κ)",
+    title=f"envelope vs polar solver: {body.cross_check:.1e} κ",
+)
+ax_polar.legend(
+    fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False
+)
 fig.suptitle("Ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = 1 — Appendix Case II (paper Fig. 4)")
 fig.tight_layout()

@@ -50,13 +50,19 @@ fine = np.linspace(0.0, 2 * np.pi, 2000)
 ax_wall.plot(fine, body.wall_of_body(fine), "k-", lw=0.8, label="wall of the solved body")
 ax_wall.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
 ax_wall.set(xlabel="θ (rad)", ylabel="b(θ) (κ)", title="sampled wall, b0 = 0")
-ax_wall.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
+ax_wall.legend(
+    fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False
+)
 
 ax_dxf.plot(xy[:, 0], xy[:, 1], "-", color="tab:red", lw=1.2)
 ax_dxf.plot([0], [0], "k+", ms=10)
 ax_dxf.set_aspect("equal")
 deviation = result.deviations()[dxf_path]
-ax_dxf.set(xlabel="x (mm)", ylabel="y (mm)",
-           title=f"part.dxf: {len(xy) - 1}-vertex LWPOLYLINE on layer CUT\n(κ = 10 mm, deviation ≤ {deviation:.1e} mm)")
+ax_dxf.set(
+    xlabel="x (mm)",
+    ylabel="y (mm)",
+    title=f"part.dxf: {len(xy) - 1}-vertex LWPOLYLINE on layer CUT\n"
+    f"(κ = 10 mm, deviation ≤ {deviation:.1e} mm)",
+)
 fig.suptitle("Rounded triangle (disc radius 0.15 κ) from 360 samples → cut-ready DXF")
 fig.tight_layout()

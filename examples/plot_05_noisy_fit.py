@@ -27,12 +27,19 @@ print(fit)
 
 fig, (ax_wall, ax_body) = plt.subplots(1, 2, figsize=(11, 4.2), width_ratios=[1.2, 1])
 ax_wall.plot(theta, b0 + noisy, ".", ms=3, color="0.6", label=f"360 samples, σ = {sigma:g} κ")
-ax_wall.plot(fit.theta, b0 + fit.fitted, "-", color="tab:blue", label="least-squares convex fit")
+ax_wall.plot(
+    fit.theta, b0 + fit.fitted, "-", color="tab:blue", label="least-squares convex fit"
+)
 ax_wall.plot(theta, b0 + exact_wall(theta), "k--", lw=1, label="noise-free wall")
 ax_wall.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
-ax_wall.set(xlabel="θ (rad)", ylabel="b0 + b(θ) (κ)",
-            title=f"rms residual {fit.rms_residual:.4f} κ (σ = {sigma:g} κ)")
-ax_wall.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, frameon=False)
+ax_wall.set(
+    xlabel="θ (rad)",
+    ylabel="b0 + b(θ) (κ)",
+    title=f"rms residual {fit.rms_residual:.4f} κ (σ = {sigma:g} κ)",
+)
+ax_wall.legend(
+    fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, frameon=False
+)
 
 for body, style, label in ((exact, "k--", "noise-free body"), (fit.body, "-", "fitted body")):
     pts = body.outline.polygon(8)
@@ -41,6 +48,8 @@ for body, style, label in ((exact, "k--", "noise-free body"), (fit.body, "-", "f
 ax_body.plot([0], [0], "r+", ms=10)
 ax_body.set_aspect("equal")
 ax_body.set(xlabel="x / κ", ylabel="y / κ", title=f"bodies at b0 = {b0:g}")
-ax_body.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, frameon=False)
+ax_body.legend(
+    fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, frameon=False
+)
 fig.suptitle("Ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = 1, from noisy samples")
 fig.tight_layout()

@@ -31,11 +31,19 @@ body.plot(ax=ax_body)
 ax_body.set_xlabel("x / κ   (+ centre of mass, ● corner)")
 ax_body.set_title(f"Reuleaux triangle, width 2 κ ({body.regime}, {len(body.corners)} corners)")
 
-ax_strip.fill_between(theta, lower, upper, color="tab:blue", alpha=0.15, label="billiard strip")
+ax_strip.fill_between(
+    theta, lower, upper, color="tab:blue", alpha=0.15, label="billiard strip"
+)
 ax_strip.plot(theta, lower, "k-", label="lower wall b0 + b(θ)")
 ax_strip.plot(theta, upper, "k--", label="upper wall H − b0 − b(θ+π)")
 ax_strip.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
-ax_strip.set(xlabel="θ (rad)", ylabel="η = y / κ", title=f"H = {H:g} κ: the strip is {H - 2:g} κ wide everywhere")
-ax_strip.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, frameon=False)
+ax_strip.set(
+    xlabel="θ (rad)",
+    ylabel="η = y / κ",
+    title=f"H = {H:g} κ: the strip is {H - 2:g} κ wide everywhere",
+)
+ax_strip.legend(
+    fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, frameon=False
+)
 fig.suptitle("Constant width: the Reuleaux triangle (case reuleaux-3) and its billiard")
 fig.tight_layout()

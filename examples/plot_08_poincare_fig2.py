@@ -20,7 +20,10 @@ print(case)
 print(section)
 
 fig, ax = plt.subplots(figsize=(8, 5))
-section.plot(ax=ax, markersize=1.0,
-             title=f"ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = 0.03, H = {case.H:g} κ\n"
-                   f"{section.orbits} orbits × {section.collisions} collisions")
+section.plot(
+    ax=ax,
+    markersize=1.0,
+    title=f"ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = 0.03, H = {case.H:g} κ\n"
+    f"{section.orbits} orbits × {section.collisions} collisions",
+)
 fig.tight_layout()

@@ -25,7 +25,10 @@ result = correlation(Billiard(wall, H=2.2), bounces=200_000, max_lag=30, orbits=
 print(result)
 
 H_values = np.array([2.1, 2.2, 2.4, 2.6, 3.0])
-runs = [correlation(Billiard(wall, H=H), bounces=100_000, max_lag=40, orbits=50, seed=1) for H in H_values]
+runs = [
+    correlation(Billiard(wall, H=H), bounces=100_000, max_lag=40, orbits=50, seed=1)
+    for H in H_values
+]
 tau = np.array([r.tau for r in runs])
 tau_err = np.array([r.tau_stderr for r in runs])
 law = fit_tau_law(H_values, tau, tau_err, D)
@@ -33,15 +36,20 @@ print(law)
 
 fig, (ax_p, ax_tau) = plt.subplots(1, 2, figsize=(11, 4.2))
 result.plot(ax=ax_p)
-ax_p.set_title(f"|P(n) − ½| at H = 2.2 κ = 1.1 D: τ = {result.tau:.2f} ± {result.tau_stderr:.2f}")
+ax_p.set_title(
+    f"|P(n) − ½| at H = 2.2 κ = 1.1 D: τ = {result.tau:.2f} ± {result.tau_stderr:.2f}"
+)
 ax_p.set_xlabel("lag n (bottom collisions)")
 
 ax_tau.errorbar(H_values, tau, yerr=tau_err, fmt="o", label="measured τ (10⁵ bounces per H)")
 grid = np.linspace(H_values[0] - 0.03, H_values[-1], 200)
 ax_tau.plot(grid, law.c / (grid - D), "k-", lw=1, label=f"τ = {law.c:.3f}/(H − D)")
 ax_tau.set_yscale("log")
-ax_tau.set(xlabel="wall distance H (κ)", ylabel="decay time τ (bottom collisions)",
-           title=f"τ(H); free power p = {law.power:.2f} ± {law.power_stderr:.2f}")
+ax_tau.set(
+    xlabel="wall distance H (κ)",
+    ylabel="decay time τ (bottom collisions)",
+    title=f"τ(H); free power p = {law.power:.2f} ± {law.power_stderr:.2f}",
+)
 ax_tau.legend(fontsize=8)
 fig.suptitle("The coin: ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = 99, diameter D = 2 κ")
 fig.tight_layout()

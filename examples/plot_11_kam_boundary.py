@@ -18,15 +18,26 @@ from matplotlib.ticker import NullFormatter
 from coinwall import kam_boundary
 from coinwall.forward.scan.islands import eps_star
 
-boundary = kam_boundary([3.0, 5.0, 8.0], bracket=(0.15, 15.0), steps=3, orbits=30, collisions=400, seed=0)
+boundary = kam_boundary(
+    [3.0, 5.0, 8.0], bracket=(0.15, 15.0), steps=3, orbits=30, collisions=400, seed=0
+)
 print(boundary)
 
 fig, ax = plt.subplots(figsize=(7, 4.8))
 boundary.plot(ax=ax)
 grid = np.linspace(2.5, 8.8, 100)
-ax.plot(grid, [eps_star(H) for H in grid], "--", color="tab:red", label="ε*(H): vertical orbit unstable")
+ax.plot(
+    grid,
+    [eps_star(H) for H in grid],
+    "--",
+    color="tab:red",
+    label="ε*(H): vertical orbit unstable",
+)
+ax.set_yticks([0.2, 0.5, 1, 2, 5, 10], ["0.2", "0.5", "1", "2", "5", "10"])
 ax.yaxis.set_minor_formatter(NullFormatter())
 ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8, frameon=False)
-ax.set_title("KAM boundary of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))\n"
-             f"(criterion: regular < 1 % of {boundary.orbits} orbits × 400 collisions)")
+ax.set_title(
+    "KAM boundary of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))\n"
+    f"(criterion: regular < 1 % of {boundary.orbits} orbits × 400 collisions)"
+)
 fig.tight_layout()

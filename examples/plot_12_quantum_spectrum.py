@@ -26,10 +26,14 @@ for k, name in enumerate(classes):
     values = spectrum.eigenvalues[np.array(spectrum.classes) == name]
     ax_levels.hlines(values, k - 0.35, k + 0.35, color=plt.cm.tab10(k % 10), lw=1.2)
 ax_levels.set_xticks(range(len(classes)), [c.replace(" ", "\n") for c in classes], fontsize=7)
-ax_levels.set(ylabel="eigenvalue λ (1/κ²)", title=f"{len(spectrum)} lowest levels by symmetry class")
+ax_levels.set(
+    ylabel="eigenvalue λ (1/κ²)", title=f"{len(spectrum)} lowest levels by symmetry class"
+)
 
 spectrum.plot(ax=ax_count)
 ax_count.set_title(f"counting function, P{spectrum.order} FEM, {spectrum.dofs} dofs")
 ax_count.set_ylabel("number of levels N(λ)")
-fig.suptitle(f"Quantum billiard of the ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = {eps:g}, H = {H:g} κ")
+fig.suptitle(
+    f"Quantum billiard of the ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = {eps:g}, H = {H:g} κ"
+)
 fig.tight_layout()

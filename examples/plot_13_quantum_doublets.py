@@ -31,6 +31,9 @@ ax_split.set_title("doublet splitting Δλ = λ₋ − λ₊ of the lowest pair"
 plot_density(spectrum, 0, ax=ax_psi)
 ax_psi.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
 ax_psi.set_xlabel("orientation θ (rad)")
-ax_psi.set_title(f"|ψ|² of level 1 at H = 2.4 κ; Δλ = {spectrum.eigenvalues[1] - spectrum.eigenvalues[0]:.2e} / κ²")
-fig.suptitle(f"Heads–tails tunnelling of the ellipse ε = {eps:g} (wall sqrt((1+ε cos²θ)/(1+ε)), D = 2 κ)")
+gap = spectrum.eigenvalues[1] - spectrum.eigenvalues[0]
+ax_psi.set_title(f"|ψ|² of level 1 at H = 2.4 κ; Δλ = {gap:.2e} / κ²")
+fig.suptitle(
+    f"Heads–tails tunnelling of the ellipse ε = {eps:g} (wall sqrt((1+ε cos²θ)/(1+ε)), D = 2 κ)"
+)
 fig.tight_layout()

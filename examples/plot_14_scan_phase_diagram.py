@@ -19,16 +19,24 @@ from coinwall.forward.scan import TableSpec, scan
 from coinwall.forward.scan.figures import plot_scan
 
 store = os.path.join(tempfile.mkdtemp(), "phase.zarr")
-result = scan("chaotic-fraction", TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))"),
-              {"eps": "0.5:20:4log", "H": "2:8:4"}, output=store,
-              options={"orbits": 20, "collisions": 300}, seed=0, workers=2)
+result = scan(
+    "chaotic-fraction",
+    TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))"),
+    {"eps": "0.5:20:4log", "H": "2:8:4"},
+    output=store,
+    options={"orbits": 20, "collisions": 300},
+    seed=0,
+    workers=2,
+)
 print(result)
 dataset = result.dataset()
 print(dataset.chaotic_fraction.values)
 
 ax = plot_scan(dataset)
-ax.set_title("chaotic fraction of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))\n"
-             "4 × 4 cells, 20 orbits × 300 collisions each")
+ax.set_title(
+    "chaotic fraction of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))\n"
+    "4 × 4 cells, 20 orbits × 300 collisions each"
+)
 ax.set_ylabel("ellipse parameter ε (dimensionless)")
 ax.set_xlabel("wall distance H (κ)")
 plt.gcf().tight_layout()
