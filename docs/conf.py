@@ -47,7 +47,7 @@ myst_dmath_double_inline = True
 # -- API reference -----------------------------------------------------------------------------------------------
 autosummary_generate = True
 autosummary_imported_members = True
-autodoc_default_options = {"members": True, "inherited-members": False, "show-inheritance": True}
+autodoc_default_options = {"members": True, "inherited-members": False}   # bases: only for the errors
 autodoc_typehints = "none"         # numpydoc renders the Parameters sections; signatures stay short
 autodoc_member_order = "bysource"
 numpydoc_show_class_members = False
@@ -98,3 +98,4 @@ html_theme_options = {
 html_context = {"default_mode": "light"}
 html_show_sourcelink = False
 html_sidebars = {"auto_examples/index": []}   # the gallery cards get the whole width
+
