@@ -384,7 +384,7 @@ class Wall:
 
     @property
     def scale(self) -> float:
-        """A typical magnitude of the wall (max |b|, at least 1), used for relative tolerances."""
+        """A typical magnitude of the wall (max ``|b|``, at least 1), used for relative tolerances."""
         return self._scale
 
     @safe_repr

@@ -173,7 +173,7 @@ class Correlation:
                 "threshold": THRESHOLD, "notes": list(self.notes)}
 
     def plot(self, ax=None):
-        """|P(n) − ½| with error bars on a log scale, the fitted exponential and the 0.01 threshold.
+        """``|P(n) − ½|`` with error bars on a log scale, the fitted exponential and the 0.01 threshold.
 
         Parameters
         ----------

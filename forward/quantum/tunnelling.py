@@ -74,8 +74,8 @@ class Splitting:
     flux_trusted : bool
         Whether the states' values in the necks are above :data:`FLUX_FLOOR` of their maximum.
     neck_amplitude : float
-        Largest |ψ| on the cuts and their neighbouring dofs over the largest |ψ| anywhere (the smaller of the
-        two states').
+        Largest ``|ψ|`` on the cuts and their neighbouring dofs over the largest ``|ψ|`` anywhere (the smaller
+        of the two states').
     action : float
         The WKB action S through one neck at λ₊ (Δλ ∝ exp(−S)).
     dofs, cells : int
