@@ -15,6 +15,7 @@ errors) into a temporary folder and checks the gallery's thumbnails and the API 
 from __future__ import annotations
 
 import ast
+import os
 import importlib
 import re
 import runpy
@@ -165,3 +166,46 @@ def test_site_builds_without_warnings(tmp_path):
     assert checked > 100
     for name in ("coinwall.solve_body", "coinwall.Wall", "coinwall.forward.quantum.Spectrum"):
         assert (html / "api" / "generated" / f"{name}.html").is_file(), name
+
+
+# ---------------------------------------------------------------------------------------------- in a browser
+_BUILT = os.environ.get("COINWALL_DOCS_HTML")
+
+
+@pytest.mark.skipif(not _BUILT, reason="set COINWALL_DOCS_HTML to a built site (.ci/run builds it and sets it)")
+def test_built_site_in_a_browser():
+    """The built site as a reader's browser shows it (headless Chromium): the gallery page shows a loaded
+    thumbnail for every example, and every link of the API index leads to a page that exists."""
+    from pathlib import Path
+    from urllib.parse import unquote, urlparse
+
+    selenium = pytest.importorskip("selenium")  # noqa: F841
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    driver_path = shutil.which("chromedriver") or "/usr/bin/chromedriver"
+    if not (os.path.exists(chromium) and os.path.exists(driver_path)):
+        pytest.skip("headless browser tests need chromium and chromedriver")
+    html = Path(_BUILT).resolve()
+    options = webdriver.ChromeOptions()
+    options.binary_location = chromium
+    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1366,900"):
+        options.add_argument(argument)
+    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+    try:
+        driver.get((html / "auto_examples" / "index.html").as_uri())
+        images = driver.find_elements(By.CSS_SELECTOR, ".sphx-glr-thumbcontainer img")
+        loaded = [img for img in images
+                  if driver.execute_script("return arguments[0].complete && arguments[0].naturalWidth > 0", img)]
+        assert len(loaded) >= 12 and len(loaded) == len(EXAMPLES), (len(images), len(loaded))
+        driver.get((html / "api" / "index.html").as_uri())
+        links = [a.get_attribute("href") for a in driver.find_elements(By.CSS_SELECTOR, "article a[href]")]
+        local = [link for link in links if link.startswith("file://")]
+        assert len(local) > 20
+        for link in local:
+            path = Path(unquote(urlparse(link).path))
+            assert path.exists(), f"the API index links to a missing {link}"
+    finally:
+        driver.quit()

@@ -52,8 +52,8 @@ _DRAW_BUDGET_MIN = 2e6      # random_states draws at least this many (~0.5 s) be
 class Billiard:
     """The billiard table: the strip between the two walls of ``wall`` at distance ``H``.
 
-    Parameters / attributes
-    -----------------------
+    Parameters
+    ----------
     wall : Wall
         The wall function b(θ).
     H : float
