@@ -34,8 +34,9 @@ does the boundary turn here much faster than next to it?  Concretely:
   than the threshold below: an edge the data do not support.  The cost is always counted from the
   projection, so a chain of cheap merges cannot add up to an expensive one;
 * each candidate (window of width W) is then tested by a likelihood ratio: the fit with ``ρ ≥ r`` forced
-  over its window, ``r`` half the radius of curvature next to it (the boundary length of the projection
-  within W on either side, divided by W, on the less curved side), against the fit with the corner.  The
+  over its window, ``r`` half the radius of curvature next to it (the boundary length within W on either
+  side, divided by W, on the less curved side, measured on the fit with the corner, where an edge that
+  the noise split across nearby directions is whole again), against the fit with the corner.  The
   χ² growth is compared with the one-degree-of-freedom quantile at ``CORNER_LEVEL / m`` (Bonferroni over
   the m candidates): a true vertex flanked by edges or by arcs of radius R cannot be rounded to R/2 or to
   half its neighbouring edge without a visible misfit, while a dip of the noise on a smooth arc can
@@ -414,20 +415,20 @@ class _Structure:
         return clusters
 
     # ------------------------------------------------------------------------------------------ testing
-    def neighbourhood_radius(self, cluster):
+    def neighbourhood_radius(self, cluster, length):
         """Radius of curvature of the projection next to the window: its boundary length within one
         window-width of either side (the bounding edges included), divided by that width, on the less
         curved side."""
         w = self.width(cluster)
         if w >= math.pi:
-            return float(self.length.sum() / TWO_PI)
+            return float(length.sum() / TWO_PI)
         ks = np.arange(cluster.first - self.n, cluster.last + self.n + 1)
         angles = self.angle(ks)
         slack = 1e-12 * TWO_PI
         a, b = self.angle(cluster.first), self.angle(cluster.last)
         left = (angles >= a - w - slack) & (ks <= cluster.first)
         right = (ks >= cluster.last) & (angles <= b + w + slack)
-        return float(min(self.length[ks[left] % self.n].sum(), self.length[ks[right] % self.n].sum()) / w)
+        return float(min(length[ks[left] % self.n].sum(), length[ks[right] % self.n].sum()) / w)
 
     def local_fit(self, first, last, bounds, margin):
         """Least squares over the lines near first..last, the rest held at the projection, subject to
@@ -465,17 +466,24 @@ class _Structure:
         return after - before, region, x
 
     def rounding_test(self, cluster, fraction):
-        """The change of χ² when the window is forced to curve with radius ≥ ``fraction`` × the mean radius
-        of its neighbourhood (a corner of the body rounded off), everything else free to follow."""
-        radius = fraction * self.neighbourhood_radius(cluster)
+        """The likelihood ratio of the window rounded off against the corner: the change of χ² from the fit
+        with ρ = 0 over the window (the corner, its lines through one point) to the fit with ρ ≥ ``fraction``
+        × the radius of curvature next to it (measured on the corner's fit, where the edges that noise split
+        across nearby directions are whole again), everything nearby free to follow."""
         first, last = cluster.first, cluster.last
+        margin = _margin(last - first)
 
-        def bounds(j):
+        def inside(j):
             k = first + ((j - first) % self.n)
-            return (radius if first < k < last else 0.0), False
+            return first < k < last
 
-        change, _, _ = self.local_fit(first, last, bounds, _margin(last - first))
-        return radius, max(change, 0.0) / self.sigma**2
+        corner, region, values = self.local_fit(first, last, lambda j: (0.0, inside(j)), margin)
+        support = self.support.copy()
+        support[region] = values
+        length = np.maximum(self.curvature(support), 0.0) * self.norm
+        radius = fraction * self.neighbourhood_radius(cluster, length)
+        rounded, _, _ = self.local_fit(first, last, lambda j: ((radius if inside(j) else 0.0), False), margin)
+        return radius, max(rounded - corner, 0.0) / self.sigma**2
 
     # ------------------------------------------------------------------------------------------ the body
     def floors(self, clusters):
