@@ -74,7 +74,7 @@ from coinwall.forward.angles import TWO_PI
 from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument, InvalidWall
 
-__all__ = ["MAX_DIRECTIONS", "FitResult", "fit_convex"]
+__all__ = ["MAX_DIRECTIONS", "CornerTest", "FitResult", "fit_convex"]
 
 #: Most distinct measured directions a fit takes (NNLS is dense: ~0.6 s at 1,000, ~26 s at 3,000).
 MAX_DIRECTIONS = 2000
@@ -577,6 +577,12 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
     sigma : float, optional
         The noise of one sample (standard deviation, units of the wall).  Default: estimated from the
         residuals of the least-squares projection.
+
+    Returns
+    -------
+    FitResult
+        The body with the corners the noise supports (:attr:`FitResult.tests` has every candidate and its
+        likelihood ratio), the regime the data support, and the plain least-squares projection.
 
     Raises
     ------
