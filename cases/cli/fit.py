@@ -10,17 +10,23 @@ from .common import add_command, number
 __all__ = ["register"]
 
 _DESCRIPTION = """\
-Fit a convex body to measured wall samples (noisy, rounded, from a scan): among convex polygons
-whose edges have the measured directions as normals, the one whose wall b0 + b is nearest to the
-samples in least squares, subject to the radius of curvature b0 + b + b'' >= 0 as a measure (vertex
-windows and corners allowed, nothing smoothed; Prince & Willsky's estimator, whose convergence
-Gardner, Kiderlen & Milanfar proved, Ann. Statist. 34, 2006).  Prints the rms and largest residual,
-the regime and the corners of the fitted body.  -o body.json/.svg/.dxf/... writes the body as
-`coinwall solve` does; -o wall.csv or wall.json (with "wall" in its name, or --wall-out) writes the
-fitted wall, reusable as a WALL.  At most 2,000 distinct directions."""
+Fit a convex body to measured wall samples (noisy, rounded, from a scan).  First the least-squares
+projection: among convex polygons whose edges have the measured directions as normals, the one whose
+wall b0 + b is nearest to the samples, subject to b0 + b + b'' >= 0 as a measure (Prince & Willsky's
+estimator; Gardner, Kiderlen & Milanfar, Ann. Statist. 34, 2006).  It has a vertex window wherever the
+noise dips, so the corners are then tested: with the noise sigma (--sigma-b, or estimated from the
+residuals), neighbouring vertex windows are merged while the edge between them is not supported, and a
+window is a corner only when rounding it off (radius of curvature half that next to it) raises chi^2
+by more than chance allows (Bonferroni over the candidates).  The body returned has exactly those
+corners and a positive radius of curvature elsewhere, within chi^2 <= N + 3 sqrt(2N) of the samples.
+The regime is what the data say: critical (a corner is supported), convex (none is, none comes close)
+or undecided.  -o body.json/.svg/.dxf/... writes the body as `coinwall solve` does; -o wall.csv or
+wall.json (with "wall" in its name) writes the fitted wall, reusable as a WALL.  At most 2,000
+distinct directions."""
 
 _EXAMPLE = """\
-coinwall fit scan.csv --b0 0 -o body.json -o fitted-wall.csv --json"""
+coinwall fit scan.csv --b0 0 -o body.json -o fitted-wall.csv --json
+coinwall fit scan.csv --sigma-b 0.002"""
 
 
 def register(subparsers):
@@ -29,12 +35,33 @@ def register(subparsers):
                          description=_DESCRIPTION, example=_EXAMPLE)
     parser.add_argument("samples", help="wall samples: .csv (theta,b; theta_deg for degrees) or .json {theta, b}")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the samples (default 0)")
+    parser.add_argument("--sigma-b", type=number, default=None, metavar="SIGMA",
+                        help="the noise of one sample (standard deviation, units of the wall; default: estimated "
+                             "from the residuals)")
     parser.add_argument("--degrees", action="store_true", help="the angles of the sample file are in degrees")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="the body (.json .svg .dxf .csv .png .pdf, as solve) or, for a file whose name "
                              "contains 'wall', the fitted wall (.csv theta,b or .json {theta, b}) (repeatable)")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.set_defaults(run=run)
+
+
+_REGIMES = {
+    "critical": "the data demand a corner (rounding it off costs more than the noise allows)",
+    "convex": "no corner is supported and no candidate comes close: the data allow a strictly convex body",
+    "undecided": "no corner is supported, but a candidate is neither confirmed nor ruled out: the data allow "
+                 "both a strictly convex body and one with a corner",
+}
+
+
+def _vertex_windows(fit):
+    import numpy as np
+
+    from coinwall.inverse.discrete import discrete_curvature
+
+    rho, _ = discrete_curvature(fit.theta, fit.b0 + fit.least_squares)
+    zero = rho <= 1e-9 * max(1.0, float(np.max(np.abs(fit.least_squares)))) / np.min(np.diff(fit.theta)) ** 2
+    return int(np.count_nonzero(zero & ~np.roll(zero, 1))) if not zero.all() else 1
 
 
 def _wall_document(fit, path):
@@ -52,7 +79,7 @@ def run(args):
     """Fit, write, print."""
     import sys
 
-    from coinwall.forward.errors import OutputError
+    from coinwall.forward.errors import InvalidArgument, OutputError
     from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
     from coinwall.inverse.export import check_outputs, export_body, exporters
@@ -74,7 +101,9 @@ def run(args):
     if wall.samples is None:
         raise OutputError(f"samples {args.samples!r}: a Fourier wall file has no samples to fit")
     theta, values = wall.samples
-    fit = fit_convex(theta, values, args.b0)
+    if args.sigma_b is not None and not (math.isfinite(args.sigma_b) and args.sigma_b > 0):
+        raise InvalidArgument(f"--sigma-b must be a positive finite number, got {args.sigma_b:g}")
+    fit = fit_convex(theta, values, args.b0, sigma=args.sigma_b)
     body = fit.body
     if args.output:
         refuse_non_finite("the fitted wall", b=fit.fitted)
@@ -90,10 +119,23 @@ def run(args):
         print(json.dumps(doc, indent=1, allow_nan=False))
     else:
         print(f"samples    {args.samples}: {int(fit.counts.sum())} samples at {fit.theta.size} directions")
-        print(f"fit        rms residual {fit.rms_residual:.4g}, largest {fit.max_residual:.4g} (units of the wall)")
+        source = "given" if fit.sigma_given else "estimated from the residuals"
+        print(f"noise      sigma {fit.sigma:.4g} ({source})")
+        print(f"fit        rms residual {fit.rms_residual:.4g}, largest {fit.max_residual:.4g} (units of the wall); "
+              f"chi^2 {fit.chi2:.5g} (bound {fit.chi2_bound:.5g}); least squares alone: "
+              f"{_vertex_windows(fit)} vertex windows")
+        print(f"regime     {fit.regime}: {_REGIMES[fit.regime]}")
+        print(f"corners    {fit.corners} supported of {len(fit.tests)} candidates "
+              f"(chi^2 growth when rounded off > {fit.threshold:.3g})")
+        for test in fit.tests:
+            if test.verdict != "round":
+                print(f"           {test.verdict:9s} window {math.degrees(test.window[0]) % 360:7.2f} deg + "
+                      f"{math.degrees(test.window[1] - test.window[0]):6.2f} deg, chi^2 growth {test.statistic:.4g}")
         b_c = f"{body.b_c:.6g}" if math.isfinite(body.b_c) else "inf"
         print(f"body       regime {body.regime} (fitted b_c = {b_c}), {len(body.corners)} corners, "
               f"area {body.area:.6g}, perimeter {body.perimeter:.6g}")
+        for note in fit.notes:
+            print(f"note       {note}")
         print(f"outline    convex: {'yes' if body.convex else 'NO'}, simple (valid): {'yes' if body.valid else 'NO'}")
         for line in written_lines(written, replaced):
             print(line)
