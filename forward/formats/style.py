@@ -9,7 +9,7 @@ The rules the figures follow with it:
 * the title or caption says what is shown: the wall (:func:`wall_label`), its parameters, H, the counts;
 * every axis names its quantity and its unit, ``quantity (unit)``; dimensionless quantities say so;
 * colour that carries a value has a colour bar with its quantity;
-* log axes print every tick label in one plain format (:func:`plain_log_axis`): 0.5, 2, 40 — not 5×10⁻¹;
+* log axes print every tick label in one format (:func:`plain_log_axis`): 0.5, 2, 40 — not 5×10⁻¹ beside 1.0;
 * the file format follows the extension: .png for screens, .svg and .pdf (vector) for papers.
 """
 
@@ -85,41 +85,48 @@ def wall_label(wall, name: str | None = None, width: int = 70) -> str:
 
 
 def _plain(value, _position=None) -> str:
-    """A tick label: %g with a real minus sign (0.5, 2, 40, 1e+05 only far from 1)."""
+    """A tick label in plain numbers: %g with a real minus sign (0.5, 2, 40)."""
     if value == 0 or not math.isfinite(value):
         return "0"
-    text = f"{value:.6g}"
-    if "e" in text:
-        mantissa, exponent = text.split("e")
-        exponent = int(exponent)
-        text = f"10^{{{exponent}}}" if mantissa == "1" else f"{mantissa}\\times10^{{{exponent}}}"
-        return f"${text}$"
-    return text.replace("-", "\u2212")
+    return f"{value:.6g}".replace("-", "\u2212")
+
+
+def _powers(value, _position=None) -> str:
+    """A tick label as a power of ten: 10⁻⁵, 2×10⁻⁵ (mathtext)."""
+    if value <= 0 or not math.isfinite(value):
+        return "0"
+    exponent = math.floor(math.log10(value) + 1e-9)
+    mantissa = round(value / 10.0**exponent, 6)
+    if abs(mantissa - 1) < 1e-6:
+        return f"$10^{{{exponent}}}$"
+    return f"${mantissa:g}\\times10^{{{exponent}}}$"
 
 
 def plain_log_axis(axis):
-    """One number format on a log axis, major and minor ticks alike: 0.5, 2, 40 (and 10⁻⁵ far from 1).
+    """One number format on a log axis, major and minor ticks alike: plain numbers (0.5, 2, 40) when the view
+    lies within [10⁻³, 10⁵], powers of ten (10⁻⁵, 2×10⁻⁵) for every label otherwise.
 
-    Minor ticks (2, 3, 5 × a decade) are labelled only when fewer than two decades are in view, and then only at
-    2 and 5 when more than one is; call after the data are drawn (the view decides)."""
+    Minor ticks (2 … 9 × a decade) are labelled only when fewer than two decades are in view (at 2 and 5 when
+    more than one is); call after the data are drawn (the view decides)."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     low, high = sorted(axis.get_view_interval())
     decades = math.log10(high / low) if low > 0 and high > 0 else math.inf
+    label = _plain if (low >= 1e-3 and high <= 1e5) else _powers
     axis.set_major_locator(LogLocator(base=10.0))
-    axis.set_major_formatter(FuncFormatter(_plain))
+    axis.set_major_formatter(FuncFormatter(label))
+    subs = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0)
     if decades < 1.0:
-        subs = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0)
         labelled = (2.0, 3.0, 5.0, 7.0) if decades > 0.5 else subs
     elif decades < 2.0:
-        subs, labelled = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0), (2.0, 5.0)
+        labelled = (2.0, 5.0)
     else:
-        subs, labelled = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0), ()
+        labelled = ()
     axis.set_minor_locator(LogLocator(base=10.0, subs=subs))
     if labelled:
         def minor(value, position=None):
             mantissa = value / 10 ** math.floor(math.log10(value) + 1e-9)
-            return _plain(value) if any(abs(mantissa - s) < 1e-6 for s in labelled) else ""
+            return label(value) if any(abs(mantissa - s) < 1e-6 for s in labelled) else ""
 
         axis.set_minor_formatter(FuncFormatter(minor))
     else:
