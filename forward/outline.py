@@ -193,7 +193,7 @@ class Outline:
             ax.plot(theta, H - self.support(theta + np.pi), label=f"t(θ) = H − b(θ+π), H = {H:g}")
         ax.set_xlim(0.0, TWO_PI)
         ax.set_xlabel("wall angle θ (rad)")
-        ax.set_ylabel("distance from centre of mass to wall (κ)")
+        ax.set_ylabel("wall height in the frame of the centre of mass (κ)")
         # above the axes, so the legend never hides a curve
         ax.legend(loc="lower left", bbox_to_anchor=(0, 1.02), ncol=2)
         return ax

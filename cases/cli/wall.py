@@ -146,6 +146,8 @@ def run(args):
         if path.lower().endswith(_TABLES):
             files[path] = _table_bytes(path, theta, lower, upper, H, note)
         else:
+            import os
+
             from coinwall.forward.formats.style import house_style
 
             with house_style():

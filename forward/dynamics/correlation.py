@@ -231,7 +231,8 @@ class Correlation:
                 grid = np.linspace(0, n[-1], 400)
                 curve = abs(self.amplitude) * np.exp(-grid / self.tau)
                 ax.plot(grid, curve, "-", color=PALETTE[1],
-                        label=f"one exponential A e^(−n/τ): τ = {self.tau:.3g} ± {self.tau_stderr:.2g} (statistical)")
+                        label=f"one exponential A e^(−n/τ): τ = {self.tau:.3g} ± {self.tau_stderr:.2g} "
+                              "(statistical)")
                 if lags.size:
                     ax.fill_between(grid, abs(self.amplitude) * np.exp(-grid / low),
                                     abs(self.amplitude) * np.exp(-grid / high), color=PALETTE[1], alpha=0.18, lw=0,

@@ -72,7 +72,8 @@ def plot_density(spectrum, level: int = 0, ax=None, name=None):
     _angle_ticks(ax)
     ax.set_xlabel("orientation θ (rad)")
     ax.set_ylabel("height of the centre η (κ)")
-    ax.set_title(f"|ψ|² of level {level + 1} ({spectrum.classes[level]}), λ = {spectrum.eigenvalues[level]:.6g} /κ²\n"
+    ax.set_title(f"|ψ|² of level {level + 1} ({spectrum.classes[level]}), "
+                 f"λ = {spectrum.eigenvalues[level]:.6g} /κ²\n"
                  f"{_about(spectrum, name)}")
     if created:
         ax.figure.tight_layout()

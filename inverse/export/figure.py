@@ -70,7 +70,8 @@ def _rho_panel(ax, body):
     closed = np.append(theta, theta[0] + TWO_PI)
     ax.fill_between(closed, np.append(rho - tol, rho[0] - tol[0]), np.append(rho + tol, rho[0] + tol[0]),
                     color=PALETTE[5], alpha=0.35, lw=0, label="± rounding of the samples")
-    ax.plot(theta, rho, "k.-", lw=0.6, ms=2.5 if theta.size <= 2000 else 0, label=f"discrete ρ + b0 ({theta.size} samples)")
+    ax.plot(theta, rho, "k.-", lw=0.6, ms=2.5 if theta.size <= 2000 else 0,
+            label=f"discrete ρ + b0 ({theta.size} samples)")
     lower, upper = body.b_c_lower, body.b_c_upper
     if lower is not None and upper is not None and math.isfinite(lower) and math.isfinite(upper):
         ax.axhspan(body.b0 - upper, body.b0 - lower, facecolor="none", edgecolor=PALETTE[1], lw=1.0, ls="--",
