@@ -159,36 +159,43 @@ class Outline:
     # ------------------------------------------------------------------ pictures
     def plot(self, ax=None):
         """Draw the outline and the centre of mass (the origin), matplotlib imported here; returns the axes."""
-        import matplotlib.pyplot as plt
+        from .formats.figure import axes_or_new
+        from .formats.style import house_style
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(5, 5))
+        with house_style():
+            return self._plot(axes_or_new(ax, (5, 5))[0])
+
+    def _plot(self, ax):
         # a few points per segment show the curve; a finely sampled outline is drawn through its nodes
         pts = self.polygon(4) if len(self.nodes) < 4096 else self.nodes
         pts = np.vstack([pts, pts[:1]])
         ax.plot(pts[:, 0], pts[:, 1], "k-")
-        ax.plot([0], [0], "r+", ms=10, label="centre of mass")
+        ax.plot([0], [0], "+", color="#D55E00", ms=10, mew=1.5, label="centre of mass")
         ax.set_aspect("equal")
-        ax.set_xlabel("x / κ")
-        ax.set_ylabel("y / κ")
-        ax.set_title("body, + centre of mass")
+        ax.set_xlabel("x (κ)")
+        ax.set_ylabel("y (κ)")
+        ax.set_title(f"body ({len(self.nodes)} segments), + centre of mass")
         return ax
 
     def plot_wall(self, ax=None, *, theta=None, H=None):
         """Draw the wall function ``b(θ) = h(θ)`` and, given the wall distance ``H``, the upper wall
         ``t(θ) = H − h(θ + π)`` at the angles ``theta`` (default 720 uniform); returns the axes."""
-        import matplotlib.pyplot as plt
+        from .formats.figure import axes_or_new
+        from .formats.style import house_style
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+        with house_style():
+            return self._plot_wall(axes_or_new(ax, (6, 4))[0], theta, H)
+
+    def _plot_wall(self, ax, theta, H):
         theta = np.linspace(0.0, TWO_PI, 720, endpoint=False) if theta is None else np.asarray(theta, float)
         ax.plot(theta, self.support(theta), label="b(θ)")
         if H is not None:
             ax.plot(theta, H - self.support(theta + np.pi), label=f"t(θ) = H − b(θ+π), H = {H:g}")
-        ax.set_xlabel("θ (rad)")
-        ax.set_ylabel("wall / κ")
+        ax.set_xlim(0.0, TWO_PI)
+        ax.set_xlabel("wall angle θ (rad)")
+        ax.set_ylabel("wall height in the frame of the centre of mass (κ)")
         # above the axes, so the legend never hides a curve
-        ax.legend(loc="lower left", bbox_to_anchor=(0, 1.02), fontsize=8, ncol=2, frameon=False)
+        ax.legend(loc="lower left", bbox_to_anchor=(0, 1.02), ncol=2)
         return ax
 
     def __len__(self) -> int:

@@ -211,22 +211,24 @@ class Body:
         }
 
     def plot(self, ax=None):
-        """Draw the outline (matplotlib, imported here); returns the axes."""
-        import matplotlib.pyplot as plt
+        """Draw the outline, its centre of mass and its corners (matplotlib, imported here, in the house style of
+        :mod:`coinwall.forward.formats.style`); returns the axes."""
+        from coinwall.forward.formats.figure import axes_or_new
+        from coinwall.forward.formats.style import PALETTE, house_style
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(5, 5))
-        pts = self.outline.polygon(8)
-        pts = np.vstack([pts, pts[:1]])
-        ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1.5)
-        ax.plot([0], [0], "r+", ms=10, label="centre of mass")
-        for c in self.corners:
-            px, py = c.distance * math.cos(c.direction), c.distance * math.sin(c.direction)
-            ax.plot([px], [py], "o", color="tab:orange", ms=5)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x / κ")
-        ax.set_ylabel("y / κ")
-        ax.set_title(f"b0 = {self.b0:g}, {self.regime}")
+        with house_style():
+            ax, _ = axes_or_new(ax, (5, 5))
+            pts = self.outline.polygon(8)
+            pts = np.vstack([pts, pts[:1]])
+            ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1.5, label="outline")
+            ax.plot([0], [0], "+", color=PALETTE[1], ms=10, mew=1.5, label="centre of mass")
+            for k, c in enumerate(self.corners):
+                px, py = c.distance * math.cos(c.direction), c.distance * math.sin(c.direction)
+                ax.plot([px], [py], "o", color=PALETTE[4], ms=5, label="corner" if k == 0 else None)
+            ax.set_aspect("equal")
+            ax.set_xlabel("x (κ)")
+            ax.set_ylabel("y (κ)")
+            ax.set_title(f"b0 = {self.b0:g} κ, {self.regime}")
         return ax
 
     def _repr_svg_(self) -> str:

@@ -73,7 +73,7 @@ def _cmd_correlation(args):
     files = {}
     for path in args.output:
         if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:
-            files[path] = figure_bytes(result.plot().figure, path)
+            files[path] = figure_bytes(result.plot(name=args.wall).figure, path)
         else:
             files[path] = json.dumps(doc).encode()
     written = write_all(files)

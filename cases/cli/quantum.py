@@ -124,26 +124,37 @@ def _summary(spectrum, splittings, body):
     }
 
 
-def _figure(results):
+def _figure(results, wall=None, name=None):
+    from coinwall.forward.formats.style import house_style
+
+    with house_style():
+        return _draw_figure(results, wall, name)
+
+
+def _draw_figure(results, wall, name):
     from coinwall.forward.formats.figure import new_figure
+    from coinwall.forward.formats.style import wall_label
     from coinwall.forward.quantum.figures import plot_counting, plot_density, plot_splittings
 
     if len(results) > 1:
         splittings = [s[0] for _, s in results if s]
-        fig, ax = new_figure(figsize=(6, 4))
-        plot_splittings(splittings, ax=ax)
+        fig, ax = new_figure(figsize=(6.4, 4.2))
+        plot_splittings(splittings, ax=ax, wall=wall, name=name)
         fig.tight_layout()
         return fig
     spectrum = results[0][0]
     if not spectrum.meshes:  # the spectral method has no eigenvectors: the counting function alone
         fig, ax = new_figure(figsize=(6, 4))
-        plot_counting(spectrum, ax=ax)
+        plot_counting(spectrum, ax=ax, name=name)
         fig.tight_layout()
         return fig
-    fig, (left, right) = new_figure(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1, 1.6]})
-    plot_counting(spectrum, ax=left)
-    plot_density(spectrum, 0, ax=right)
-    fig.tight_layout()
+    fig, (left, right) = new_figure(1, 2, figsize=(12, 4.2), gridspec_kw={"width_ratios": [1, 1.7]},
+                                    layout="constrained")
+    plot_counting(spectrum, ax=left, name=name)
+    plot_density(spectrum, 0, ax=right, name=name)
+    left.set_title(f"{len(spectrum.eigenvalues)} levels ({spectrum.method}) and Weyl's law")
+    right.set_title(f"|ψ|² of level 1 ({spectrum.classes[0]}), λ = {spectrum.eigenvalues[0]:.6g} /κ²")
+    fig.suptitle(f"Quantum body of {wall_label(spectrum.strip.table.wall, name)}, H = {spectrum.strip.H:g} κ")
     return fig
 
 
@@ -177,7 +188,7 @@ def _cmd_quantum(args):
     files = {}
     for path in args.output:
         if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:
-            files[path] = figure_bytes(_figure(results), path)
+            files[path] = figure_bytes(_figure(results, wall, args.wall), path)
         else:
             files[path] = json.dumps(document, allow_nan=False).encode()
     written = write_all(files)

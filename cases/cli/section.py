@@ -66,7 +66,7 @@ def _cmd_section(args):
     for path in args.output:
         ext = os.path.splitext(path)[1].lower()
         if ext in FIGURE_FORMATS:
-            ax = result.plot(title=f"{args.wall} {' '.join(args.param)}, H = {args.H:g}")
+            ax = result.plot(name=args.wall)
             files[path] = figure_bytes(ax.figure, path)
         elif ext == ".csv":
             files[path] = result.to_csv().encode()

@@ -146,10 +146,16 @@ def run(args):
         if path.lower().endswith(_TABLES):
             files[path] = _table_bytes(path, theta, lower, upper, H, note)
         else:
-            fig, (body_axes, wall_axes) = new_figure(1, 2, figsize=(10, 4.2))
-            outline.plot(body_axes)
-            outline.plot_wall(wall_axes, theta=theta, H=H)
-            fig.tight_layout()
+            import os
+
+            from coinwall.forward.formats.style import house_style
+
+            with house_style():
+                fig, (body_axes, wall_axes) = new_figure(1, 2, figsize=(10, 4.4), layout="constrained")
+                outline.plot(body_axes)
+                outline.plot_wall(wall_axes, theta=theta, H=H)
+                fig.suptitle(f"Wall of the body {os.path.basename(str(source))}: {theta.size} angles"
+                             + (f", H = {H:g} κ" if H is not None else ""))
             files[path] = figure_bytes(fig, path)
     written = write_all(files)
     if args.json:

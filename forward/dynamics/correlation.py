@@ -172,13 +172,45 @@ class Correlation:
                 "amplitude": num(self.amplitude), "n_needed": self.n_needed, "n_needed_fit": num(self.n_needed_fit),
                 "threshold": THRESHOLD, "notes": list(self.notes)}
 
-    def plot(self, ax=None):
-        """``|P(n) − ½|`` with error bars on a log scale, the fitted exponential and the 0.01 threshold.
+    def decay_band(self):
+        """How far one exponential describes P(n): ``(tau_low, tau_high, lags, leaves)``.
+
+        ``[tau_low, tau_high]`` is the smallest range of τ around the fitted one (A fixed) whose curves
+        ``A exp(−n/τ)`` pass within one standard error of every lag where ``|P(n) − ½|`` stands out of its error
+        (more than twice it), and at least τ ± its jackknife error: the error to quote when P(n) is not one
+        exponential.  ``lags`` are those lags; ``leaves`` the first of three lags in a row where the data stand
+        off the fitted curve by more than twice their error and more than 10 % of it (None when none do).
+        """
+        n = np.arange(self.P.size, dtype=float)
+        y, s = np.abs(self.P - 0.5), self.P_stderr
+        if not (math.isfinite(self.tau) and math.isfinite(self.amplitude)) or self.amplitude == 0:
+            return math.nan, math.nan, np.array([], dtype=int), None
+        stat = self.tau_stderr if math.isfinite(self.tau_stderr) else 0.0
+        low, high = self.tau - stat, self.tau + stat
+        amplitude = abs(self.amplitude)
+        fit = amplitude * np.exp(-n / self.tau)
+        lags = np.flatnonzero((n >= 1) & (y > 2 * s))
+        for k in lags:
+            # the end of the data's error bar nearest the fitted curve, and the τ whose curve passes through it
+            target = min(max(fit[k], y[k] - s[k]), y[k] + s[k])
+            if 0 < target < amplitude:
+                tau_k = -n[k] / math.log(target / amplitude)
+                low, high = min(low, tau_k), max(high, tau_k)
+        off = (n >= 1) & (np.abs(y - fit) > np.maximum(2 * s, 0.1 * fit))
+        run = off[:-2] & off[1:-1] & off[2:]  # three lags in a row: not a fluctuation
+        first = np.flatnonzero(run)
+        return float(low), float(high), lags, (int(first[0]) if first.size else None)
+
+    def plot(self, ax=None, name=None):
+        """``|P(n) − ½|`` with error bars on a log scale, the fitted exponential with the band of τ that covers
+        the data (:meth:`decay_band`) and the 0.01 threshold.
 
         Parameters
         ----------
         ax : matplotlib Axes, optional
             Where to draw; default a new figure (Agg backend, no display needed).
+        name : str, optional
+            The wall as the user wrote it (``case:coin``) for the title; default its description.
 
         Returns
         -------
@@ -186,23 +218,45 @@ class Correlation:
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
         from ..formats.figure import axes_or_new
+        from ..formats.style import PALETTE, house_style, plain_log_axis, wall_label
 
-        ax, own = axes_or_new(ax, (6, 4))
-        n = np.arange(self.P.size)
-        ax.errorbar(n, np.abs(self.P - 0.5), yerr=self.P_stderr, fmt="o", ms=3, label="|P(n) − ½|")
-        if math.isfinite(self.tau):
-            ax.plot(n, np.abs(_exp_model(n, self.amplitude, self.tau)), "-",
-                    label=f"A exp(−n/τ), τ = {self.tau:.3g} ± {self.tau_stderr:.2g}")
-        ax.axhline(THRESHOLD, color="grey", ls=":", label=f"threshold {THRESHOLD:g}")
-        ax.set_yscale("log")
-        which = "bottom-wall collisions" if self.count == "bottom" else "collisions with either wall"
-        ax.set_xlabel(f"lag n ({which})")
-        ax.set_ylabel("|P(n) − ½| (probability)")
-        ax.set_title(f"heads/tails correlation, H = {self.table.H:g} κ")
-        # below the axes: with a long decay time the points fill the whole top of the plot
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, fontsize=8, frameon=False)
-        if own:
-            ax.figure.tight_layout()
+        with house_style():
+            ax, own = axes_or_new(ax, (6.4, 4.4))
+            n = np.arange(self.P.size)
+            y = np.abs(self.P - 0.5)
+            ax.errorbar(n, y, yerr=self.P_stderr, fmt="o", ms=3, color="k", elinewidth=0.8,
+                        label="|P(n) − ½| ± standard error")
+            if math.isfinite(self.tau):
+                low, high, lags, leaves = self.decay_band()
+                grid = np.linspace(0, n[-1], 400)
+                curve = abs(self.amplitude) * np.exp(-grid / self.tau)
+                ax.plot(grid, curve, "-", color=PALETTE[1],
+                        label=f"one exponential A e^(−n/τ): τ = {self.tau:.3g} ± {self.tau_stderr:.2g} "
+                              "(statistical)")
+                if lags.size:
+                    ax.fill_between(grid, abs(self.amplitude) * np.exp(-grid / low),
+                                    abs(self.amplitude) * np.exp(-grid / high), color=PALETTE[1], alpha=0.18, lw=0,
+                                    label=f"τ from {low:.3g} to {high:.3g}: covers every lag out of the noise "
+                                          f"(1–{int(lags.max())})")
+                if leaves is not None:
+                    ax.axvline(leaves, color=PALETTE[1], lw=0.8, ls="--",
+                               label=f"from n = {leaves} the data stand off one exponential (> 2σ and > 10 %)")
+            ax.axhline(THRESHOLD, color="grey", ls=":", label=f"threshold {THRESHOLD:g}")
+            ax.set_yscale("log")
+            positive = y[(y > 0) & np.isfinite(y)]
+            if positive.size:
+                ax.set_ylim(max(positive.min() / 3, 1e-6), 1.0)
+            plain_log_axis(ax.yaxis)
+            which = "bottom-wall collisions" if self.count == "bottom" else "collisions with either wall"
+            ax.set_xlabel(f"lag n ({which})")
+            ax.set_ylabel("|P(n) − ½| (probability)")
+            ax.set_title(f"heads/tails correlation of {wall_label(self.table.wall, name)}\n"
+                         f"H = {self.table.H:g} κ, b0 = {self.table.b0:g} κ; {self.bounces} {which.split()[0]} "
+                         f"bounces in {self.orbits} orbits")
+            # below the axes: with a long decay time the points fill the whole top of the plot
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
+            if own:
+                ax.figure.tight_layout()
         return ax
 
     @safe_repr

@@ -112,27 +112,25 @@ class KamBoundary:
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
         from ..formats.figure import axes_or_new
+        from ..formats.style import house_style, plain_log_axis
 
-        ax, own = axes_or_new(ax, (6, 4))
-        grid = np.linspace(min(self.H.min(), 1.5), self.H.max() * 1.1, 200)
-        ax.plot(grid, paper_boundary(grid), "k-", label=r"paper: $1/H + 17/H^2$")
-        ax.errorbar(self.H, self.eps, yerr=[self.eps - self.eps_low, self.eps_high - self.eps], fmt="o",
-                    label=f"measured (regular < {self.regular_max:.0%}, {self.orbits} orbits)")
-        ax.set_yscale("log")
-        from matplotlib.ticker import ScalarFormatter
-
-        # plain numbers (0.5, 2, 40), not 4 × 10⁰; minor ticks labelled only when no decade is in view
-        ax.yaxis.set_major_formatter(ScalarFormatter())
-        low, high = ax.get_ylim()
-        if high < 10 * low:
-            ax.yaxis.set_minor_formatter(ScalarFormatter())
-        ax.set_xlabel("wall distance H (κ)")
-        ax.set_ylabel("critical ellipse parameter ε_c (dimensionless)")
-        ax.set_title("KAM boundary of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))")
-        # below the axes: the measured points may lie anywhere around the paper's curve
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, fontsize=8, frameon=False)
-        if own:
-            ax.figure.tight_layout()
+        with house_style():
+            ax, own = axes_or_new(ax, (6.4, 4.4))
+            grid = np.linspace(min(self.H.min(), 1.5), self.H.max() * 1.1, 200)
+            ax.plot(grid, paper_boundary(grid), "k-", label=r"paper: $1/H + 17/H^2$")
+            ax.errorbar(self.H, self.eps, yerr=[self.eps - self.eps_low, self.eps_high - self.eps], fmt="o",
+                        label=f"measured: bisection bracket (regular < {self.regular_max:.0%})")
+            ax.set_yscale("log")
+            # one number format for every label, major and minor: 0.5, 2, 40 (not 6×10⁰ beside 1.0)
+            plain_log_axis(ax.yaxis)
+            ax.set_xlabel("wall distance H (κ)")
+            ax.set_ylabel("critical ellipse parameter ε_c (dimensionless)")
+            ax.set_title("KAM boundary of the ellipse wall sqrt((1+ε cos²θ)/(1+ε))\n"
+                         f"{self.orbits} orbits × {self.collisions} collisions per (ε, H)")
+            # below the axes: the measured points may lie anywhere around the paper's curve
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+            if own:
+                ax.figure.tight_layout()
         return ax
 
     @safe_repr

@@ -122,7 +122,7 @@ class PoincareSection:
                    fmt=["%.17g", "%.17g", "%d"])
         return text.getvalue()
 
-    def plot(self, ax=None, markersize=0.6, title=None):
+    def plot(self, ax=None, markersize=0.6, title=None, name=None):
         """Scatter φ_c against θ_c (radians, ticks at multiples of π), one colour per orbit.
 
         Parameters
@@ -132,7 +132,10 @@ class PoincareSection:
         markersize : float
             Marker area in points² (as ``scatter``'s ``s``).
         title : str, optional
-            Default: the wall distance and the number of orbits.
+            Default: the wall (``name`` as the user wrote it, else its description and parameters), the wall
+            distance and the number of orbits and collisions.
+        name : str, optional
+            The wall's name for the default title (``case:ellipse-0.55``).
 
         Returns
         -------
@@ -142,29 +145,34 @@ class PoincareSection:
         import matplotlib.pyplot as plt
 
         from ..formats.figure import axes_or_new
+        from ..formats.style import house_style, wall_label
 
-        ax, own = axes_or_new(ax, (7, 5))
-        cmap = plt.get_cmap("tab20" if self.orbits <= 20 else "turbo")
-        # one marker-only line per orbit rather than one scatter with a colour per point: Agg stamps a
-        # line's identical markers from one cached raster, ~10x faster for millions of points, and no
-        # (points, 4) colour array is built; orbits are drawn in order, as the scatter drew them
-        size = math.sqrt(markersize)
-        cuts = np.flatnonzero(np.diff(self.orbit)) + 1
-        runs = zip(np.r_[0, cuts], np.r_[cuts, self.orbit.size]) if self.orbit.size else ()
-        for first, last in runs:
-            k = int(self.orbit[first])
-            colour = cmap(k % 20 if self.orbits <= 20 else k / max(self.orbits - 1, 1))
-            ax.plot(self.theta[first:last], self.phi[first:last], linestyle="none", marker="o",
-                    markersize=size, markeredgewidth=0, color=colour, rasterized=True)
-        ax.set_xlim(0, TWO_PI)
-        ax.set_ylim(-0.5 * math.pi, 0.5 * math.pi)
-        ax.set_xticks([k * 0.5 * math.pi for k in range(5)], ["0", "π/2", "π", "3π/2", "2π"])
-        ax.set_yticks([k * 0.25 * math.pi for k in range(-2, 3)], ["−π/2", "−π/4", "0", "π/4", "π/2"])
-        ax.set_xlabel("contact angle θ_c (rad)")
-        ax.set_ylabel("angle of incidence φ_c (rad)")
-        ax.set_title(title or f"bottom-wall Poincaré section, H = {self.table.H:g} κ, {self.orbits} orbits")
-        if own:
-            ax.figure.tight_layout()
+        with house_style():
+            ax, own = axes_or_new(ax, (7, 5))
+            cmap = plt.get_cmap("tab20" if self.orbits <= 20 else "turbo")
+            # one marker-only line per orbit rather than one scatter with a colour per point: Agg stamps a
+            # line's identical markers from one cached raster, ~10x faster for millions of points, and no
+            # (points, 4) colour array is built; orbits are drawn in order, as the scatter drew them
+            size = math.sqrt(markersize)
+            cuts = np.flatnonzero(np.diff(self.orbit)) + 1
+            runs = zip(np.r_[0, cuts], np.r_[cuts, self.orbit.size]) if self.orbit.size else ()
+            for first, last in runs:
+                k = int(self.orbit[first])
+                colour = cmap(k % 20 if self.orbits <= 20 else k / max(self.orbits - 1, 1))
+                ax.plot(self.theta[first:last], self.phi[first:last], linestyle="none", marker="o",
+                        markersize=size, markeredgewidth=0, color=colour, rasterized=True)
+            ax.grid(False)  # the points are the picture
+            ax.set_xlim(0, TWO_PI)
+            ax.set_ylim(-0.5 * math.pi, 0.5 * math.pi)
+            ax.set_xticks([k * 0.5 * math.pi for k in range(5)], ["0", "π/2", "π", "3π/2", "2π"])
+            ax.set_yticks([k * 0.25 * math.pi for k in range(-2, 3)], ["−π/2", "−π/4", "0", "π/4", "π/2"])
+            ax.set_xlabel("contact angle θ_c (rad)")
+            ax.set_ylabel("angle of incidence φ_c (rad)")
+            ax.set_title(title or f"bottom-wall Poincaré section of {wall_label(self.table.wall, name)}\n"
+                                  f"H = {self.table.H:g} κ, {self.orbits} orbits × {self.collisions} collisions "
+                                  f"({self.theta.size} points, one colour per orbit)")
+            if own:
+                ax.figure.tight_layout()
         return ax
 
     @safe_repr

@@ -1,4 +1,8 @@
-"""Figures as files: the format follows the output's extension (PNG for screens, SVG or PDF for papers)."""
+"""Figures as files: the format follows the output's extension (PNG for screens, SVG or PDF for papers).
+
+Every figure is made and written in the house style (:mod:`.style`): :func:`new_figure` and :func:`axes_or_new`
+create it, :func:`figure_bytes` writes it.
+"""
 
 from __future__ import annotations
 
@@ -10,17 +14,19 @@ from ..errors import OutputError
 __all__ = ["FIGURE_FORMATS", "axes_or_new", "figure_bytes", "new_figure"]
 
 FIGURE_FORMATS = (".png", ".svg", ".pdf")
-_DPI = 110
 
 
 def new_figure(*args, **kwargs):
-    """``matplotlib.pyplot.subplots`` on the non-interactive Agg backend (no display needed)."""
+    """``matplotlib.pyplot.subplots`` on the non-interactive Agg backend (no display needed), in the house style."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    return plt.subplots(*args, **kwargs)
+    from .style import house_style
+
+    with house_style():
+        return plt.subplots(*args, **kwargs)
 
 
 def axes_or_new(ax, figsize):
@@ -35,16 +41,20 @@ def axes_or_new(ax, figsize):
 def figure_bytes(fig, path: str, *, close: bool = True) -> bytes:
     """The content of ``fig`` in the format named by the extension of ``path`` (.png, .svg or .pdf).
 
-    SVG and PDF output carry no creation date, so the same figure gives the same bytes.
+    Written in the house style (150 dpi for PNG; text as TrueType in PDF).  SVG and PDF output carry no
+    creation date, so the same figure gives the same bytes.
     """
     ext = os.path.splitext(path)[1].lower()
     if ext not in FIGURE_FORMATS:
         raise OutputError(f"figure {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(FIGURE_FORMATS)}")
     import matplotlib.pyplot as plt
 
+    from .style import house_style
+
     buffer = io.BytesIO()
     metadata = {"svg": {"Date": None}, "pdf": {"CreationDate": None, "ModDate": None}}.get(ext[1:])
-    fig.savefig(buffer, format=ext[1:], dpi=_DPI, metadata=metadata)
+    with house_style():
+        fig.savefig(buffer, format=ext[1:], metadata=metadata)
     if close:
         plt.close(fig)
     return buffer.getvalue()

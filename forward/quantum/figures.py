@@ -1,6 +1,8 @@
 """Pictures of the quantum coin: |ψ|² in the strip, the orientation probability, the counting function with
 Weyl's curve, the spacing histogram and the doublet splitting on a log scale.  Each function returns a
-matplotlib figure (Agg backend, :func:`coinwall.forward.formats.figure.new_figure`) or draws on ``ax``."""
+matplotlib figure (Agg backend, :func:`coinwall.forward.formats.figure.new_figure`) or draws on ``ax``, in the house
+style (:mod:`coinwall.forward.formats.style`), titled with the wall (``name`` as the user wrote it, else the wall's
+description and parameters), H and the counts."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import math
 import numpy as np
 
 from ..formats.figure import axes_or_new
+from ..formats.style import plain_log_axis, styled, wall_label
 
 __all__ = [
     "level_grid",
@@ -42,77 +45,103 @@ def orientation_probability(spectrum, level: int):
     return mesh.theta, across * width
 
 
-def plot_density(spectrum, level: int = 0, ax=None):
-    """|ψ|² of level ``level`` in the (θ, η) strip, with both walls."""
-    ax, created = axes_or_new(ax, (8, 3))
+def _about(spectrum, name=None) -> str:
+    """The wall, H and b0 of a spectrum's strip, for a title."""
+    strip = spectrum.strip
+    return f"{wall_label(strip.table.wall, name)}, H = {strip.H:g} κ"
+
+
+def _angle_ticks(ax):
+    ax.set_xlim(0.0, 2.0 * math.pi)
+    ax.set_xticks([k * 0.5 * math.pi for k in range(5)], ["0", "π/2", "π", "3π/2", "2π"])
+
+
+@styled
+def plot_density(spectrum, level: int = 0, ax=None, name=None):
+    """|ψ|² of level ``level`` in the (θ, η) strip, with both walls and a colour bar."""
+    ax, created = axes_or_new(ax, (8, 3.2))
     theta, eta, density, triangles = level_grid(spectrum, level)
-    ax.tripcolor(theta, eta, triangles, density, shading="gouraud", cmap="magma")
+    image = ax.tripcolor(theta, eta, triangles, density, shading="gouraud", cmap="magma")
+    bar = ax.figure.colorbar(image, ax=ax, pad=0.015)
+    bar.set_label("|ψ|² (1/(rad·κ); ∫|ψ|² dθ dη = 1)")
     grid = np.linspace(0.0, 2.0 * math.pi, 1000)
     strip = spectrum.strip
     ax.plot(grid, strip.lo(grid), "k", lw=0.8)
     ax.plot(grid, strip.hi(grid), "k", lw=0.8)
-    ax.set_xlabel("θ")
-    ax.set_ylabel("η (κ)")
-    ax.set_title(f"|ψ|², level {level + 1}: λ = {spectrum.eigenvalues[level]:.6g} ({spectrum.classes[level]})",
-                 fontsize=9)
+    ax.grid(False)
+    _angle_ticks(ax)
+    ax.set_xlabel("orientation θ (rad)")
+    ax.set_ylabel("height of the centre η (κ)")
+    ax.set_title(f"|ψ|² of level {level + 1} ({spectrum.classes[level]}), "
+                 f"λ = {spectrum.eigenvalues[level]:.6g} /κ²\n"
+                 f"{_about(spectrum, name)}")
     if created:
         ax.figure.tight_layout()
     return ax.figure
 
 
-def plot_orientation(spectrum, levels=(0, 1), ax=None):
+@styled
+def plot_orientation(spectrum, levels=(0, 1), ax=None, name=None):
     """The probability density of the body's orientation θ for the given levels."""
-    ax, created = axes_or_new(ax, (6, 3.5))
+    ax, created = axes_or_new(ax, (6, 3.8))
     for level in levels:
         theta, density = orientation_probability(spectrum, level)
         ax.plot(theta, density, label=f"level {level + 1} ({spectrum.classes[level]})")
-    ax.set_xlabel("θ")
-    ax.set_ylabel("P(θ)")
-    ax.legend(fontsize=7)
+    _angle_ticks(ax)
+    ax.set_xlabel("orientation θ (rad)")
+    ax.set_ylabel("probability density P(θ) (1/rad)")
+    ax.set_title(f"orientation of the quantum body\n{_about(spectrum, name)}")
+    ax.legend()
     if created:
         ax.figure.tight_layout()
     return ax.figure
 
 
-def plot_counting(spectrum, ax=None):
+@styled
+def plot_counting(spectrum, ax=None, name=None):
     """The staircase N(λ) of the computed levels and Weyl's N̄(λ) (:mod:`.weyl`)."""
     from .weyl import weyl_count
 
     ax, created = axes_or_new(ax, (6, 4))
     values = np.asarray(spectrum.eigenvalues)
-    ax.step(values, np.arange(1, values.size + 1), where="post", lw=0.9, label="N(λ), computed")
+    ax.step(values, np.arange(1, values.size + 1), where="post", lw=1.0, label="N(λ), computed")
     grid = np.linspace(0.0, values.max() if values.size else 1.0, 400)
     ax.plot(grid, weyl_count(spectrum.strip, grid), "--", label="Weyl Aλ/4π − L√λ/4π + C")
-    ax.set_xlabel("λ (1/κ²)")
-    ax.set_ylabel("N(λ)")
-    ax.legend(fontsize=8)
+    ax.set_xlabel("eigenvalue λ (1/κ²)")
+    ax.set_ylabel("number of levels N(λ) (count)")
+    ax.set_title(f"{values.size} levels ({spectrum.method})\n{_about(spectrum, name)}")
+    ax.legend()
     if created:
         ax.figure.tight_layout()
     return ax.figure
 
 
-def plot_spacings(statistics, ax=None):
+@styled
+def plot_spacings(statistics, ax=None, name=None):
     """Histogram of unfolded spacings with the Poisson, Wigner and fitted Brody densities."""
     from .statistics import brody_pdf
 
-    ax, created = axes_or_new(ax, (5, 3.5))
+    ax, created = axes_or_new(ax, (5.4, 3.8))
     ax.hist(statistics.spacings, bins=30, range=(0, 4), density=True, alpha=0.5, label="spacings")
     s = np.linspace(0.0, 4.0, 300)
     ax.plot(s, np.exp(-s), label="Poisson")
     ax.plot(s, 0.5 * math.pi * s * np.exp(-0.25 * math.pi * s**2), label="GOE (Wigner)")
     ax.plot(s, brody_pdf(s, statistics.brody), "k--", lw=0.8, label=f"Brody q = {statistics.brody:.2f}")
-    ax.set_xlabel("s")
-    ax.set_ylabel("P(s)")
-    ax.legend(fontsize=8)
+    ax.set_xlabel("unfolded spacing s (mean spacing = 1)")
+    ax.set_ylabel("probability density P(s) (dimensionless)")
+    what = f"{np.size(statistics.spacings)} unfolded spacings"
+    ax.set_title(f"{what}: {name}" if name else what)
+    ax.legend()
     if created:
         ax.figure.tight_layout()
     return ax.figure
 
 
-def plot_splittings(splittings, ax=None):
+@styled
+def plot_splittings(splittings, ax=None, wall=None, name=None):
     """Δλ against H − D on a log scale: direct difference, flux formula and WKB exp(−S) (scaled to the flux
-    at the widest trusted neck)."""
-    ax, created = axes_or_new(ax, (6, 4))
+    at the widest trusted neck); the title names ``wall`` (or ``name``) and the levels and heights."""
+    ax, created = axes_or_new(ax, (6.4, 4.2))
     gap = np.array([s.gap for s in splittings])
     direct = np.array([s.direct if s.direct_trusted else np.nan for s in splittings])
     flux = np.array([s.flux if s.flux_trusted else np.nan for s in splittings])
@@ -123,9 +152,13 @@ def plot_splittings(splittings, ax=None):
     if trusted.size:
         k = trusted[np.argmax(gap[trusted])]
         ax.semilogy(gap, wkb * flux[k] / wkb[k], ":", label="WKB exp(−S), scaled")
-    ax.set_xlabel("H − D (κ)")
-    ax.set_ylabel("Δλ (1/κ²)")
-    ax.legend(fontsize=8)
+    plain_log_axis(ax.yaxis)
+    ax.set_xlabel("neck width H − D (κ)")
+    ax.set_ylabel("doublet splitting Δλ (1/κ²)")
+    heights = ", ".join(f"{s.H:g}" for s in splittings)
+    about = wall_label(wall, name) if (wall is not None or name) else "the wall"
+    ax.set_title(f"heads–tails tunnelling splitting of {about}\nH = {heights} κ")
+    ax.legend()
     if created:
         ax.figure.tight_layout()
     return ax.figure

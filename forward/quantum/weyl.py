@@ -98,14 +98,18 @@ class WeylCheck:
     def plot(self, ax=None):
         """The residual N − N̄ against λ."""
         from ..formats.figure import axes_or_new
+        from ..formats.style import house_style
 
-        ax, created = axes_or_new(ax, (6, 3.5))
-        ax.plot(self.eigenvalues, self.residual, ".", ms=3)
-        ax.axhline(0.0, color="k", lw=0.6)
-        ax.set_xlabel("λ (1/κ²)")
-        ax.set_ylabel("N(λ) − N̄(λ)")
-        if created:
-            ax.figure.tight_layout()
+        with house_style():
+            ax, created = axes_or_new(ax, (6, 3.5))
+            ax.plot(self.eigenvalues, self.residual, ".", ms=3)
+            ax.axhline(0.0, color="k", lw=0.6)
+            ax.set_xlabel("eigenvalue λ (1/κ²)")
+            ax.set_ylabel("N(λ) − N̄(λ) (levels)")
+            ax.set_title(f"Weyl's law: residual of {np.size(self.eigenvalues)} levels (A = {self.area:.4g} κ², "
+                         f"L = {self.wall_length:.4g} κ), rms {self.rms_residual:.3g}")
+            if created:
+                ax.figure.tight_layout()
         return ax.figure
 
     @safe_repr

@@ -3,7 +3,9 @@
 Both take the :class:`xarray.Dataset` of a store (``xarray.open_zarr(path)``) and return matplotlib Axes.
 Cells not computed (status 0) or refused (status 2) are left blank.  On a chaotic-fraction diagram of the
 paper's ellipse wall over ``eps``, the paper's fit ε = 1/H + 17/H² (eq. 20) and the closed-form limits
-ε*(H) and ε**(H) of :mod:`.islands` are drawn.
+ε*(H) and ε**(H) of :mod:`.islands` are drawn.  Both are drawn in the house style
+(:mod:`coinwall.forward.formats.style`): titles name the quantity, the wall and the cells, colour has a colour bar,
+log axes print one number format.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InvalidArgument
+from ..formats.style import plain_log_axis, styled
 from .islands import eps_star, eps_star_star, paper_boundary
 
 __all__ = ["plot_line", "plot_phase_diagram", "plot_scan"]
@@ -26,14 +29,24 @@ def _main_variable(dataset):
     return next(name for name in dataset.data_vars if name not in ("cell_seed", "cell_status"))
 
 
-def _plain_numbers(axis):
-    """0.5, 2, 40 on a log axis, not 5 × 10⁻¹ (as in dynamics/kam.py)."""
-    from matplotlib.ticker import ScalarFormatter
+def _about(dataset) -> str:
+    """The wall and its parameters as the store records them, for a title."""
+    import ast
 
-    axis.set_major_formatter(ScalarFormatter())
-    low, high = axis.get_view_interval()
-    if high < 10 * low:  # minor ticks labelled only when no decade is in view
-        axis.set_minor_formatter(ScalarFormatter())
+    wall, params = dataset.attrs.get("wall", ""), dataset.attrs.get("params", "")
+    try:  # the driver stores the fixed parameters as the repr of a dict
+        params = ast.literal_eval(params) if isinstance(params, str) and params else params
+    except (ValueError, SyntaxError):
+        pass
+    if isinstance(params, dict):
+        params = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in params.items())
+    return f"{wall}{', ' + str(params) if params else ''}"
+
+
+def _units(array) -> str:
+    """The units of a store's array as a label writes them (κ, dimensionless)."""
+    units = str(array.attrs.get("units", "") or "")
+    return {"": "dimensionless", "1": "dimensionless", "kappa": "κ", "1/kappa**2": "1/κ²"}.get(units, units)
 
 
 def _values(dataset, variable):
@@ -61,6 +74,7 @@ def _is_log(values):
     return bool(np.allclose(ratios, ratios[0], rtol=1e-6) and not np.allclose(np.diff(v), v[1] - v[0], rtol=1e-6))
 
 
+@styled
 def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     """The 2-d map of ``variable`` over (H, parameter), with the ellipse wall's curves when they apply.
 
@@ -88,27 +102,32 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     data = np.ma.masked_invalid(_values(dataset, variable))
     mesh = ax.pcolormesh(_edges(H, False), _edges(p, log), data, shading="flat", cmap="viridis")
     bar = ax.figure.colorbar(mesh, ax=ax)
-    bar.set_label(f"{variable} ({dataset[variable].attrs.get('units', '')})")
+    bar.set_label(f"{variable} ({_units(dataset[variable])})")
     if log:
         ax.set_yscale("log")
-        from matplotlib.ticker import ScalarFormatter
-
-        ax.yaxis.set_major_formatter(ScalarFormatter())
     if curves and name == "eps" and dataset.attrs.get("wall") == ELLIPSE_WALL and dataset.attrs.get("kappa") == "none":
         grid = np.linspace(max(H.min(), 1.2), H.max(), 60)
-        ax.plot(grid, paper_boundary(grid), "w-", lw=2, label=r"paper: $1/H + 17/H^2$")
+        import matplotlib.patheffects as effects
+
+        ax.plot(grid, paper_boundary(grid), "w-", lw=2, label=r"paper: $1/H + 17/H^2$",
+                path_effects=[effects.Stroke(linewidth=3.2, foreground="k"), effects.Normal()])
         ax.plot(grid, [eps_star(h) for h in grid], "r--", lw=1.5, label=r"$\varepsilon^*(H)$: vertical orbit unstable")
         ax.plot(grid, [eps_star_star(h) for h in grid], "m:", lw=2, label=r"$\varepsilon^{**}(H)$: tilted orbit unstable")
         ax.set_ylim(_edges(p, log)[0], _edges(p, log)[-1])
-        ax.legend(loc="upper right", fontsize=7, framealpha=0.8)
-    ax.set_xlabel(f"wall distance H ({dataset['H'].attrs.get('units', '')})")
-    ax.set_ylabel(f"{name}")
-    ax.set_title(f"{variable}: {dataset.attrs.get('wall', '')}", fontsize=9)
+        ax.legend(loc="upper right", fontsize=7, frameon=True, framealpha=0.8)
+    if log:
+        plain_log_axis(ax.yaxis)
+    ax.grid(False)  # the cells are the picture
+    ax.set_xlabel(f"wall distance H ({_units(dataset['H'])})")
+    ax.set_ylabel(f"wall parameter {name} ({_units(dataset[name])})")
+    done = int(np.count_nonzero(np.asarray(dataset["cell_status"].values) == 1))
+    ax.set_title(f"{variable} on {p.size} {name} × {H.size} H cells ({done} computed)\n{_about(dataset)}")
     if own:
         ax.figure.tight_layout()
     return ax
 
 
+@styled
 def plot_line(dataset, variable=None, ax=None):
     """``variable`` against H with error bars from ``<variable>_stderr`` (one line per other coordinate)."""
     from ..formats.figure import axes_or_new
@@ -126,14 +145,14 @@ def plot_line(dataset, variable=None, ax=None):
         other = dims[0]
         for k, v in enumerate(dataset[other].values):
             ax.errorbar(H, values[k], yerr=errors[k], fmt="o-", capsize=3, label=f"{other} = {v:.4g}")
-        ax.legend(fontsize=7)
-    units = dataset[variable].attrs.get("units", "")
+        ax.legend()
+    units = _units(dataset[variable])
     if np.nanmin(values, initial=np.inf) > 0:
         ax.set_yscale("log")
-        _plain_numbers(ax.yaxis)
-    ax.set_xlabel(f"wall distance H ({dataset['H'].attrs.get('units', '')})")
+        plain_log_axis(ax.yaxis)
+    ax.set_xlabel(f"wall distance H ({_units(dataset['H'])})")
     ax.set_ylabel(f"{variable} ({units})")
-    ax.set_title(f"{variable}: {dataset.attrs.get('wall', '')} {dataset.attrs.get('params', '')}", fontsize=9)
+    ax.set_title(f"{variable} against H ({H.size} heights)\n{_about(dataset)}")
     if own:
         ax.figure.tight_layout()
     return ax

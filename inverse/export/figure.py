@@ -1,53 +1,125 @@
-"""The body as a figure: the outline beside the wall function and ρ = b0 + b + b''.
+"""The body as a figure: the outline beside the wall function and its radius of curvature ρ.
 
-Written as PNG (``png.py``) or PDF (``pdf.py``) through :func:`coinwall.forward.formats.figure.figure_bytes`.
-A body's ``.svg`` is the exact drawing (``svg.py``), not this figure.
+Written as PNG (``png.py``) or PDF (``pdf.py``) through :func:`coinwall.forward.formats.figure.figure_bytes`, in
+the house style (:mod:`coinwall.forward.formats.style`).  A body's ``.svg`` is the exact drawing (``svg.py``),
+not this figure.
+
+The ρ panel shows what decided the regime: for a formula wall ``ρ = b0 + b + b''`` from the exact derivatives;
+for a sampled wall the discrete radius of curvature of the samples themselves
+(:func:`coinwall.inverse.discrete.discrete_support`, ``ρ_i + b0``) with the band their rounding allows — never the
+second derivative of an interpolant, which is the interpolant's noise, not the data's.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
+from coinwall.forward.formats.style import PALETTE, shade_angle_window, styled, wall_label
 
-__all__ = ["figure", "write_figure"]
+__all__ = ["figure", "sampled_curvature", "write_figure"]
+
+_WINDOW = dict(color=PALETTE[4], alpha=0.18, lw=0)
 
 
-def _legend_below(ax):
+def _legend_below(ax, ncol=2):
     """The legend under the axes, off the curves."""
     # anchored a fixed distance below the axes (in font sizes), clear of the tick and axis labels whatever
     # the panel's height (the outline panel is short: its aspect is equal)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=4.5, ncol=2, fontsize=8, frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=4.5, ncol=ncol)
 
 
-def figure(body):
-    """A matplotlib figure: outline | prescribed vs achieved wall | radius of curvature."""
+def _angle_axis(ax):
+    ax.set_xlim(0.0, TWO_PI)
+    ax.set_xticks([k * 0.5 * math.pi for k in range(5)], ["0", "π/2", "π", "3π/2", "2π"])
+    ax.set_xlabel("wall angle θ (rad)")
+
+
+def _shade_windows(ax, body, label=True):
+    for k, c in enumerate(body.corners):
+        lo, hi = c.window
+        shade_angle_window(ax, lo, hi, label="corner window" if (label and k == 0) else None, **_WINDOW)
+
+
+def sampled_curvature(body):
+    """``(theta, rho, tolerance)`` of a sampled wall's body: the discrete radius of curvature of the samples plus
+    b0 (:func:`~coinwall.inverse.discrete.discrete_support`) and its rounding tolerance; None for a formula wall."""
+    from coinwall.inverse.discrete import discrete_support, machine_rounding
+
+    if body.wall.samples is None:
+        return None
+    theta, b = body.wall.samples
+    rounding = body.wall.sample_rounding if body.wall.sample_rounding is not None else machine_rounding(b)
+    support = discrete_support(theta, b, rounding)
+    return theta, support.rho + body.b0, support.rho_tolerance
+
+
+def _rho_panel(ax, body):
+    data = sampled_curvature(body)
+    ax.axhline(0, color="0.3", lw=0.8)
+    _shade_windows(ax, body, label=False)
+    if data is None:
+        theta = np.linspace(0, TWO_PI, 1200)
+        b, _, d2 = body.wall.derivatives(theta)
+        ax.plot(theta, body.b0 + b + d2, "k-", label="ρ = b0 + b + b″")
+        ax.set_title(f"radius of curvature; b_c = {body.b_c:.6g}")
+        return
+    theta, rho, tol = data
+    closed = np.append(theta, theta[0] + TWO_PI)
+    ax.fill_between(closed, np.append(rho - tol, rho[0] - tol[0]), np.append(rho + tol, rho[0] + tol[0]),
+                    color=PALETTE[5], alpha=0.35, lw=0, label="± rounding of the samples")
+    ax.plot(theta, rho, "k.-", lw=0.6, ms=2.5 if theta.size <= 2000 else 0,
+            label=f"discrete ρ + b0 ({theta.size} samples)")
+    lower, upper = body.b_c_lower, body.b_c_upper
+    if lower is not None and upper is not None and math.isfinite(lower) and math.isfinite(upper):
+        ax.axhspan(body.b0 - upper, body.b0 - lower, facecolor="none", edgecolor=PALETTE[1], lw=1.0, ls="--",
+                   zorder=3, label="b0 − b_c: certified interval of min ρ + b0")
+        ax.set_title(f"radius of curvature of the data; b_c ∈ [{lower:.4g}, {upper:.4g}]")
+    else:
+        ax.set_title(f"radius of curvature of the data; b_c = {body.b_c:.6g}")
+    # vertex windows have ρ + b0 ≈ b0 and the edges between them spikes of the edge length over the spacing:
+    # show the part that decides the regime (around 0 and the bulk of the samples), say what is off scale
+    lo, hi = np.percentile(rho, [2, 90])
+    pad = max(0.15 * (hi - lo), 2 * float(np.median(tol)), 0.05 * max(abs(body.b0), 1e-3))
+    bottom, top = min(lo, 0.0, body.b0 - (upper or body.b_c)) - pad, max(hi, 0.0) + pad
+    if rho.max() > top or rho.min() < bottom:
+        ax.set_ylim(bottom, top)
+        off = int(np.count_nonzero((rho > top) | (rho < bottom)))
+        ax.text(0.99, 0.98, f"{off} samples off scale (up to {rho.max():.3g})", transform=ax.transAxes,
+                ha="right", va="top", fontsize=7.5, color="0.2",
+                bbox=dict(facecolor="white", edgecolor="none", alpha=0.85, pad=1.5))
+
+
+@styled
+def figure(body, name=None):
+    """A matplotlib figure: outline | prescribed vs achieved wall | radius of curvature, titled with the wall
+    (``name`` as the user wrote it, default the wall's description), b0, the regime and the outline's nodes."""
     from coinwall.forward.formats.figure import new_figure
 
-    fig, (ax0, ax1, ax2) = new_figure(1, 3, figsize=(14, 4.8))
+    fig, (ax0, ax1, ax2) = new_figure(1, 3, figsize=(14, 4.8), layout="constrained")
     body.plot(ax0)
-    ax0.set_xlabel("x / κ")
-    ax0.set_ylabel("y / κ")
+    ax0.set_title(f"outline: area {body.area:.4g} κ², {len(body.corners)} corners")
     _legend_below(ax0)
     theta = np.linspace(0, TWO_PI, 1200)
-    wall = body.b0 + body.wall(theta)
-    ax1.plot(theta, wall, "k-", label="prescribed b0 + b(θ)")
-    ax1.plot(theta, body.outline.support(theta), "--", color="tab:orange", label="wall of the body")
-    for c in body.corners:
-        lo, hi = c.window
-        ax1.axvspan(lo % TWO_PI, (lo % TWO_PI) + (hi - lo), color="tab:orange", alpha=0.15)
-    ax1.set_xlabel("θ (rad)")
-    ax1.set_ylabel("distance to wall / κ")
-    _legend_below(ax1)
-    ax1.set_title(f"max |wall error| = {body.max_wall_error:.1e}")
-    b, _, d2 = body.wall.derivatives(theta)
-    ax2.plot(theta, body.b0 + b + d2, "k-", label="ρ = b0 + b + b''")
-    ax2.axhline(0, color="tab:red", lw=0.8)
-    ax2.set_xlabel("θ (rad)")
-    ax2.set_ylabel("radius of curvature ρ / κ")
-    ax2.set_title(f"b_c = {body.b_c:.6g}")
+    ax1.plot(theta, body.b0 + body.wall(theta), "k-", label="prescribed b0 + b(θ)")
+    ax1.plot(theta, body.outline.support(theta), "--", color=PALETTE[1], label="wall of the body")
+    if body.wall.samples is not None:
+        ts, bs = body.wall.samples
+        ax1.plot(ts, body.b0 + bs, ".", color="0.35", ms=2, label=f"{ts.size} samples")
+    _shade_windows(ax1, body)
+    _angle_axis(ax1)
+    ax1.set_ylabel("distance from centre of mass to wall (κ)")
+    ax1.set_title(f"wall; max |wall error| = {body.max_wall_error:.1e} κ")
+    _legend_below(ax1, ncol=2)
+    _rho_panel(ax2, body)
+    _angle_axis(ax2)
+    ax2.set_ylabel("radius of curvature ρ (κ)")
     _legend_below(ax2)
-    fig.tight_layout()
+    regime = body.regime if body.regime_decided else f"undecided ({' or '.join(body.regimes)})"
+    fig.suptitle(f"Body of the wall {wall_label(body.wall, name)}: b0 = {body.b0:g} κ, {regime}, "
+                 f"b_c = {body.b_c:.6g}")
     return fig
 
 
