@@ -666,7 +666,8 @@ function clearBilliard() {
   stopBeam();
   state.sections = [];
   $("section-points").replaceChildren();
-  $("billiard-status").textContent = "";
+  $("billiard-status").textContent = "Click the table to send a beam; each click adds its central orbit to the " +
+    "Poincaré section, and the body beside it moves as that orbit says.";
 }
 
 // ---------------------------------------------------------------------------------------------- start
