@@ -11,6 +11,7 @@ import contextlib
 import io
 import json
 import math
+import types
 import warnings
 import xml.etree.ElementTree as ET
 
@@ -43,7 +44,8 @@ def client():
 
     app.add_route("/api/test-guarded-bug", guarded_bug, methods=["POST"])
     app.add_route("/api/test-bare-bug", bare_bug, methods=["POST"])
-    with TestClient(app, raise_server_exceptions=False) as test_client:
+    # the server answers the Host it is bound to (127.0.0.1), not TestClient's default "testserver"
+    with TestClient(app, raise_server_exceptions=False, base_url="http://127.0.0.1:8765") as test_client:
         yield test_client
 
 
@@ -69,6 +71,67 @@ def test_default_case_has_b_c_minus_one_half_as_coinwall_critical_prints_it(clie
     assert printed.split()[1] == info["b_c_text"] == "-0.5"
     low, high = info["range"]
     assert low < info["b_c"] < high  # the slider crosses b_c
+
+
+def test_b_c_prints_at_its_precision(client):
+    # the coin: ε = 99, b_c = −1/(1+ε) = −0.01 (computed as −0.0099999999999999)
+    info = client.post("/api/wall", json={"case": "coin"}).json()
+    assert info["b_c"] == pytest.approx(-0.01, abs=1e-12) and info["b_c_text"] == "-0.01"
+
+
+def test_parameters_follow_the_expression(client):
+    # a value left over from the previous wall is dropped, not refused
+    info = client.post("/api/wall", json={"expression": "1 + 0.3*cos(2*t)", "params": "eps=1"})
+    assert info.status_code == 200, info.text
+    assert info.json()["params"] == [] and info.json()["b_c_text"] == "-0.1"  # b + b'' = 1 − 0.9 cos 2θ
+    # a new name gets a value (and the page a slider); the values given are used, in the order of the text
+    info = client.post("/api/wall", json={"expression": "a*cos(2*t) + 1", "params": {}}).json()
+    assert info["params"] == [["a", explore_app_compute().PARAM_DEFAULT]]
+    info = client.post("/api/wall", json={"expression": "1 + a*cos(2*t) + c*cos(3*t)",
+                                          "params": {"c": 0.01, "a": 0.1, "gone": 3}}).json()
+    assert info["params"] == [["a", 0.1], ["c", 0.01]]
+    body = client.post("/api/body", json={"expression": "1 + a*cos(2*t)", "params": {"a": 0.1}, "b0": 0}).json()
+    assert body["regime"] == "convex" and body["wall"][0] == pytest.approx(1.1)
+
+
+def explore_app_compute():
+    from coinwall.cases.explore import compute
+
+    return compute
+
+
+def test_a_new_wall_starts_at_b0_0_with_room_to_move(client):
+    info = client.post("/api/wall", json={"expression": "1 + 0.1*cos(3*t)"}).json()
+    assert info["b0"] == 0 and info["range"][0] < info["b_c"] < info["range"][1]
+    assert info["H"] == pytest.approx(1.5 * 2, rel=0.05)  # 1.5 × the body's width (constant width 2)
+    assert client.post("/api/wall", json={"case": "appendix-corner", "b0": -0.6}).json()["b0"] == -0.6  # a case's b0
+    # a drawing 40 units wide comes back at its own size (b0 = 0), with a slider and an H of its scale
+    svg = (b'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">'
+           b'<ellipse cx="50" cy="50" rx="20" ry="12"/></svg>')
+    info = client.post("/api/upload?name=e.svg", content=svg).json()
+    assert info["b0"] == 0 and info["range"][0] < -10 and info["range"][1] > 5
+    assert info["H"] == pytest.approx(60)  # 1.5 × 40
+    body = client.post("/api/body", json={"upload": info["upload"], "b0": info["b0"]}).json()
+    assert body["area"] == pytest.approx(math.pi * 20 * 12, rel=1e-3)
+    table = client.post("/api/table", json={"upload": info["upload"], "b0": 0, "H": info["H"]})
+    assert table.status_code == 200, table.text
+    # a wall of samples after it starts at b0 = 0 too
+    text = "theta,b\n" + "".join(f"{2 * math.pi * k / 64!r},{1 + 0.1 * math.cos(6 * math.pi * k / 64)!r}\n"
+                                 for k in range(64))
+    assert client.post("/api/upload?name=wall.csv", content=text.encode()).json()["b0"] == 0
+
+
+def test_messages_speak_the_page_language(client):
+    from coinwall.cases.explore.worker import page_words
+
+    assert "--" not in page_words("unknown name 'x'; declare it with --param x=VALUE")
+    assert page_words("no κ (--allow-unrealizable)") == "no κ"
+    for request_json in ({"expression": "1 + cos(", "params": ""}, {"expression": "1 + x_*cos(2*t)", "params": "x_=a"},
+                         {"expression": "1 + ε*cos(2*t)"}, {"expression": "exp(t)"}):
+        answer = client.post("/api/wall", json=request_json)
+        assert answer.status_code == 400 and "--" not in answer.json()["error"], answer.text
+    answer = client.post("/api/export", json=dict(ELLIPSE, b0=-0.3, format="svg", kappa=10, units="mm"))
+    assert answer.status_code == 400 and "--" not in answer.json()["error"]
 
 
 @pytest.mark.parametrize(("b0", "regime", "corners"), [(-0.3, "convex", 0), (-0.5, "critical", 0), (-0.6, "corner", 2)])
@@ -107,7 +170,6 @@ def test_exports(client, fmt):
 
 @pytest.mark.parametrize(("request_json", "field", "words"), [
     ({"expression": "1 + cos(", "params": ""}, "wall", "never closed"),
-    ({"expression": "1 + eps*cos(2*t)", "params": ""}, "wall", "unknown name 'eps'"),
     ({"expression": "__import__('os')", "params": ""}, "wall", "not allowed"),
     ({"expression": "/etc/passwd.csv", "params": ""}, "wall", "syntax error"),  # never read as a file
     ({"expression": "1 + eps*cos(2*t)", "params": "eps=x"}, "params", "eps"),
@@ -146,6 +208,83 @@ def test_bad_requests_and_limits(client, monkeypatch):
     monkeypatch.setattr(explore_app, "MAX_UPLOAD_BYTES", 1000)
     answer = client.post("/api/upload?name=w.csv", content=b"0" * 2000)
     assert answer.status_code == 413
+
+
+def test_host_and_origin(client):
+    answer = client.post("/api/wall", json=ELLIPSE, headers={"Host": "evil.example"})  # DNS rebinding
+    assert answer.status_code == 400
+    assert client.get("/", headers={"Host": "attacker.example:8765"}).status_code == 400
+    assert client.get("/", headers={"Host": "localhost:8765"}).status_code == 200
+    answer = client.post("/api/wall", json=ELLIPSE, headers={"Origin": "http://evil.example"})  # another site
+    assert answer.status_code == 403 and "error" in answer.json()
+    answer = client.post("/api/wall", json=ELLIPSE, headers={"Origin": "null"})
+    assert answer.status_code == 403
+    assert client.post("/api/wall", json=ELLIPSE, headers={"Origin": "http://127.0.0.1:8765"}).status_code == 200
+    assert client.post("/api/wall", json=ELLIPSE).status_code == 200  # not a browser: no Origin
+    assert explore_app.allowed_hosts("127.0.0.1") == sorted({"127.0.0.1", "localhost", "::1", "[::1]"})
+    assert explore_app.allowed_hosts("192.168.1.5") == ["192.168.1.5"]
+
+
+@pytest.mark.parametrize(("route", "content", "field"), [
+    ("/api/body", b'{"expression": "1", "b0": ' + b"1" * 5000 + b"}", None),  # over Python's 4,300 digits
+    ("/api/body", b'{"expression": "1", "b0": ' + b"1" * 4000 + b"}", None),
+    ("/api/body", b'{"expression": "1", "b0": 0.' + b"1" * 4000 + b"}", None),
+    ("/api/table", b'{"expression": "1", "b0": 0, "H": 1' + b"0" * 400 + b"}", None),
+    ("/api/body", b'{"expression": "1", "b0": NaN}', None),
+    ("/api/wall", b'{"upload": [1, 2]}', "upload"),
+    ("/api/wall", b'{"upload": {"a": 1}}', "upload"),
+    ("/api/wall", b'{"case": 3}', "case"),
+    ("/api/wall", b'{"expression": ["1"]}', "wall"),
+    ("/api/wall", b'{"expression": "1 + a*cos(t)", "params": [1]}', "params"),
+    ("/api/wall", b'{"expression": "1 + a*cos(t)", "params": {"a": "x"}}', "params"),
+    ("/api/wall", b'{"expression": "1 + a*cos(t)", "params": {"a": 1e308, "b": 2}}', "wall"),
+    ("/api/beam", b'{"expression": "1", "b0": 0, "H": 3, "theta": [1], "eta": 1.5}', None),
+])
+def test_odd_requests_are_4xx_json_never_a_bug(client, route, content, field):
+    answer = client.post(route, content=content)
+    assert 400 <= answer.status_code < 500 and answer.status_code != 422, answer.text
+    assert "internal error" not in answer.json()["error"] and "bug" not in answer.json()["error"]
+    if field:
+        assert answer.json()["field"] == field
+
+
+def test_oversize_upload_is_a_json_413_read_no_further(client, monkeypatch):
+    answer = client.post("/api/upload?name=w.csv", content=b"0" * (explore_app.MAX_UPLOAD_BYTES + 1))
+    assert answer.status_code == 413 and answer.json() == {"error": "the file is larger than 16 MiB", "field": "upload"}
+
+    class Streamed:  # a chunked request (no declared length): reading stops at the limit
+        headers = types.MappingProxyType({})
+        read = 0
+
+        async def stream(self):
+            for _ in range(1000):
+                Streamed.read += 1024
+                yield b"0" * 1024
+
+    with pytest.raises(explore_app.RequestError) as refused:
+        asyncio.run(explore_app._read_limited(Streamed(), 10 * 1024, "upload"))
+    assert refused.value.status == 413 and Streamed.read == 11 * 1024
+
+
+def test_uploads_wait_for_a_slot_and_too_many_are_refused(client, monkeypatch):
+    assert client.app.state.upload_slots._value == explore_app.MAX_CONCURRENT_UPLOADS
+    monkeypatch.setattr(explore_app, "MAX_WAITING_UPLOADS", 0)  # every slot taken: refused before reading
+    answer = client.post("/api/upload?name=w.csv", content=b"theta,b\n0,1\n")
+    assert answer.status_code == 503 and answer.json()["field"] == "upload" and "busy" in answer.json()["error"]
+
+
+def test_a_client_disconnect_is_logged_as_such(caplog):
+    from starlette.requests import Request
+
+    async def receive():
+        return {"type": "http.disconnect"}
+
+    scope = {"type": "http", "method": "POST", "path": "/api/wall", "headers": [], "query_string": b"",
+             "scheme": "http", "server": ("127.0.0.1", 8765)}
+    handler = explore_app._job("wall")
+    with caplog.at_level("INFO", logger="coinwall.explore"):
+        asyncio.run(handler(Request(scope, receive)))
+    assert "disconnected" in caplog.text and "internal error" not in caplog.text
 
 
 def test_uploads(client):

@@ -202,9 +202,80 @@ def test_download_is_a_valid_svg(browser, downloads):
     assert _errors(browser) == []
 
 
+def test_typing_a_wall_after_the_start_page_needs_no_parameter(browser, server):
+    # the page opens with eps = 1 for the Appendix wall; a wall without eps must simply work (b + b'' = 1 − 0.9 cos 2θ)
+    browser.get(server[0])
+    _wait(lambda: browser.execute_script("return document.body.dataset.ready"), "the page to load")
+    assert browser.find_elements(By.ID, "param-eps")
+    _type(browser, "wall", "1 + 0.3*cos(2*t)")
+    _wait(lambda: _text(browser, "bc") == "-0.1", "b_c of the typed wall", 10)
+    assert _text(browser, "wall-error") == "" and browser.find_elements(By.ID, "param-eps") == []
+    assert float(browser.find_element(By.ID, "b0-number").get_attribute("value")) == 0  # a new wall: b0 = 0
+    assert _errors(browser) == []
+
+
+def test_a_new_name_gets_a_slider(browser):
+    _type(browser, "wall", "a*cos(2*t)+1")
+    slider = _wait(lambda: browser.find_elements(By.ID, "param-a"), "the slider of a", 10)[0]
+    assert slider.get_attribute("type") == "range"
+    bc = _wait(lambda: _text(browser, "bc"), "b_c")
+    browser.execute_script("const box = document.getElementById('param-a-value'); box.value = '0.1';"
+                           "box.dispatchEvent(new Event('change'))")  # b + b'' = 1 − 0.3 cos 2θ: b_c = −0.7
+    _wait(lambda: _text(browser, "bc") == "-0.7", "b_c to follow the parameter", 10)
+    assert bc != "-0.7" and browser.find_element(By.ID, "param-a-max").get_attribute("value") != ""
+    assert _errors(browser) == []
+
+
+def test_an_upload_starts_at_b0_0(browser, tmp_path):
+    drawing = tmp_path / "ellipse.svg"  # 40 units wide: the body comes back at its own size
+    drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">'
+                       '<ellipse cx="50" cy="50" rx="20" ry="12"/></svg>')
+    browser.find_element(By.ID, "upload").send_keys(str(drawing))
+    _wait(lambda: "uploaded" in browser.find_element(By.ID, "wall").get_attribute("value"), "the upload", 10)
+    _wait(lambda: "area 754" in _text(browser, "body-info"), "the drawing's body at its own size", 10)
+    assert float(browser.find_element(By.ID, "b0-number").get_attribute("value")) == 0
+    assert float(browser.find_element(By.ID, "H").get_attribute("value")) == 60  # 1.5 × its width
+    assert float(browser.find_element(By.ID, "b0").get_attribute("min")) < -10  # the slider is of its scale
+    _wait(lambda: browser.find_element(By.ID, "table-lower").get_attribute("d"), "the table", 10)
+    assert _text(browser, "billiard-error") == ""
+    assert _errors(browser) == []
+
+
+def _viewport(driver, width, height, mobile=False):
+    driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {"width": width, "height": height,
+                                                                   "deviceScaleFactor": 1, "mobile": mobile})
+    time.sleep(0.3)  # the plots are drawn again at their new size
+
+
+def test_billiard_pane_is_on_the_first_screen_at_1366x768(browser, shots):
+    try:
+        _viewport(browser, 1366, 768)
+        browser.execute_script("window.scrollTo(0, 0)")
+        box = browser.execute_script("const r = document.getElementById('billiard-pane').getBoundingClientRect();"
+                                     "return [r.left, r.top, r.right, r.bottom, innerWidth, innerHeight]")
+        left, top, right, bottom, width, height = box
+        assert 0 <= left and 0 <= top and right <= width and bottom <= height, box
+        _shot(browser, shots, "1366")
+    finally:
+        browser.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
+
+
+def test_no_horizontal_scroll_on_a_phone(browser, shots):
+    try:
+        _viewport(browser, 390, 844, mobile=True)
+        widths = browser.execute_script("return [document.documentElement.scrollWidth, document.body.scrollWidth, "
+                                        "innerWidth]")
+        assert max(widths[:2]) <= widths[2], widths
+        stacked = browser.execute_script("return ['controls', 'body-pane', 'billiard-pane'].map((id) => "
+                                         "document.getElementById(id).getBoundingClientRect().top)")
+        assert stacked == sorted(stacked) and stacked[1] > stacked[0] and stacked[2] > stacked[1]  # one column
+        _shot(browser, shots, "phone")
+    finally:
+        browser.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
+
+
 def test_typing_a_wall_updates_b_c_and_regime(browser, shots):
     # b = 1 + 0.1 cos 3θ: b + b'' = 1 − 0.8 cos 3θ, so b_c = −0.2 (the catalog's constant-width case)
-    _type(browser, "params", "")
     _type(browser, "wall", "1 + 0.1*cos(3*t)")
     _wait(lambda: _text(browser, "bc") == "-0.2", "b_c of the typed wall")
     regime = _wait(lambda: _text(browser, "regime"), "the regime")

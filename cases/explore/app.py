@@ -20,14 +20,22 @@ POST /api/beam     wall spec, b0, H, theta, eta, direction    trajectories + Poi
 
 A wall spec is ``{"expression": "...", "params": "eps=1"}``, ``{"case": "ellipse"}`` or
 ``{"upload": id}``.  Errors are JSON ``{"error": message, "field": name}`` with status 400 (bad
-input), 413 (too large), 408 (time limit), 503 (the worker died and was restarted) or 422 (a bug:
-the message says so); the page shows the message next to the field.  No route answers with a
+input), 413 (too large), 408 (time limit), 503 (the worker died and was restarted, or too many uploads at
+once) or 422 (a bug: the message says so); the page shows the message next to the field.  No route answers with a
 traceback or a bare 500 (:func:`guarded` and the exception handlers).  ``{"superseded": true}``
 (status 409) answers a request that a newer one of the same kind replaced before it ran.
+
+A local server is still a server: a request whose ``Host`` is not the address the server is bound to is
+refused (400, Starlette's ``TrustedHostMiddleware``: a web page cannot reach the API through a DNS name
+it controls), a POST whose ``Origin`` is not the page's own is refused (403: another site open in the
+same browser cannot drive it), at most :data:`MAX_CONCURRENT_UPLOADS` uploads are read at a time (the
+others wait, and :data:`MAX_WAITING_UPLOADS` waiting at most: 503 beyond), and a number of more than
+:data:`MAX_NUMBER_CHARS` characters in a JSON request is a 400.
 """
 
 from __future__ import annotations
 
+import asyncio
 import collections
 import contextlib
 import functools
@@ -36,7 +44,8 @@ import json
 import logging
 import os
 
-__all__ = ["LIMITS", "MAX_JSON_BYTES", "MAX_UPLOAD_BYTES", "STATIC", "RequestError", "create_app", "guarded"]
+__all__ = ["LIMITS", "MAX_CONCURRENT_UPLOADS", "MAX_JSON_BYTES", "MAX_NUMBER_CHARS", "MAX_UPLOAD_BYTES",
+           "MAX_WAITING_UPLOADS", "STATIC", "RequestError", "allowed_hosts", "create_app", "guarded"]
 
 #: the page and its assets, shipped in the package
 STATIC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "static")
@@ -44,6 +53,14 @@ STATIC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "static")
 MAX_JSON_BYTES = 64 * 2**10
 #: largest upload; the file readers then apply their own limits (forward/formats/inputfile.py MAX_BYTES)
 MAX_UPLOAD_BYTES = 16 * 2**20
+#: uploads read at the same time (each holds up to MAX_UPLOAD_BYTES, a few times over, until its worker has it)
+MAX_CONCURRENT_UPLOADS = 2
+#: uploads waiting for a slot; one more is answered 503 at once (a waiting upload holds ~64 KiB: uvicorn's buffer)
+MAX_WAITING_UPLOADS = 8
+#: seconds an upload waits for a slot
+_UPLOAD_WAIT = 60.0
+#: longest number literal in a JSON request (Python refuses integers over 4,300 digits with a ValueError)
+MAX_NUMBER_CHARS = 100
 #: uploads kept for a restarted worker (by id), the oldest dropped first
 _MAX_UPLOADS = 4
 #: time limits in seconds, per job (the first billiard of a wall compiles its numba kernel: ~10 s)
@@ -72,28 +89,55 @@ def _error(message, status, field=None):
     return JSONResponse({"error": message, "field": field}, status_code=status)
 
 
-async def _read_limited(request, limit: int) -> bytes:
-    """The request body, refused as soon as it exceeds ``limit`` bytes (a declared length is checked first)."""
+def _size(limit: int) -> str:
+    return f"{limit // 2**20} MiB" if limit >= 2**20 else f"{limit // 1024} KiB"
+
+
+async def _read_limited(request, limit: int, field=None) -> bytes:
+    """The request body, refused as soon as it exceeds ``limit`` bytes (a declared length is checked first,
+    before any byte of the body is read)."""
+    what = "the file" if field == "upload" else "the request"
     declared = request.headers.get("content-length")
     if declared is not None and (not declared.isdigit() or int(declared) > limit):
-        raise RequestError(f"the request is larger than {limit // 1024} KiB", 413)
+        raise RequestError(f"{what} is larger than {_size(limit)}", 413, field)
     chunks, size = [], 0
     async for chunk in request.stream():
         size += len(chunk)
         if size > limit:
-            raise RequestError(f"the request is larger than {limit // 1024} KiB", 413)
+            raise RequestError(f"{what} is larger than {_size(limit)}", 413, field)
         chunks.append(chunk)
     return b"".join(chunks)
+
+
+def _number(text: str, kind):
+    if len(text) > MAX_NUMBER_CHARS:
+        raise RequestError(f"a number in the request has {len(text)} characters; at most {MAX_NUMBER_CHARS}")
+    return kind(text)
+
+
+def _constant(text: str):
+    raise RequestError(f"{text} is not a number the page can use; give a finite number")
+
+
+#: request fields that must be text when given (anything else is a 400 naming the field)
+_TEXT_FIELDS = {"expression": "wall", "case": "case", "upload": "upload", "format": "format", "units": "kappa"}
 
 
 async def _read_json(request) -> dict:
     data = await _read_limited(request, MAX_JSON_BYTES)
     try:
-        value = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        value = json.loads(data.decode("utf-8"), parse_int=lambda t: _number(t, int),
+                           parse_float=lambda t: _number(t, float), parse_constant=_constant)
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:  # JSONDecodeError is a ValueError
         raise RequestError(f"the request is not JSON: {exc}") from None
     if not isinstance(value, dict):
         raise RequestError("the request must be a JSON object")
+    for key, field in _TEXT_FIELDS.items():
+        if value.get(key) is not None and not isinstance(value[key], str):
+            raise RequestError(f"`{key}` must be text, got {type(value[key]).__name__}", field=field)
+    params = value.get("params")
+    if params is not None and not isinstance(params, (str, dict)):
+        raise RequestError("the parameters must be NAME=VALUE pairs", field="params")
     return value
 
 
@@ -103,8 +147,14 @@ def guarded(handler):
 
     @functools.wraps(handler)
     async def wrapped(request):
+        from starlette.requests import ClientDisconnect
+        from starlette.responses import Response
+
         try:
             return await handler(request)
+        except ClientDisconnect:  # the page was closed or the request aborted: nobody reads an answer
+            log.info("explore: the client disconnected during %s", request.url.path)
+            return Response(status_code=400)
         except RequestError as exc:
             return _error(exc.message, exc.status, exc.field)
         except Superseded:
@@ -170,17 +220,33 @@ async def _upload(request):
     from starlette.responses import JSONResponse
 
     name = os.path.basename(request.query_params.get("name", ""))[:200]
-    data = await _read_limited(request, MAX_UPLOAD_BYTES)
-    if not data:
-        raise RequestError("the upload is empty", field="upload")
-    key = hashlib.sha256(data).hexdigest()[:16]
-    uploads = request.app.state.uploads
+    declared = request.headers.get("content-length")
+    if declared is not None and (not declared.isdigit() or int(declared) > MAX_UPLOAD_BYTES):
+        raise RequestError(f"the file is larger than {_size(MAX_UPLOAD_BYTES)}", 413, "upload")  # before waiting
+    state = request.app.state
+    if state.uploads_waiting >= MAX_WAITING_UPLOADS:
+        raise RequestError("the server is busy reading other files; try again in a moment", 503, "upload")
+    state.uploads_waiting += 1
+    try:
+        await asyncio.wait_for(state.upload_slots.acquire(), _UPLOAD_WAIT)
+    except TimeoutError:
+        raise RequestError("the server is busy reading other files; try again in a moment", 503, "upload") from None
+    finally:
+        state.uploads_waiting -= 1
+    try:  # one of MAX_CONCURRENT_UPLOADS slots: the body is read, hashed and handed to the worker
+        data = await _read_limited(request, MAX_UPLOAD_BYTES, "upload")
+        if not data:
+            raise RequestError("the file is empty", field="upload")
+        key = hashlib.sha256(data).hexdigest()[:16]
+        worker = state.workers["heavy"]
+        result = await worker.call("upload", {"upload_name": name, "upload_bytes": data}, timeout=LIMITS["upload"])
+    finally:
+        state.upload_slots.release()
+    uploads = state.uploads  # kept (for a restarted worker) only once it has been read as a wall
     uploads[key] = (name, data)
     uploads.move_to_end(key)
     while len(uploads) > _MAX_UPLOADS:
         uploads.popitem(last=False)
-    worker = request.app.state.workers["heavy"]
-    result = await worker.call("upload", {"upload_name": name, "upload_bytes": data}, timeout=LIMITS["upload"])
     return JSONResponse(result)
 
 
@@ -190,7 +256,62 @@ async def _index(request):
     return FileResponse(os.path.join(STATIC, "index.html"), headers={"Cache-Control": "no-store"})
 
 
-def create_app(*, warm: bool = True):
+_WILDCARDS = ("", "0.0.0.0", "::")
+_LOOPBACK_NAMES = ("localhost", "127.0.0.1", "::1", "[::1]")
+
+
+def allowed_hosts(host: str) -> list:
+    """The ``Host`` header values (without port) the server answers when bound to ``host``.
+
+    A loopback address answers its loopback names (``localhost``, ``127.0.0.1``, ``[::1]``); a named address
+    itself; a wildcard (``0.0.0.0``, ``::``) this machine's name and addresses.  Any other name is refused:
+    a page that points a DNS name of its own at this machine cannot read the API.
+    """
+    import ipaddress
+    import socket
+
+    host = host.strip().strip("[]").lower()
+    names = {host, f"[{host}]"} if ":" in host else {host}
+    try:
+        loopback = ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = host == "localhost"
+    if loopback:
+        names.update(_LOOPBACK_NAMES)
+    if host in _WILDCARDS:
+        names.discard(host)
+        names.update(_LOOPBACK_NAMES)
+        with contextlib.suppress(OSError):
+            for name in {socket.gethostname(), socket.getfqdn()}:
+                names.add(name.lower())
+                for info in socket.getaddrinfo(name, None):
+                    address = info[4][0]
+                    names.update({address, f"[{address}]"} if ":" in address else {address})
+    return sorted(n for n in names if n)
+
+
+class _SameOrigin:
+    """Refuse (403, JSON) a request other than GET/HEAD whose ``Origin`` is not the page's own
+    (``http://`` + the Host it was sent to); requests without ``Origin`` (not from a browser) pass."""
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] == "http" and scope["method"] not in ("GET", "HEAD", "OPTIONS"):
+            from starlette.datastructures import Headers
+
+            headers = Headers(scope=scope)
+            origin = headers.get("origin")
+            if origin is not None and origin.lower() != f"http://{headers.get('host', '')}".lower():
+                response = _error("this page may only be used from its own address (another site sent "
+                                  "this request)", 403)
+                await response(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
+
+
+def create_app(*, warm: bool = True, host: str = "127.0.0.1"):
     """The Starlette application (workers start with it and stop with it).
 
     Parameters
@@ -198,9 +319,13 @@ def create_app(*, warm: bool = True):
     warm : bool
         Start the worker processes at start-up (they import the library: a second or two), so the
         first slider move is fast.
+    host : str
+        The address the server is bound to: requests naming another host are refused (:func:`allowed_hosts`).
     """
     from starlette.applications import Starlette
     from starlette.exceptions import HTTPException
+    from starlette.middleware import Middleware
+    from starlette.middleware.trustedhost import TrustedHostMiddleware
     from starlette.routing import Mount, Route
     from starlette.staticfiles import StaticFiles
 
@@ -210,6 +335,8 @@ def create_app(*, warm: bool = True):
     async def lifespan(app):
         app.state.workers = {"live": Worker("live", warm=warm), "heavy": Worker("heavy", warm=warm)}
         app.state.uploads = collections.OrderedDict()
+        app.state.upload_slots = asyncio.Semaphore(MAX_CONCURRENT_UPLOADS)
+        app.state.uploads_waiting = 0
         try:
             yield
         finally:
@@ -234,5 +361,6 @@ def create_app(*, warm: bool = True):
         Route("/api/beam", _job("beam", channel="beam"), methods=["POST"]),
         Mount("/static", StaticFiles(directory=STATIC), name="static"),
     ]
-    return Starlette(routes=routes, lifespan=lifespan,
+    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=allowed_hosts(host)), Middleware(_SameOrigin)]
+    return Starlette(routes=routes, lifespan=lifespan, middleware=middleware,
                      exception_handlers={HTTPException: http_error, Exception: any_error})

@@ -22,9 +22,9 @@ import tempfile
 
 import numpy as np
 
-__all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_SECTION_COLLISIONS",
-           "MissingUpload", "beam", "body", "cases", "crash", "export", "field", "get_wall", "realize", "table",
-           "upload", "wall_info"]
+__all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
+           "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "crash", "export",
+           "field", "free_names", "get_wall", "realize", "table", "upload", "wall_info"]
 
 #: the case the page opens on: the paper's Appendix wall (ellipse ε = 1), b_c = −1/2, at b0 = −0.3 (convex)
 CASE_DEFAULT = "appendix-convex"
@@ -82,18 +82,70 @@ def _remember(key, wall):
     return wall
 
 
-def _params(spec) -> dict:
-    """``params``: a dict ``{name: value}`` or text ``"eps=1, a=0.5"`` (parsed by the library's parser)."""
+#: the value a parameter starts at when the expression first names it (the page gives it a slider)
+PARAM_DEFAULT = 0.5
+#: at most this many parameters (sliders) for one expression
+MAX_PARAMS = 12
+
+
+def free_names(text) -> list:
+    """The parameter names of an expression, in the order they first appear: every name that is not
+    ``t``/``theta``, a constant or a function (``[]`` if the text does not parse: the parser says why)."""
+    import ast
+
+    from coinwall.forward.expression import _NAME_RE, _RESERVED
+
+    if not isinstance(text, str) or len(text) > 2000:
+        return []
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return []
+    called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
+    names = []
+    for node in sorted((n for n in ast.walk(tree) if isinstance(n, ast.Name) and id(n) not in called),
+                       key=lambda n: (n.lineno, n.col_offset)):
+        ident = node.id
+        if ident not in names and ident not in _RESERVED and _NAME_RE.match(ident) and not ident.startswith("__"):
+            names.append(ident)
+    return names
+
+
+def _given_params(spec) -> dict:
+    """``params`` as given: a dict ``{name: value}`` or text ``"eps=1, a=0.5"`` (the library's parser)."""
     from coinwall.forward.errors import InvalidParameter
     from coinwall.forward.expression import parse_params
 
     raw = spec.get("params") or {}
     if isinstance(raw, str):
         items = [part.strip() for part in raw.replace(";", ",").replace("\n", ",").split(",") if part.strip()]
-        return parse_params(items)
+        return parse_params(items, what="parameter")
     if not isinstance(raw, dict):
-        raise InvalidParameter(f"`params` must be NAME=VALUE pairs, got {raw!r}")
+        raise InvalidParameter("the parameters must be NAME=VALUE pairs, e.g. eps=1")
     return {str(k): v for k, v in raw.items()}
+
+
+def _params(spec) -> dict:
+    """The parameters of the expression: one per free name of the expression (:func:`free_names`), its
+    value as given, else :data:`PARAM_DEFAULT`; values given for names the expression no longer uses are
+    dropped (the page's sliders follow the expression)."""
+    from coinwall.forward.errors import InvalidParameter
+
+    given = _given_params(spec)
+    names = free_names(spec.get("expression"))
+    if len(names) > MAX_PARAMS:
+        raise InvalidParameter(f"the expression has {len(names)} parameters ({', '.join(names[:MAX_PARAMS])}, …); "
+                               f"at most {MAX_PARAMS}")
+    out = {}
+    for name in names:
+        value = given.get(name, PARAM_DEFAULT)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InvalidParameter(f"parameter {name} must be a number, got {value!r}")
+        value = float(value)  # the JSON reader caps numbers at 100 characters: no overflow here
+        if not math.isfinite(value):
+            raise InvalidParameter(f"parameter {name} must be finite, got {value}")
+        out[name] = value
+    return out
 
 
 def get_wall(spec: dict):
@@ -170,22 +222,44 @@ def cases(request: dict) -> dict:
 
 
 def _bc_text(wall, result) -> str:
-    """b_c as ``coinwall critical`` prints it (the same tolerance rule)."""
+    """b_c at its precision: the digits down to its tolerance (`coinwall critical`'s rule), so the coin's
+    b_c = −1/100 prints as -0.01, not -0.0099999999999999."""
     from coinwall.cases.cli.solve import OFFSET_TOLERANCE
     from coinwall.forward.display import format_number
 
     if not math.isfinite(result.b_c):
         return "inf"
-    tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
+    fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
     if result.lower is not None:  # data: the certified interval, as `coinwall critical` prints it
-        fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
         return (f"{format_number(result.b_c, fine, 6)}, certified in [{format_number(result.lower, fine, 6)}, "
                 f"{format_number(result.upper, fine, 6)}]")
-    return format_number(result.b_c, tolerance, 15)
+    tolerance = max(fine, result.b_c_tolerance)
+    return format_number(result.b_c, tolerance, _digits(result.b_c, tolerance))
+
+
+def _digits(value: float, tolerance: float) -> int:
+    """Significant digits of ``value`` down to the decade of ``tolerance`` (1 to 15)."""
+    if value == 0 or tolerance <= 0:
+        return 15
+    return int(min(15, max(1, math.floor(math.log10(abs(value))) - math.floor(math.log10(tolerance)) + 1)))
+
+
+def _round(value: float, digits: int = 2) -> float:
+    """``value`` to ``digits`` significant digits (a starting H the reader can read)."""
+    if value == 0 or not math.isfinite(value):
+        return value
+    return round(value, digits - 1 - math.floor(math.log10(abs(value))))
 
 
 def wall_info(spec: dict) -> dict:
-    """The wall's critical offset (number and text), the slider range and a starting b0."""
+    """The wall's critical offset (number and text), its parameters, the slider range, b0 and H to start at.
+
+    A new wall starts at b0 = 0 (the body whose support function the wall is: a drawing comes back at its
+    own size) unless ``spec["b0"]`` is a number it keeps (a case's b0, or the page's b0 while a parameter
+    moves); b0 is raised above −min b (where the centre of mass would leave the body) if it must.  The
+    slider spans b0 and b_c with a margin of the wall's size, and H is 1.5 times the body's largest
+    width at that b0, so the body turns freely between the walls whatever the drawing's units.
+    """
     from coinwall.inverse import critical_offset
 
     wall = get_wall(spec)
@@ -197,22 +271,26 @@ def wall_info(spec: dict) -> dict:
 
             raise InvalidWall(f"wall {wall.description!r} is not finite at every angle")
     lo_b, hi_b = float(values.min()), float(values.max())
-    span = max(0.5, hi_b - lo_b, abs(result.b_c) if math.isfinite(result.b_c) else 0.0)
-    floor = -lo_b + 0.02 * span  # below it the centre of mass leaves the body
-    if math.isfinite(result.b_c):
-        low, high = max(result.b_c - 0.3 * span, floor), max(result.b_c, floor) + 1.5 * span
-    else:
-        low, high = floor, floor + 2 * span
+    size = max(abs(hi_b), abs(lo_b), 1e-9)  # the wall's scale: the drawing's units
+    floor = -lo_b + 0.01 * size  # below it the centre of mass leaves the body
     start = spec.get("b0")
-    if not (isinstance(start, (int, float)) and low <= start <= high):
-        start = (result.b_c + 0.4 * span) if math.isfinite(result.b_c) else low + 0.5 * span
-        start = min(max(start, low), high)
-    return {"description": wall.description, "b_c": _num(result.b_c), "b_c_text": _bc_text(wall, result),
-            "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": _num(result.b_c_tolerance),
-            "b_c_lower": _num(result.lower) if result.lower is not None else None,
-            "b_c_upper": _num(result.upper) if result.upper is not None else None,
-            "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
-            "range": [low, high], "b0": float(start), "sampled": wall.samples is not None}
+    if isinstance(start, bool) or not isinstance(start, (int, float)) or not math.isfinite(start) or start < floor:
+        start = 0.0 if floor < 0 else floor + 0.2 * size
+    start = float(start)
+    bc = result.b_c if math.isfinite(result.b_c) and result.b_c > floor - size else start
+    low = max(floor, min(start, bc) - 0.3 * size)
+    high = max(start, bc) + 0.5 * size
+    widths = 2 * start + values + np.roll(values, -values.size // 2)
+    H = _round(1.5 * float(widths.max()))
+    out = {"description": wall.description, "b_c": _num(result.b_c), "b_c_text": _bc_text(wall, result),
+           "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": _num(result.b_c_tolerance),
+           "b_c_lower": _num(result.lower) if result.lower is not None else None,
+           "b_c_upper": _num(result.upper) if result.upper is not None else None,
+           "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
+           "range": [low, high], "b0": start, "H": H, "sampled": wall.samples is not None, "params": None}
+    if not spec.get("case") and not spec.get("upload"):
+        out["params"] = [[name, value] for name, value in _params(spec).items()]
+    return out
 
 
 def _solve(spec: dict, points: int = LIVE_POINTS):

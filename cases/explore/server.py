@@ -58,7 +58,7 @@ def serve(host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, open_browser: b
     port = check_port(host, port)
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{shown}:{port}/"
-    app = create_app()
+    app = create_app(host=host)
 
     class Server(uvicorn.Server):
         def handle_exit(self, sig, frame):

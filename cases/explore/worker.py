@@ -22,9 +22,10 @@ import asyncio
 import contextlib
 import itertools
 import multiprocessing
+import re
 import threading
 
-__all__ = ["JobError", "Superseded", "Worker"]
+__all__ = ["JobError", "Superseded", "Worker", "page_words"]
 
 
 class JobError(Exception):
@@ -40,8 +41,26 @@ class Superseded(Exception):
     """A newer request of the same channel arrived while this one waited: it was not run."""
 
 
+#: the command line's words in the library's messages, and what the page calls the same thing
+_PAGE_WORDS = (
+    (re.compile(r";? *declare it with --param \S+"), ""),
+    (re.compile(r",? *or pass --degrees"), ""),
+    (re.compile(r" *\(pass --kappa to override\)"), ""),
+    (re.compile(r" *\(--allow-unrealizable\)"), ""),
+    (re.compile(r"--param\b"), "parameter"),
+    (re.compile(r"--(kappa|units|b0|H)\b"), r"\1"),
+)
+
+
+def page_words(text: str) -> str:
+    """A library message in the page's words: no command-line flags (the page has fields, not options)."""
+    for pattern, words in _PAGE_WORDS:
+        text = pattern.sub(words, text)
+    return text
+
+
 def _one_line(text, limit=600) -> str:
-    text = " ".join(str(text).split())
+    text = page_words(" ".join(str(text).split()))
     return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
@@ -67,7 +86,7 @@ def _child(conn) -> None:
             reply = ("missing-upload", str(exc), "upload")
         except CoinwallError as exc:
             reply = ("input", _one_line(exc), getattr(exc, "explore_field", None))
-        except (ValueError, TypeError, KeyError) as exc:  # a request field of the wrong type or missing
+        except (ValueError, TypeError, KeyError, OverflowError) as exc:  # a request field of the wrong type
             reply = ("input", _one_line(f"bad request value: {exc}"), getattr(exc, "explore_field", None))
         except MemoryError:
             reply = ("input", "not enough memory for this request; ask for less", None)

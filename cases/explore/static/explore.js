@@ -9,11 +9,15 @@ const $ = (id) => document.getElementById(id);
 const state = {
   wall: null,          // the wall spec the server knows: {expression, params} | {case} | {upload}
   b0: -0.3,
+  b0Step: 0.001,       // the slider's resolution (a thousandth of its range)
   bc: null,
   body: null,          // the last body drawn
+  table: null,         // the last billiard table drawn
   beam: null,          // the last beam (trajectories) and its animation
-  sectionColour: 0,
+  sections: [],        // the Poincaré sections of the clicks, in their colours
+  params: [],          // the expression's parameters, in order: {name, value, min, max}
 };
+const MAX_UPLOAD_BYTES = 16 * 2 ** 20;  // the server's limit (app.py): a larger file is refused before sending
 window.exploreTimings = [];  // slider input -> outline updated (ms), read by the browser tests
 
 const controllers = {};
@@ -61,9 +65,182 @@ function clearError(...ids) {
   if (ids.includes("wall-error")) $("wall").classList.remove("invalid");
 }
 
+// a number with at most `digits` significant digits, trailing zeros of the fraction dropped
 function fmt(x, digits = 6) {
-  if (x === null || x === undefined) return "—";
-  return Number(x).toPrecision(digits).replace(/\.?0+(e|$)/, "$1");
+  if (x === null || x === undefined || !Number.isFinite(Number(x))) return "—";
+  const text = Number(x).toPrecision(digits);
+  const [mantissa, exponent] = text.split("e");
+  const trimmed = mantissa.includes(".") ? mantissa.replace(/0+$/, "").replace(/\.$/, "") : mantissa;
+  return exponent === undefined ? trimmed : `${trimmed}e${Number(exponent)}`;
+}
+
+// a value shown at the precision of `step` (the slider's resolution): no 0.30000000000000004
+function atStep(x, step) {
+  const decimals = Math.max(0, Math.min(12, -Math.floor(Math.log10(step))));
+  return Number(Number(x).toFixed(decimals));
+}
+
+// ---------------------------------------------------------------------------------------------- plots
+// Every plot is drawn in pixels (its viewBox is its size on the screen), so ticks and labels keep their size;
+// world coordinates go through the scales x(), y() that frame() returns.
+const NS = "http://www.w3.org/2000/svg";
+
+function svgEl(name, attrs, parent, text) {
+  const node = document.createElementNS(NS, name);
+  for (const [k, v] of Object.entries(attrs || {})) node.setAttribute(k, v);
+  if (text !== undefined) node.textContent = text;
+  if (parent) parent.appendChild(node);
+  return node;
+}
+
+function niceStep(span, count) {
+  const raw = span / Math.max(1, count);
+  const power = 10 ** Math.floor(Math.log10(raw));
+  const f = raw / power;
+  return (f < 1.5 ? 1 : f < 3 ? 2 : f < 7 ? 5 : 10) * power;
+}
+
+function ticks(lo, hi, count) {
+  const step = niceStep(hi - lo || 1, count), out = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step) out.push(atStep(v, step));
+  return {values: out, step};
+}
+
+const THETA_TICKS = [[0, "0"], [Math.PI / 2, "π/2"], [Math.PI, "π"], [1.5 * Math.PI, "3π/2"], [2 * Math.PI, "2π"]];
+
+// Axes with ticks and labels.  opts: {x: [lo, hi], y: [lo, hi], xlabel, ylabel, theta (θ ticks on x), equal
+// (same scale on both axes, centred), margin}.  Returns {x, y, left, top, width, height, scale}.
+function frame(svg, axes, opts) {
+  const W = Math.max(50, svg.clientWidth), H = Math.max(50, svg.clientHeight);
+  svg.setAttribute("viewBox", `0 0 ${W} ${H}`);
+  const m = Object.assign({left: 42, right: 8, top: 8, bottom: 30}, opts.margin || {});
+  let [x0, x1] = opts.x, [y0, y1] = opts.y;
+  const width = W - m.left - m.right, height = H - m.top - m.bottom;
+  if (opts.equal) {  // one unit is as long on both axes: widen the shorter range
+    const s = Math.min(width / (x1 - x0), height / (y1 - y0));
+    const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+    [x0, x1] = [cx - width / s / 2, cx + width / s / 2];
+    [y0, y1] = [cy - height / s / 2, cy + height / s / 2];
+  }
+  const x = (v) => m.left + (v - x0) / (x1 - x0) * width;
+  const y = (v) => m.top + (y1 - v) / (y1 - y0) * height;
+  axes.replaceChildren();
+  const xt = opts.theta ? THETA_TICKS.map(([v, t]) => [v, t])
+    : (({values, step}) => values.map((v) => [v, fmt(atStep(v, step), 6)]))(ticks(x0, x1, Math.max(2, width / 70)));
+  const yt = ticks(y0, y1, Math.max(2, height / 40));
+  for (const [v, label] of xt) {
+    if (v < x0 - 1e-12 || v > x1 + 1e-12) continue;
+    svgEl("line", {class: "grid", x1: x(v), x2: x(v), y1: m.top, y2: m.top + height}, axes);
+    svgEl("line", {class: "axis", x1: x(v), x2: x(v), y1: m.top + height, y2: m.top + height + 4}, axes);
+    svgEl("text", {x: x(v), y: m.top + height + 14, "text-anchor": "middle"}, axes, label);
+  }
+  for (const v of yt.values) {
+    svgEl("line", {class: "grid", x1: m.left, x2: m.left + width, y1: y(v), y2: y(v)}, axes);
+    svgEl("line", {class: "axis", x1: m.left - 4, x2: m.left, y1: y(v), y2: y(v)}, axes);
+    svgEl("text", {x: m.left - 6, y: y(v) + 3, "text-anchor": "end"}, axes, fmt(atStep(v, yt.step), 6));
+  }
+  if (y0 < 0 && y1 > 0 && opts.zero !== false) {
+    svgEl("line", {class: "zero", x1: m.left, x2: m.left + width, y1: y(0), y2: y(0)}, axes);
+  }
+  svgEl("path", {class: "frame", d: `M${m.left} ${m.top}h${width}v${height}h${-width}Z`}, axes);
+  if (opts.xlabel) {
+    svgEl("text", {class: "label", x: m.left + width, y: H - 3, "text-anchor": "end"}, axes, opts.xlabel);
+  }
+  if (opts.ylabel) {
+    svgEl("text", {class: "label", x: 11, y: m.top + height / 2, "text-anchor": "middle",
+      transform: `rotate(-90 11 ${m.top + height / 2})`}, axes, opts.ylabel);
+  }
+  return {x, y, left: m.left, top: m.top, width, height, scale: width / (x1 - x0), x0, x1, y0, y1};
+}
+
+// ---------------------------------------------------------------------------------------------- parameters
+// Every free name of the expression has a slider with a number box; its range is shown at both ends and can be
+// typed.  The server says which names the expression uses (/api/wall answers "params"); names no longer used
+// disappear, new ones start at the server's value.
+function paramValues() {
+  return Object.fromEntries(state.params.map((p) => [p.name, p.value]));
+}
+
+function paramRange(value) {
+  if (value === 0) return [-1, 1];
+  return value > 0 ? [0, 2 * value] : [2 * value, 0];
+}
+
+function setParams(list) {
+  const old = Object.fromEntries(state.params.map((p) => [p.name, p]));
+  state.params = list.map(([name, value]) => {
+    if (old[name] && old[name].value === value) return old[name];
+    const [min, max] = old[name] && value >= old[name].min && value <= old[name].max
+      ? [old[name].min, old[name].max] : paramRange(value);
+    return {name, value, min, max};
+  });
+  const box = $("params");
+  const keep = new Set(state.params.map((p) => p.name));
+  for (const row of [...box.children]) if (!keep.has(row.dataset.name)) row.remove();
+  state.params.forEach((p, index) => {
+    let row = box.querySelector(`.param[data-name="${p.name}"]`);
+    if (!row) row = paramRow(p);
+    if (box.children[index] !== row) box.insertBefore(row, box.children[index] || null);
+    showParam(p);
+  });
+}
+
+function paramRow(p) {
+  const row = document.createElement("div");
+  row.className = "param"; row.dataset.name = p.name;
+  row.innerHTML = `<div class="head"><label for="param-${p.name}-value"></label>` +
+    `<input id="param-${p.name}-value" type="number" step="any" aria-label="value"></div>` +
+    `<div class="track"><input id="param-${p.name}-min" type="number" step="any" aria-label="smallest">` +
+    `<input id="param-${p.name}" type="range" step="any">` +
+    `<input id="param-${p.name}-max" type="number" step="any" aria-label="largest"></div>`;
+  row.querySelector("label").textContent = `${p.name} =`;
+  const find = (suffix) => row.querySelector(`#param-${CSS.escape(p.name)}${suffix}`);
+  const current = () => state.params.find((q) => q.name === p.name);
+  find("").addEventListener("input", (event) => {
+    const q = current(); q.value = atStep(Number(event.target.value), (q.max - q.min) / 1000);
+    find("-value").value = q.value;
+    paramChanged();
+  });
+  find("-value").addEventListener("change", (event) => {
+    const q = current(), value = Number(event.target.value);
+    if (event.target.value.trim() === "" || !Number.isFinite(value)) { find("-value").value = q.value; return; }
+    q.value = value;
+    if (value < q.min) q.min = value;
+    if (value > q.max) q.max = value;
+    showParam(q);
+    paramChanged();
+  });
+  for (const end of ["min", "max"]) {
+    find(`-${end}`).addEventListener("change", (event) => {
+      const q = current(), value = Number(event.target.value);
+      if (event.target.value.trim() !== "" && Number.isFinite(value)) q[end] = value;
+      if (q.min > q.max) [q.min, q.max] = [q.max, q.min];
+      if (q.min === q.max) q.max = q.min + 1;
+      const clamped = Math.min(q.max, Math.max(q.min, q.value));
+      const moved = clamped !== q.value;
+      q.value = clamped;
+      showParam(q);
+      if (moved) paramChanged();
+    });
+  }
+  return row;
+}
+
+function showParam(p) {
+  const id = `param-${p.name}`;
+  const slider = document.getElementById(id);
+  slider.min = p.min; slider.max = p.max; slider.step = niceStep(p.max - p.min, 1000); slider.value = p.value;
+  document.getElementById(`${id}-value`).value = p.value;
+  document.getElementById(`${id}-min`).value = p.min;
+  document.getElementById(`${id}-max`).value = p.max;
+}
+
+let paramTimer = null;
+function paramChanged() {
+  // the same wall with another parameter value: b0 and H stay, b_c and the body follow
+  clearTimeout(paramTimer);
+  $("case").value = "";
+  paramTimer = setTimeout(() => loadWall(typedWall(), {b0: state.b0, keep: true}), 60);
 }
 
 // ---------------------------------------------------------------------------------------------- the wall
@@ -72,26 +249,39 @@ function wallSpec() {
 }
 
 function typedWall() {
-  return {expression: $("wall").value, params: $("params").value};
+  return {expression: $("wall").value, params: paramValues()};
 }
 
 let wallTimer = null;
 function wallTyped() {
   clearTimeout(wallTimer);
   $("case").value = "";
-  wallTimer = setTimeout(() => loadWall(typedWall(), null), 250);
+  wallTimer = setTimeout(() => loadWall(typedWall(), {}), 250);
 }
 
-async function loadWall(spec, b0) {
-  const data = await call("wall", "/api/wall", Object.assign({}, spec, {b0: b0 === null ? state.b0 : b0}));
-  if (data.stale) return;
-  if (data.error) { showError(data, "wall-error"); return; }
+// Load a wall: a new one starts at the b0 the server proposes (0, a case's b0) and its H; {keep: true} (a
+// parameter moved) keeps b0 and H.
+async function loadWall(spec, how) {
+  const keep = Boolean(how.keep);
+  const b0 = how.b0 === undefined ? null : how.b0;
+  const data = await call("wall", "/api/wall", Object.assign({}, spec, {b0}));
+  if (data.stale) return false;
+  if (data.error) { showError(data, "wall-error"); return false; }
   clearError("wall-error", "upload-error", "status-error");
+  if (data.params) {
+    setParams(data.params);
+    spec = Object.assign({}, spec, {params: paramValues()});
+  }
   state.wall = spec;
   setCritical(data);
-  setRange(data.range, b0 === null ? data.b0 : b0);
+  setRange(data.range, data.b0);
+  if (!keep) {
+    $("H").value = how.H || data.H;
+    clearBilliard();
+  }
   await updateBody(null);
   refreshTable();
+  return true;
 }
 
 function setCritical(data) {
@@ -102,11 +292,17 @@ function setCritical(data) {
 
 function setRange(range, b0) {
   const slider = $("b0");
-  const lo = Math.min(range[0], b0), hi = Math.max(range[1], b0);
-  slider.min = lo; slider.max = hi; slider.step = "any";  // "any": a typed b0 is not rounded to a step
+  const step = niceStep(range[1] - range[0], 1000), coarse = niceStep(range[1] - range[0], 50);
+  // the ends on a round grid, inside the server's range (its low end keeps the centre of mass in the body)
+  const lo = atStep(Math.min(Math.ceil(range[0] / coarse) * coarse, Math.floor(b0 / step) * step), step);
+  const hi = atStep(Math.max(Math.floor(range[1] / coarse) * coarse, Math.ceil(b0 / step) * step), step);
+  slider.min = lo; slider.max = hi; slider.step = step;
   slider.value = b0;
   state.b0 = b0;
+  state.b0Step = step;
   $("b0-number").value = Number(b0.toPrecision(12));
+  $("b0-min").textContent = fmt(lo, 4);
+  $("b0-max").textContent = fmt(hi, 4);
   const mark = $("bc-mark");
   if (Number.isFinite(state.bc) && state.bc >= lo && state.bc <= hi) {
     const f = (state.bc - lo) / (hi - lo);
@@ -141,30 +337,10 @@ function drawBody(data) {
   $("realizable").className = "";
   $("body-outline").setAttribute("d", data.path);
   $("lab-outline").setAttribute("d", data.path);
-  const e = data.extent * 1.2;
-  $("body-view").setAttribute("viewBox", `${-e} ${-e} ${2 * e} ${2 * e}`);
-  $("com").setAttribute("r", 0.02 * data.extent);
   $("regime").textContent = data.regime;
   $("regime").className = `regime-${data.regime}`;
-  $("body-info").textContent = `${data.points} nodes, area ${fmt(data.area, 5)}, wall error ${fmt(data.max_wall_error, 2)}`;
-  const corners = $("corners"), windows = $("windows");
-  corners.replaceChildren(); windows.replaceChildren();
-  const ns = "http://www.w3.org/2000/svg";
-  for (const c of data.corners) {
-    const dot = document.createElementNS(ns, "circle");
-    dot.setAttribute("cx", c.x); dot.setAttribute("cy", c.y); dot.setAttribute("r", 0.035 * data.extent);
-    dot.setAttribute("class", "corner");
-    const title = document.createElementNS(ns, "title");
-    title.textContent = `corner at ${fmt(c.direction, 4)} rad, window ±${fmt(c.half_width, 4)}, deficit ${fmt(c.max_deficit, 3)}`;
-    dot.appendChild(title);
-    corners.appendChild(dot);
-    const r = 0.5 * data.extent, [lo, hi] = c.window;
-    const wedge = document.createElementNS(ns, "path");
-    wedge.setAttribute("d", `M${c.x} ${c.y}L${c.x + r * Math.cos(lo)} ${c.y + r * Math.sin(lo)}` +
-      `A${r} ${r} 0 0 1 ${c.x + r * Math.cos(hi)} ${c.y + r * Math.sin(hi)}Z`);
-    wedge.setAttribute("class", "window");
-    windows.appendChild(wedge);
-  }
+  $("body-info").textContent = `${data.points} nodes, area ${fmt(data.area, 4)}, wall error ${fmt(data.max_wall_error, 2)}`;
+  drawBodyView(data);
   drawCurves(data);
   const warnings = $("warnings");
   warnings.replaceChildren();
@@ -174,23 +350,52 @@ function drawBody(data) {
   updateCli();
 }
 
+function drawBodyView(data) {
+  const e = data.extent * 1.15;
+  const f = frame($("body-view"), $("body-axes"), {x: [-e, e], y: [-e, e], equal: true, xlabel: "x / κ",
+    ylabel: "y / κ"});
+  // the outline in body units (the solver's exact cubic segments), placed by one transform; y up
+  $("body-world").setAttribute("transform", `translate(${f.x(0)} ${f.y(0)}) scale(${f.scale} ${-f.scale})`);
+  const px = 1 / f.scale;  // one pixel in body units
+  $("com").setAttribute("r", 3 * px);
+  const corners = $("corners"), windows = $("windows");
+  corners.replaceChildren(); windows.replaceChildren();
+  for (const c of data.corners) {
+    const dot = svgEl("circle", {cx: c.x, cy: c.y, r: 4 * px, class: "corner"}, corners);
+    svgEl("title", {}, dot, `corner at ${fmt(c.direction, 4)} rad, window ±${fmt(c.half_width, 4)}, ` +
+      `deficit ${fmt(c.max_deficit, 3)}`);
+    const r = 0.5 * data.extent, [lo, hi] = c.window;
+    svgEl("path", {class: "window", d: `M${c.x} ${c.y}L${c.x + r * Math.cos(lo)} ${c.y + r * Math.sin(lo)}` +
+      `A${r} ${r} 0 0 1 ${c.x + r * Math.cos(hi)} ${c.y + r * Math.sin(hi)}Z`}, windows);
+  }
+}
+
 function drawCurves(data) {
-  const W = 400, Hh = 200, pad = 8;
   const finite = (v) => v !== null && Number.isFinite(v);
   const main = data.wall.concat(data.own_wall).filter(finite);
   let lo = Math.min(0, ...main), hi = Math.max(...main);
   const span = Math.max(hi - lo, 1e-9);
   const rho = data.rho.map((v) => (finite(v) ? Math.max(lo - span, Math.min(hi + span, v)) : null));
   for (const v of rho) if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-  const x = (t) => (t / (2 * Math.PI)) * W;
-  const y = (v) => Hh - pad - ((v - lo) / (hi - lo || 1)) * (Hh - 2 * pad);
-  const points = (values) => values.map((v, i) => (v === null ? "" : `${x(data.theta[i]).toFixed(2)},${y(v).toFixed(2)}`))
+  const pad = 0.05 * (hi - lo || 1);
+  const f = frame($("wall-plot"), $("wall-axes"), {x: [0, 2 * Math.PI], y: [lo - pad, hi + pad], theta: true,
+    xlabel: "θ", ylabel: "b0 + b, ρ  (κ)"});
+  const points = (values) => values.map((v, i) => (v === null ? "" : `${f.x(data.theta[i]).toFixed(1)},${f.y(v).toFixed(1)}`))
     .filter((s) => s).join(" ");
   $("plot-wall").setAttribute("points", points(data.wall));
   $("plot-own").setAttribute("points", points(data.own_wall));
   $("plot-rho").setAttribute("points", points(rho));
-  $("wall-axes").innerHTML = `<line class="zero" x1="0" x2="${W}" y1="${y(0)}" y2="${y(0)}"></line>` +
-    [1, 2, 3].map((k) => `<line class="tick" x1="${k * W / 4}" x2="${k * W / 4}" y1="0" y2="${Hh}"></line>`).join("");
+  // the corner windows: the wall angles each corner serves (where the body's own wall leaves b0 + b)
+  const windows = $("wall-windows");
+  windows.replaceChildren();
+  const band = (a, b) => svgEl("rect", {class: "window", x: f.x(a), y: f.top, width: Math.max(1, f.x(b) - f.x(a)),
+    height: f.height}, windows);
+  const TAU = 2 * Math.PI;
+  for (const c of data.corners) {
+    let [a, b] = c.window;
+    a = ((a % TAU) + TAU) % TAU; b = a + ((((c.window[1] - c.window[0]) % TAU) + TAU) % TAU);
+    if (b <= TAU) band(a, b); else { band(a, TAU); band(0, b - TAU); }
+  }
 }
 
 let realizeTimer = null;
@@ -212,8 +417,8 @@ function scheduleRealize() {
 
 function sliderMoved() {
   const started = performance.now();
-  state.b0 = Number($("b0").value);
-  $("b0-number").value = Number(state.b0.toPrecision(12));
+  state.b0 = atStep(Number($("b0").value), state.b0Step || 1e-6);
+  $("b0-number").value = state.b0;
   stopBeam();
   updateBody(started);
   refreshTable();
@@ -241,7 +446,7 @@ function updateCli() {
   const w = state.wall || {};
   let wall = w.case ? `case:${w.case}` : w.upload ? "WALL.csv" : `"${w.expression}"`;
   if (w.expression && w.params) {
-    for (const p of String(w.params).split(/[,;\n]/).map((s) => s.trim()).filter((s) => s)) wall += ` --param ${p}`;
+    for (const [name, value] of Object.entries(w.params)) wall += ` --param ${name}=${value}`;
   }
   const kappa = $("kappa").value, units = $("units").value;
   const scale = kappa ? ` --kappa ${kappa} --units ${units || "mm"}` +
@@ -269,15 +474,22 @@ async function uploaded() {
   const file = $("upload").files[0];
   if (!file) return;
   clearError("upload-error");
+  if (file.size > MAX_UPLOAD_BYTES) {  // the server would refuse it (413): say so without sending it
+    showError({error: `the file is larger than ${MAX_UPLOAD_BYTES / 2 ** 20} MiB`, field: "upload"});
+    return;
+  }
   const data = await call("upload", `/api/upload?name=${encodeURIComponent(file.name)}`, file, true);
   if (data.stale) return;
   if (data.error) { showError(data, "upload-error"); return; }
+  clearError("wall-error", "status-error");
   state.wall = {upload: data.upload};
   $("case").value = "";
   $("wall").value = `(uploaded: ${file.name})`;
-  $("params").value = "";
+  setParams([]);
   setCritical(data);
-  setRange(data.range, data.b0);
+  setRange(data.range, data.b0);  // b0 = 0: a drawing comes back at its own size
+  $("H").value = data.H;
+  clearBilliard();
   await updateBody(null);
   refreshTable();
 }
@@ -300,21 +512,24 @@ async function loadCases() {
 function casePicked() {
   const c = cases[$("case").value];
   if (!c) return;
-  if (c.H) $("H").value = c.H;
+  const how = {b0: c.b0, H: c.H || undefined};
   if (c.expression) {
     $("wall").value = c.expression;
-    $("params").value = Object.entries(c.params).map(([k, v]) => `${k}=${v}`).join(", ");
-    loadWall(typedWall(), c.b0).then(() => { $("case").value = c.name; });
+    setParams(Object.entries(c.params));
+    loadWall(typedWall(), how).then(() => { $("case").value = c.name; });
   } else {
-    $("wall").value = `(case ${c.name})`; $("params").value = "";
-    loadWall({case: c.name}, c.b0).then(() => { $("case").value = c.name; });
+    $("wall").value = `(case ${c.name})`;
+    setParams([]);
+    loadWall({case: c.name}, how).then(() => { $("case").value = c.name; });
   }
 }
 
 // ---------------------------------------------------------------------------------------------- billiard
-const TABLE = {W: 360, H: 200, lo: 0, hi: 1};
-const tx = (theta) => (((theta % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI)) / (2 * Math.PI) * TABLE.W;
-const ty = (eta) => TABLE.H - ((eta - TABLE.lo) / (TABLE.hi - TABLE.lo)) * TABLE.H;
+let TABLE = null;  // the table's frame: scales x(θ), y(η) and their inverses for clicks
+const TAU = 2 * Math.PI;
+const wrap = (theta) => ((theta % TAU) + TAU) % TAU;
+const tx = (theta) => (TABLE ? TABLE.x(wrap(theta)) : 0);
+const ty = (eta) => (TABLE ? TABLE.y(eta) : 0);
 
 let tableTimer = null;
 function refreshTable() {
@@ -329,26 +544,45 @@ function refreshTable() {
 }
 
 function drawTable(data) {
+  state.table = data;
   const finite = (v) => v !== null;
   const lo = Math.min(...data.lower.filter(finite)), hi = Math.max(...data.upper.filter(finite));
   const pad = 0.05 * (hi - lo);
-  TABLE.lo = lo - pad; TABLE.hi = hi + pad;
-  const line = (values) => values.map((v, i) => `${i ? "L" : "M"}${(data.theta[i] / (2 * Math.PI) * TABLE.W).toFixed(2)} ${ty(v).toFixed(2)}`).join("");
-  $("table-lower").setAttribute("d", `${line(data.lower)}L${TABLE.W} ${TABLE.H}L0 ${TABLE.H}Z`);
-  $("table-upper").setAttribute("d", `${line(data.upper)}L${TABLE.W} 0L0 0Z`);
-  $("lab-ceiling").setAttribute("y1", data.H); $("lab-ceiling").setAttribute("y2", data.H);
-  const reach = state.body ? state.body.extent : 1;
-  const w = Math.max(data.H, 2 * reach) * 1.1;
-  $("lab-view").setAttribute("viewBox", `${-w / 2} ${-data.H - 0.1 * data.H} ${w} ${1.2 * data.H}`);
+  TABLE = frame($("table-view"), $("table-axes"), {x: [0, TAU], y: [lo - pad, hi + pad], theta: true, xlabel: "θ",
+    ylabel: "η = y / κ", zero: false});
+  const line = (values) => values.map((v, i) => `${i ? "L" : "M"}${TABLE.x(data.theta[i]).toFixed(1)} ${ty(v).toFixed(1)}`).join("");
+  const [left, right, top, bottom] = [TABLE.left, TABLE.left + TABLE.width, TABLE.top, TABLE.top + TABLE.height];
+  $("table-lower").setAttribute("d", `${line(data.lower)}L${right} ${bottom}L${left} ${bottom}Z`);
+  $("table-upper").setAttribute("d", `${line(data.upper)}L${right} ${top}L${left} ${top}Z`);
+  drawSections();
+  drawLab();
+}
+
+function drawLab() {
+  if (!state.table) return;
+  const H = state.table.H, reach = state.body ? state.body.extent : 1;
+  const w = Math.max(H, 2.2 * reach);
+  const f = frame($("lab-view"), $("lab-axes"), {x: [-w / 2, w / 2], y: [-0.08 * H, 1.08 * H], equal: true,
+    ylabel: "y / κ", xlabel: "x / κ", zero: false});
+  $("lab-world").setAttribute("transform", `translate(${f.x(0)} ${f.y(0)}) scale(${f.scale} ${-f.scale})`);
+  for (const id of ["lab-floor", "lab-ceiling"]) {  // the walls span the frame
+    $(id).setAttribute("x1", f.x0); $(id).setAttribute("x2", f.x1);
+  }
+  $("lab-ceiling").setAttribute("y1", H); $("lab-ceiling").setAttribute("y2", H);
+  $("lab-com").setAttribute("r", 3 / f.scale);
+  $("lab-body").querySelector(".arrow").setAttribute("x2", 0.5 * reach);
   if (state.body) $("lab-outline").setAttribute("d", state.body.path);
+  if (!state.beam) $("lab-body").setAttribute("transform", `translate(0,${H / 2})`);
 }
 
 async function tableClicked(event) {
+  if (!TABLE) return;
   const svg = $("table-view");
   const p = svg.createSVGPoint(); p.x = event.clientX; p.y = event.clientY;
   const q = p.matrixTransform(svg.getScreenCTM().inverse());
-  const theta = q.x / TABLE.W * 2 * Math.PI;
-  const eta = TABLE.lo + (TABLE.H - q.y) / TABLE.H * (TABLE.hi - TABLE.lo);
+  if (q.x < TABLE.left || q.x > TABLE.left + TABLE.width || q.y < TABLE.top || q.y > TABLE.top + TABLE.height) return;
+  const theta = TABLE.x0 + (q.x - TABLE.left) / TABLE.width * (TABLE.x1 - TABLE.x0);
+  const eta = TABLE.y1 - (q.y - TABLE.top) / TABLE.height * (TABLE.y1 - TABLE.y0);
   const deg = Math.PI / 180;
   stopBeam();
   $("billiard-status").textContent = "computing the beam (the first beam of a new wall compiles the billiard kernel: ~10 s) …";
@@ -360,21 +594,23 @@ async function tableClicked(event) {
   clearError("billiard-error");
   $("billiard-status").textContent = `${data.rays.length} rays from θ = ${fmt(theta, 4)}, η = ${fmt(eta, 4)}` +
     (state.body && state.body.regime === "corner" ? " (below b_c no body has this wall: the body shown is the largest under it)" : "");
-  addSection(data.section);
+  state.sections.push(data.section);
+  drawSections();
   startBeam(data);
 }
 
-function addSection(section) {
-  const ns = "http://www.w3.org/2000/svg";
-  const path = document.createElementNS(ns, "path");
-  let d = "";
-  for (let i = 0; i < section.theta.length; i++) {
-    const x = section.theta[i] / (2 * Math.PI) * 360, y = 90 - section.phi[i] / (Math.PI / 2) * 88;
-    d += `M${x.toFixed(2)} ${y.toFixed(2)}h0`;
-  }
-  path.setAttribute("d", d);
-  path.setAttribute("class", `orbit c${state.sectionColour++ % 6}`);
-  $("section-points").appendChild(path);
+function drawSections() {
+  const f = frame($("section-view"), $("section-axes"), {x: [0, TAU], y: [-Math.PI / 2, Math.PI / 2], theta: true,
+    xlabel: "θc", ylabel: "φc (rad)"});
+  const box = $("section-points");
+  box.replaceChildren();
+  state.sections.forEach((section, k) => {
+    let d = "";
+    for (let i = 0; i < section.theta.length; i++) {
+      d += `M${f.x(section.theta[i]).toFixed(1)} ${f.y(section.phi[i]).toFixed(1)}h0`;
+    }
+    svgEl("path", {d, class: `orbit c${k % 6}`}, box);
+  });
 }
 
 function rayAt(ray, start, t) {
@@ -402,11 +638,14 @@ function startBeam(data) {
     $("beam-dots").setAttribute("d", dots);
     const [theta, eta] = rayAt(beam.data.rays[0], beam.data.start[0], beam.t);
     $("beam-centre").setAttribute("cx", tx(theta)); $("beam-centre").setAttribute("cy", ty(eta));
-    beam.trail.push(`${beam.trail.length ? "L" : "M"}${tx(theta).toFixed(1)} ${ty(eta).toFixed(1)}`);
-    if (beam.trail.length > 1 && Math.abs(tx(theta) - tx(rayAt(beam.data.rays[0], beam.data.start[0], beam.t - beam.end / 600)[0])) > 180) {
-      beam.trail[beam.trail.length - 1] = beam.trail[beam.trail.length - 1].replace("L", "M");  // wrapped in θ
-    }
-    $("beam-trails").setAttribute("d", beam.trail.slice(-400).join("").replace(/^L/, "M"));
+    beam.trail.push([theta, eta]);
+    let trail = "";
+    const recent = beam.trail.slice(-400);
+    recent.forEach(([t, e], i) => {  // a jump across θ = 2π starts a new piece
+      const jump = i === 0 || Math.abs(wrap(t) - wrap(recent[i - 1][0])) > Math.PI;
+      trail += `${jump ? "M" : "L"}${tx(t).toFixed(1)} ${ty(e).toFixed(1)}`;
+    });
+    $("beam-trails").setAttribute("d", trail);
     // the rigid body: orientation ψ = −θ − π/2 (forward/dynamics/rigidbody.py), height η (units of κ)
     const psi = (-theta - Math.PI / 2) * 180 / Math.PI;
     $("lab-body").setAttribute("transform", `translate(0,${eta}) rotate(${psi})`);
@@ -420,18 +659,29 @@ function stopBeam() {
   state.beam = null;
   $("beam-dots").setAttribute("d", "");
   $("beam-trails").setAttribute("d", "");
+  $("beam-centre").setAttribute("cx", -10); $("beam-centre").setAttribute("cy", -10);
 }
 
 function clearBilliard() {
   stopBeam();
+  state.sections = [];
   $("section-points").replaceChildren();
-  $("billiard-status").textContent = "";
+  $("billiard-status").textContent = "Click the table to send a beam; each click adds its central orbit to the " +
+    "Poincaré section, and the body beside it moves as that orbit says.";
 }
 
 // ---------------------------------------------------------------------------------------------- start
+let resizeTimer = null;
+function resized() {  // the plots are drawn in pixels: draw them again at the new size
+  clearTimeout(resizeTimer);
+  resizeTimer = setTimeout(() => {
+    if (state.body) { drawBodyView(state.body); drawCurves(state.body); }
+    if (state.table) drawTable(state.table); else drawSections();
+  }, 100);
+}
+
 function start() {
   $("wall").addEventListener("input", wallTyped);
-  $("params").addEventListener("input", wallTyped);
   $("case").addEventListener("change", casePicked);
   $("upload").addEventListener("change", uploaded);
   $("b0").addEventListener("input", sliderMoved);
@@ -443,8 +693,11 @@ function start() {
   $("units").addEventListener("change", updateCli);
   $("allow-unrealizable").addEventListener("change", updateCli);
   for (const format of ["svg", "dxf", "json"]) $(`download-${format}`).addEventListener("click", () => download(format));
+  window.addEventListener("resize", resized);
+  drawSections();
+  setParams([["eps", 1]]);  // the Appendix wall the page opens on (its case: appendix-convex)
   loadCases();
-  loadWall(typedWall(), Number($("b0-number").value)).then(() => { document.body.dataset.ready = "1"; });
+  loadWall(typedWall(), {b0: Number($("b0-number").value)}).then(() => { document.body.dataset.ready = "1"; });
 }
 
 document.addEventListener("DOMContentLoaded", start);
