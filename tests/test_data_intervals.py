@@ -283,3 +283,19 @@ def test_the_interval_is_a_promise_over_many_walls():
         if not (result.lower <= ref.b_c <= result.upper) or _true_regime(0.0, ref.b_c) not in regimes:
             misses.append((case, ref.name, samples, random, digits, result.lower, ref.b_c, result.upper))
     assert misses == []
+
+
+def test_a_drawn_circle_carries_its_flattening(tmp_path, capsys):
+    """A circle of radius 20 drawn in SVG, its wall written at 20,000 angles: the reader flattens the circle to
+    a chord error of 1e-8 of its size, and the wall file says so (a sigma_b column), so the certified interval
+    holds the circle's own b_c = −20 exactly (it said −19.8012 ± 4.6e-07 when the file pretended to be exact)."""
+    svg = tmp_path / "circle.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                   '<circle cx="50" cy="50" r="20"/></svg>')
+    wall = tmp_path / "circle.csv"
+    assert main(["wall", str(svg), "--samples", "20000", "-o", str(wall)]) == 0
+    capsys.readouterr()
+    assert wall.read_text().splitlines()[0] == "theta,b,sigma_b"
+    assert main(["critical", str(wall), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["b_c_lower"] <= -20.0 <= doc["b_c_upper"] and doc["b_c_upper"] - doc["b_c_lower"] < 1e-2

@@ -90,27 +90,32 @@ def _load(args):
         if any(v is not None for v in (args.layer, args.kappa, args.units, args.element)):
             raise InvalidArgument("--layer, --element, --kappa and --units apply to body files, not to --polar")
         outline, note = outline_from_polar(args.polar, parse_params(args.param), com=com)
-        return outline, note, f"R(α) = {args.polar}", []
+        return outline, note, f"R(α) = {args.polar}", [], 0.0
     if args.param:
         raise InvalidArgument("--param applies to --polar expressions, not to a body file")
     reading = read_outline(args.body, layer=args.layer, element=args.element, com=com, kappa=args.kappa,
                            units=args.units)
-    return reading.outline, reading.note, args.body, reading.warnings
+    return reading.outline, reading.note, args.body, reading.warnings, reading.accuracy
 
 
-def _table_bytes(path, theta, lower, upper, H, note):
-    """The samples as a wall file (.csv ``theta,b[,t]``) or a JSON document, full precision."""
+def _table_bytes(path, theta, lower, upper, H, note, accuracy=0.0):
+    """The samples as a wall file (.csv ``theta,b[,t]``) or a JSON document, full precision; ``accuracy`` > 0
+    (a drawing's flattened curves) is written as the column ``sigma_b``, so that the wall read back is an
+    interval that holds the drawing's own wall."""
     import io
 
     import numpy as np
 
     if path.lower().endswith(".csv"):
         text = io.StringIO()
-        text.write("theta,b" + (",t" if upper is not None else "") + "\n")
-        np.savetxt(text, np.column_stack([theta, lower] + ([upper] if upper is not None else [])),
+        sigma = [np.full(theta.size, accuracy)] if accuracy > 0 else []
+        text.write("theta,b" + (",t" if upper is not None else "") + (",sigma_b" if sigma else "") + "\n")
+        np.savetxt(text, np.column_stack([theta, lower] + ([upper] if upper is not None else []) + sigma),
                    delimiter=",", fmt="%.17g")
         return text.getvalue().encode()
     doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
+    if accuracy > 0:
+        doc["sigma_b"] = accuracy
     if upper is not None:
         doc.update(H=H, t=upper.tolist())
     return json.dumps(doc, allow_nan=False).encode()
@@ -135,7 +140,7 @@ def run(args):
     if args.kappa is not None:
         check_positive("kappa", args.kappa)
     check_paths(args.output, _TABLES + FIGURE_FORMATS)
-    outline, note, source, warnings = _load(args)
+    outline, note, source, warnings, accuracy = _load(args)
     _check_size(outline, args.kappa)
     theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, H)
@@ -144,7 +149,7 @@ def run(args):
     files = {}
     for path in args.output:
         if path.lower().endswith(_TABLES):
-            files[path] = _table_bytes(path, theta, lower, upper, H, note)
+            files[path] = _table_bytes(path, theta, lower, upper, H, note, accuracy)
         else:
             import os
 

@@ -42,6 +42,7 @@ from ..angles import TWO_PI
 from ..errors import CoinwallError, InvalidArgument, InvalidOutline
 from ..outline import Outline
 from ..validation import check_choice, check_count, check_positive
+from .geometry import FLATNESS
 from .bodyjson import read_body_json
 from .dxf import read_dxf
 from .geometry import (
@@ -88,11 +89,15 @@ class OutlineReading(NamedTuple):
         What was done (shapes read, hull, centre of mass, scale).
     warnings : list of str
         Choices the caller should know about: several shapes merged into one hull.
+    accuracy : float
+        How far the outline's support function may be from the drawing's (units of κ): the chord error of
+        flattened curves (``FLATNESS`` times the size); 0 for an outline taken as it is written.
     """
 
     outline: Outline
     note: str
     warnings: list
+    accuracy: float = 0.0
 
 
 def check_com(com) -> np.ndarray:
@@ -281,7 +286,10 @@ def _finish(path, drawing: Drawing, com, kappa, units=None, choose="`element` (S
         raise error(f"body file {path!r}: the body measures {size:.3g} radii of gyration across"
                     f"{' with this `kappa`' if kappa is not None else ''}; coinwall reads bodies from {MIN_SIZE:g} to "
                     f"{MAX_COORDINATE:g} across")
-    return OutlineReading(Outline.from_polygon((hull - centre) / scale), "; ".join(notes), warnings)
+    # the drawing readers flatten curves to a chord error below FLATNESS times the size of the shape (a drawing of
+    # straight lines only gets the same bound: its support function is exact to it too)
+    accuracy = FLATNESS * size if str(path).lower().endswith((".svg", ".dxf")) else 0.0
+    return OutlineReading(Outline.from_polygon((hull - centre) / scale), "; ".join(notes), warnings, accuracy)
 
 
 def read_outline(path: str, *, layer: str | None = None, element: str | None = None, com=None,
@@ -433,7 +441,7 @@ def outline_from_polar(text: str, params=None, *, samples: int = 4096, com=None)
         step = np.full(samples, TWO_PI / samples)
         return Outline.from_hermite(points, tangent, tangent, step), \
             f"polar R(α) = {text}: convex, exact-derivative Bézier outline on {samples} nodes; pole = centre of mass"
-    outline, note, _ = _finish(f"polar:{text}", Drawing([points], [], {"com": (0.0, 0.0)},
+    outline, note, *_ = _finish(f"polar:{text}", Drawing([points], [], {"com": (0.0, 0.0)},
                                                         f"polar R(α) = {text} on {samples} points"), com, None)
     return outline, note.replace("centre of mass as recorded in the file", "pole = centre of mass") \
         .replace("; drawing units taken as units of kappa", "")

@@ -351,13 +351,20 @@ def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, si
                           f"or with {', '.join(SAMPLE_KEYS)}")
     try:
         if set(doc) & set(SAMPLE_KEYS):
-            unknown = set(doc) - set(SAMPLE_KEYS) - {"degrees", "note"}
+            unknown = set(doc) - set(SAMPLE_KEYS) - {"degrees", "note", "sigma_b", "sigma_theta"}
             if unknown:
                 raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; "
                                   f"expected {', '.join(SAMPLE_KEYS)}")
             theta, b = (_numbers(doc.get(k), path, k) for k in SAMPLE_KEYS)
             if not isinstance(doc.get("degrees", False), bool):
                 raise InvalidWall(f"wall file {path!r}: `degrees` must be true or false, got {doc['degrees']!r}")
+            for key in ("sigma_b", "sigma_theta"):  # one half-width for every sample (the file's own)
+                if key in doc:
+                    value = _numbers(doc[key], path, key)
+                    if isinstance(value, list) or value < 0:
+                        raise InvalidWall(f"wall file {path!r}: `{key}` must be one number ≥ 0")
+            sigma_b = max(sigma_b, doc.get("sigma_b", 0.0))
+            sigma_theta = max(sigma_theta, doc.get("sigma_theta", 0.0))
             in_degrees = doc.get("degrees", False) is True or degrees
             period = 360.0 if in_degrees else 2 * np.pi
             theta_rounding = np.maximum(_angle_rounding(theta, period), sigma_theta)
