@@ -349,3 +349,17 @@ def test_solve_summary_lines(capsys):
     heads = [line[:11].strip() for line in capsys.readouterr().out.splitlines()]
     assert heads == ["wall", "offset", "critical", "regime", "body", "corner", "corner", "check", "outline",
                      "physical"]
+
+
+def test_an_unknown_wall_file_extension_is_named(tmp_path, capsys, monkeypatch):
+    """`coinwall solve wall.txt` names the extension (it said "attribute access '.txt' is not allowed"),
+    whether or not the file exists; `t.real` is still an expression and gets the parser's message."""
+    monkeypatch.chdir(tmp_path)
+    for exists in (False, True):
+        if exists:
+            (tmp_path / "wall.txt").write_text("0,1\n")
+        assert main(["solve", "wall.txt"]) == 2
+        err = capsys.readouterr().err
+        assert "extension '.txt'" in err and ".csv or .json" in err and len(err.strip().splitlines()) == 1
+    assert main(["critical", "t.real"]) == 2
+    assert "attribute access" in capsys.readouterr().err

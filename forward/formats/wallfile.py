@@ -74,6 +74,12 @@ def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float =
         if params:
             raise InvalidWall(f"`params` apply to wall expressions, not to the wall file {text!r}")
         return load_wall_file(text.strip(), degrees=degrees, sigma_b=sigma_b, sigma_theta=sigma_theta)
+    stripped = text.strip()
+    if os.sep not in stripped and "." in stripped and os.path.isfile(stripped) or _looks_like_file(stripped):
+        # `wall.txt`, `data.xlsx`: a file name, not an expression (the parser would say "attribute access")
+        suffix = os.path.splitext(stripped)[1]
+        raise InvalidWall(f"{text!r} looks like a file with the extension {suffix!r}, which coinwall does not read as "
+                          f"a wall: give a {' or '.join(WALL_FORMATS)} file (or an expression in t)")
     if os.sep in text and os.path.exists(text.strip()):
         # a path (``/dev/zero``, ``data/wall.txt``) read as an expression would only give a syntax error
         raise InvalidWall(f"{text!r} is a file, but not a wall file: coinwall reads walls from "
@@ -317,6 +323,16 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
                           "degrees? Name the column theta_deg, or pass --degrees")
     return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
             "labels": lines, "degrees": in_degrees}
+
+
+def _looks_like_file(text: str) -> bool:
+    """A name with a file extension (``wall.txt``, ``scan.xlsx``): letters, digits, ``_-`` and one final
+    ``.ext`` that is not a number — never a valid wall expression."""
+    import re
+
+    if not re.fullmatch(r"[\w\-]+(\.[\w\-]+)*\.[A-Za-z][A-Za-z0-9]{0,5}", text):
+        return False
+    return text.split(".", 1)[0].lower() not in ("t", "theta", "pi", "e")  # `t.real`: an attribute, not a file
 
 
 def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0,
