@@ -299,3 +299,14 @@ def test_a_drawn_circle_carries_its_flattening(tmp_path, capsys):
     assert main(["critical", str(wall), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["b_c_lower"] <= -20.0 <= doc["b_c_upper"] and doc["b_c_upper"] - doc["b_c_lower"] < 1e-2
+
+
+def test_an_angle_rounded_past_two_pi_is_not_taken_for_degrees(tmp_path, capsys):
+    """An angle just below 2π written to 4 decimals is 6.2832 > 2π: within its rounding, so the file is read
+    (it was refused as "more than 2π radians: are they degrees?")."""
+    ref = W.smooth("ellipse", 400, semi_axes=(1.25, 0.8))
+    path = tmp_path / "w.csv"
+    path.write_text("theta,b\n" + "".join(f"{t:.4f},{v:.4f}\n" for t, v in zip(ref.theta, ref.b)) + "6.2832,1.2500\n")
+    assert main(["critical", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["b_c_lower"] <= ref.b_c <= doc["b_c_upper"]

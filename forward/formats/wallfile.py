@@ -318,7 +318,8 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     b_rounding = np.maximum(rounding_of(b), sigma.get("sigma_value", 0.0))
     if in_degrees:
         theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
-    elif theta.size and np.ptp(theta) > 2 * np.pi * (1 + 1e-9):
+    elif theta.size and np.ptp(theta) > 2 * np.pi * (1 + 1e-9) + 2 * float(np.max(theta_rounding)):
+        # (an angle just below 2π written to 4 decimals is 6.2832: its rounding is allowed for)
         raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: are they "
                           "degrees? Name the column theta_deg, or pass --degrees")
     return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
