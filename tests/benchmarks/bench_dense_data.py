@@ -38,9 +38,11 @@ def _write(path, theta, b, decimals):
 
 
 def _run(argv):
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = cli(argv)
+    if code == 2:
+        raise SystemExit(f"coinwall {' '.join(argv)}: {err.getvalue().strip()}")
     return code, out.getvalue()
 
 
