@@ -136,8 +136,12 @@ def _run(argv) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    from coinwall.forward.formats.output import command_scope
+
     try:
-        return args.run(args)
+        # the files named as positional arguments, and every input file read, cannot be outputs of the command
+        with command_scope(_file_arguments(parser.commands[args.command], args)):
+            return args.run(args)
     except CoinwallError as exc:
         if _debug():
             raise
@@ -148,6 +152,19 @@ def _run(argv) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+
+
+def _file_arguments(parser, args) -> list:
+    """The positional arguments of ``args`` that name an existing regular file (the command's inputs)."""
+    names = []
+    for action in parser._actions:
+        if action.option_strings:
+            continue
+        values = getattr(args, action.dest, None)
+        for value in values if isinstance(values, (list, tuple)) else [values]:
+            if isinstance(value, str) and value and os.path.isfile(value):
+                names.append(value)
+    return names
 
 
 if __name__ == "__main__":  # pragma: no cover
