@@ -41,6 +41,20 @@ EX_SOFTWARE = 70
 #: exit status after Ctrl-C: 128 + SIGINT, what a shell reports for a program killed by it
 EX_INTERRUPTED = 130
 
+
+def _quiet_scan_worker() -> None:
+    """In a worker process of ``coinwall scan``'s local cluster (spawned by multiprocessing, which runs this
+    module first): ignore SIGINT, so that Ctrl-C stops the driver alone, which closes the cluster, instead
+    of every worker printing a traceback (coinwall.forward.scan.driver.WORKER_ENVIRONMENT)."""
+    # (multiprocessing.parent_process() is set only after this module ran; spawn_main has been imported by then)
+    if os.environ.get("COINWALL_SCAN_WORKER") == "1" and "multiprocessing.spawn" in sys.modules:
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+_quiet_scan_worker()
+
 # a library message names an argument in backticks: "`max_lag` must be ..."
 _ARGUMENT = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)`")
 # warnings meant for developers (hidden by Python's default filters too)

@@ -174,22 +174,31 @@ def _restore_logs(saved) -> None:
         logger.disabled = disabled
 
 
+#: set in the environment of the local cluster's worker processes: :mod:`coinwall.cases.cli.main`, which
+#: multiprocessing runs first in every worker it spawns from the command line, then ignores SIGINT there
+WORKER_ENVIRONMENT = "COINWALL_SCAN_WORKER"
+
+
 @contextlib.contextmanager
-def _sigint_ignored():
-    """While the local cluster starts its worker processes, SIGINT is ignored, so that they inherit that (a
-    Python started with SIGINT ignored keeps it ignored): Ctrl-C stops the driver, which closes the cluster,
-    instead of printing a traceback from every worker."""
+def _workers_ignore_sigint():
+    """Ctrl-C in a terminal goes to the whole process group: the worker processes would each print a
+    traceback.  While the cluster starts, SIGINT is ignored here, so that the worker processes start with it
+    ignored (a Python started so keeps it so) and their interpreter start-up cannot be cut short; their
+    environment (:data:`WORKER_ENVIRONMENT`) makes a worker the cluster restarts later ignore it too.  The
+    driver alone stops, and closes the cluster.  (The cost: a Ctrl-C in the second or two the cluster takes
+    to start is not seen; the next one is.)"""
     import threading
 
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.getsignal(signal.SIGINT)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    os.environ[WORKER_ENVIRONMENT] = "1"  # for the cluster's life: removed by _close
+    main = threading.current_thread() is threading.main_thread()
+    handler = signal.getsignal(signal.SIGINT) if main else None
+    if main:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+        if main:
+            signal.signal(signal.SIGINT, handler if handler is not None else signal.SIG_DFL)
 
 
 def _check_address(scheduler) -> None:
@@ -219,9 +228,15 @@ def _client(scheduler, workers, notes):
             notes.append(f"asked for {workers} workers; this machine can hold {limit} ({why}): using {limit}")
         # ":0": any free port for the scheduler's HTTP endpoints (8787 may be taken by another cluster, and
         # the warning that says so would reach the user)
-        with _sigint_ignored():
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                                   silence_logs=logging.ERROR)
+        # the workers' own log lines (a heartbeat to a scheduler that is closing) are not the user's business:
+        # a cell that fails reaches the driver as an exception
+        try:
+            with _workers_ignore_sigint():
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                       silence_logs=logging.CRITICAL)
+        except BaseException:
+            os.environ.pop(WORKER_ENVIRONMENT, None)
+            raise
         return Client(cluster), cluster
     _check_address(scheduler)
     try:
@@ -248,6 +263,7 @@ def _close(client, cluster, interrupted) -> None:
         if cluster is not None:
             with contextlib.suppress(Exception):
                 cluster.close(timeout=10)
+            os.environ.pop(WORKER_ENVIRONMENT, None)
     finally:
         if saved is not None:
             _restore_logs(saved)
