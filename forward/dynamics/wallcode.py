@@ -378,7 +378,7 @@ def discard(folder: str, name: str, keep_source: bool = False) -> None:
 
 
 # numba's own temporaries (numba.core.caching._CacheImpl: "<file>.tmp.<16 hex>"), of our modules only
-_NUMBA_TEMP = re.compile(r"coinwall_[a-z]+_[0-9a-f]{20}\..+\.nb[ic]\.tmp\.[0-9a-f]{16}")
+_NUMBA_TEMP = re.compile(r"coinwall_[a-z_]+_[0-9a-f]{20}\..+\.nb[ic]\.tmp\.[0-9a-f]{16}")
 # the temporaries of coinwall before marked names (tempfile.mkstemp(prefix=".tmp-", suffix=".part")): made in the
 # cache folder, which only coinwall writes (owner-only, checked), so this exact form is taken as ours there
 _LEGACY_TEMP = re.compile(r"\.tmp-[a-z0-9_]{8}\.part")
