@@ -163,12 +163,12 @@ def _check_length(path: str) -> None:
     name_max, path_max = _limits(existing)
     for part in full.split(os.sep):
         if len(os.fsencode(part)) > name_max:
-            raise OutputError(f"output {_short(path)}: the name {_short(part, 40)} is {len(os.fsencode(part))} bytes long, "
-                              f"more than the {name_max} this filesystem allows")
+            raise OutputError(f"output {_short(path)}: the name {_short(part, 40)} is {len(os.fsencode(part))} bytes "
+                              f"long, more than the {name_max} this filesystem allows")
     longest = len(os.fsencode(os.path.dirname(full))) + 1 + max(len(os.fsencode(os.path.basename(full))), _TEMP_LENGTH)
     if longest >= path_max:
-        raise OutputError(f"output {_short(path)}: the path is {longest} bytes long (with its temporary), more than the "
-                          f"{path_max - 1} this system allows; choose a shorter one")
+        raise OutputError(f"output {_short(path)}: the path is {longest} bytes long (with its temporary), more than "
+                          f"the {path_max - 1} this system allows; choose a shorter one")
 
 
 def _same_as_input(path: str):
