@@ -25,6 +25,7 @@ import select
 import subprocess
 import sys
 import tempfile
+import time
 
 __all__ = ["Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
@@ -211,6 +212,36 @@ NUMERIC_FLAGS = {
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
 }
+# the base commands that write a file with -o (scan writes a store folder, see test_nothing_lost.py)
+OUTPUT_COMMANDS = sorted(c for c, argv in BASE_COMMANDS.items() if "-o" in argv and c != "scan")
+# output names no filesystem here can hold: refused before any folder is made (the extension is the command's own)
+BAD_OUTPUTS = ["d/" * 2100 + "x", "n" * 300, "a/" + "n" * 300 + "/x", "a/b/" + "d/" * 2040 + "x"]
+# commands whose output names one of their inputs (the same name, another spelling, a hard link): refused
+INPUT_AS_OUTPUT = [["solve", "samples.csv", "-o", "samples.csv"], ["solve", "samples.csv", "-o", "./samples.csv"],
+                   ["solve", "samples.csv", "-o", "body.json", "-o", "samples.csv"],
+                   ["solve", "samples.csv", "-o", "linked.csv"], ["fit", "samples.csv", "-o", "samples.csv"],
+                   ["wall", "body.json", "-o", "body.json"]]
+# names of the old temporary patterns a user may have chosen for their own files: planted two days old, they must
+# survive every command (only names with coinwall's keyed mark are ever swept)
+LOOKALIKES = [".coinwall-settings.json", ".coinwall-my_notes.csv", ".coinwall-abcd_123.svg",
+              ".coinwall-0a1b2c3d-1-cafebabe.csv", ".coinwall-tmp.00000000.1.0123456789abcdef.0123456789abcdef.part"]
+
+
+def with_output(argv, name):
+    """``argv`` with its last ``-o`` value replaced by ``name`` plus that value's extension."""
+    k = len(argv) - 1 - argv[::-1].index("-o")
+    return argv[:k + 1] + [name + os.path.splitext(argv[k + 1])[1]] + argv[k + 2:]
+
+
+def plant_lookalikes(folder) -> None:
+    old = time.time() - 2 * 86400
+    for name in LOOKALIKES:
+        path = os.path.join(folder, name)
+        with open(path, "w") as fh:
+            fh.write("the user's own file\n")
+        os.utime(path, (old, old))
+
+
 # the subcommands whose first positional argument is a wall expression
 WALL_COMMANDS = ("solve", "critical", "simulate", "section", "correlation", "quantum")
 # the subcommands that read a file given as their first positional argument, with the valid file of

@@ -16,13 +16,17 @@ import pytest
 hypothesis = pytest.importorskip("hypothesis")
 from cli_fuzz import (  # noqa: E402
     BAD_NUMBERS,
+    BAD_OUTPUTS,
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
+    INPUT_AS_OUTPUT,
+    LOOKALIKES,
     MUTATION_TARGETS,
     MUTATIONS,
     NUMERIC_FLAGS,
     ODD_WALLS,
+    OUTPUT_COMMANDS,
     VALID_FILES,
     WALL_COMMANDS,
     Worker,
@@ -31,9 +35,11 @@ from cli_fuzz import (  # noqa: E402
     make_folder,
     mutate,
     mutation_request,
+    plant_lookalikes,
     snapshot,
     valid_files,
     with_flag,
+    with_output,
 )
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
@@ -141,3 +147,37 @@ def test_mutated_files_never_crash(worker, base, tmp_path, target, how, where, j
     result = worker.run(argv, folder)
     problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=False)
     assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("command", OUTPUT_COMMANDS)
+def test_output_names_the_filesystem_cannot_hold_are_refused(worker, base, tmp_path, command):
+    """`-o d/d/…/x` (thousands of levels) or a 300-byte name: one line, exit 2, no folder made."""
+    failures = []
+    for name in BAD_OUTPUTS:
+        argv = [command] + with_output(BASE_COMMANDS[command], name)
+        work = make_folder(base, tmp_path)
+        before = snapshot(work)
+        failures += check_clean(argv, worker.run(argv, work), before, snapshot(work), certainly_bad=True)
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.parametrize("argv", INPUT_AS_OUTPUT, ids=" ".join)
+def test_an_input_is_never_an_output(worker, base, tmp_path, argv):
+    folder = make_folder(base, tmp_path)
+    os.link(os.path.join(folder, "samples.csv"), os.path.join(folder, "linked.csv"))
+    before = snapshot(folder)
+    result = worker.run(argv, folder)
+    problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=True)
+    assert not problems and "input file" in result["stderr"], "\n".join(problems) or result["stderr"]
+
+
+@pytest.mark.parametrize("command", OUTPUT_COMMANDS)
+def test_users_files_that_look_like_old_temporaries_survive(worker, base, tmp_path, command):
+    """A user's `.coinwall-settings.json` (two days old) used to be swept as a stale temporary by the next write."""
+    folder = make_folder(base, tmp_path)
+    plant_lookalikes(folder)
+    before = snapshot(folder)
+    result = worker.run([command] + BASE_COMMANDS[command], folder)
+    assert result["rc"] == 0, result
+    after = snapshot(folder)
+    assert {name: after.get(name) for name in LOOKALIKES} == {name: before[name] for name in LOOKALIKES}

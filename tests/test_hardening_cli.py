@@ -226,8 +226,9 @@ def test_write_all_refuses_a_folder_and_names_every_path(tmp_path):
     with pytest.raises(OutputError, match=r"'.*d\.json' is a folder"):
         output.write_all({str(tmp_path / "a.csv"): b"new", str(tmp_path / "d.json"): b"{}"})
     assert (tmp_path / "a.csv").read_text() == "old" and _temporaries(tmp_path) == []
-    with pytest.raises(OutputError, match=r"cannot write output '.*nowhere/x\.csv'"):
-        output.write_all({str(tmp_path / "nowhere" / "x.csv"): b"1"})
+    with pytest.raises(OutputError, match=r"'.*a\.csv' is not a folder"):  # a missing folder under a file
+        output.write_all({str(tmp_path / "a.csv" / "x.csv"): b"1"})
+    assert sorted(os.listdir(tmp_path)) == ["a.csv", "d.json"]
 
 
 def test_transaction_commits_once(tmp_path):
@@ -354,36 +355,51 @@ def _dead_pid():
     return proc.pid
 
 
+def _marked(folder, pid=None, host=None, kind="part"):
+    """A marked name as another coinwall process (``pid`` on ``host``) would have made it."""
+    body = f"{host or output._host_tag()}.{pid or os.getpid()}.{'ab' * 8}"
+    return f"{output._PREFIX}{body}.{output._mark(body + '.' + kind)}.{kind}"
+
+
 def test_stale_temporaries_of_our_naming_are_swept(tmp_path):
+    """Only names whose mark verifies are ours: swept when their process is gone (or a day old); every other
+    name, whatever it looks like, is left alone (a user's own .coinwall-settings.json, the older namings)."""
     host = output._host_tag()
     other_host = "0" * 8 if host != "0" * 8 else "1" * 8
     dead, alive = _dead_pid(), os.getppid()
+    forged = _marked(tmp_path, dead)[:-len("0123456789abcdef.part")] + "0123456789abcdef.part"
     planted = {
-        f".coinwall-{host}-{dead}-deadbeef.csv": False,    # its process is gone: swept
-        f".coinwall-{host}-{alive}-deadbeef.csv": True,    # its process runs: kept
-        f".coinwall-{other_host}-{dead}-deadbeef.csv": True,  # another host's pid: kept until old
-        ".coinwall-abcd_123.svg": True,                    # the older mkstemp naming, recent: kept
-        ".coinwall-notes.txt": True,                       # not our naming: never touched
+        _marked(tmp_path, dead): False,                     # its process is gone: swept
+        _marked(tmp_path, alive): True,                     # its process runs: kept
+        _marked(tmp_path, dead, other_host): True,          # another host's pid: kept until old
+        forged: True,                                       # our naming, a mark that does not verify: never ours
+        f".coinwall-{host}-{dead}-deadbeef.csv": True,      # the naming of coinwall 0.x: not provably ours
+        ".coinwall-abcd_123.svg": True,                     # the older mkstemp naming: not provably ours
+        ".coinwall-settings.json": True,                    # a user's own files
+        ".coinwall-my_notes.csv": True,
         "data.csv": True,
     }
     for name in planted:
         (tmp_path / name).write_text("x")
-    os.symlink(tmp_path / "data.csv", tmp_path / f".coinwall-{host}-{dead}-feedbeef.csv")  # a link: never touched
-    planted[f".coinwall-{host}-{dead}-feedbeef.csv"] = True
+    link = _marked(tmp_path, dead).replace("abab", "cdcd", 1)
+    os.symlink(tmp_path / "data.csv", tmp_path / link)  # a link (and a mark that does not verify): never touched
+    planted[link] = True
+    old = time.time() - 2 * 86400
+    for name in planted:
+        if name != link:
+            os.utime(tmp_path / name, (old, old))
     output.write_all({str(tmp_path / "out.csv"): b"1"})
-    assert sorted(os.listdir(tmp_path)) == sorted([n for n, kept in planted.items() if kept] + ["out.csv"])
-    # a day later the other host's temporary and the old-style one are stale too
-    old = time.time() - output.STALE_SECONDS - 60
-    for name in (f".coinwall-{other_host}-{dead}-deadbeef.csv", ".coinwall-abcd_123.svg"):
-        os.utime(tmp_path / name, (old, old))
-    removed = output.sweep_stale(str(tmp_path))
-    assert sorted(os.path.basename(p) for p in removed) == sorted(
-        [f".coinwall-{other_host}-{dead}-deadbeef.csv", ".coinwall-abcd_123.svg"])
+    kept = sorted([n for n, keep in planted.items() if keep] + ["out.csv"])
+    assert sorted(os.listdir(tmp_path)) == sorted(set(kept) - {_marked(tmp_path, alive),
+                                                                _marked(tmp_path, dead, other_host)})
+    assert (tmp_path / ".coinwall-settings.json").read_text() == "x"
 
 
 def test_temporary_names_say_whose_they_are(tmp_path):
     name = os.path.basename(output.temporary_name(str(tmp_path / "body.json")))
-    assert output._OURS.fullmatch(name) and f"-{os.getpid()}-" in name and name.endswith(".json")
+    assert output.is_marked(name) == (output._host_tag(), os.getpid(), "part")
+    assert name.startswith(".coinwall-tmp.") and name.endswith(".part")
+    assert output.is_marked(name.replace(name[-8], "0" if name[-8] != "0" else "1")) is None
 
 
 # --------------------------------------------------------------------------- 5. the last line of defence

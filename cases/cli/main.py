@@ -41,6 +41,20 @@ EX_SOFTWARE = 70
 #: exit status after Ctrl-C: 128 + SIGINT, what a shell reports for a program killed by it
 EX_INTERRUPTED = 130
 
+
+def _quiet_scan_worker() -> None:
+    """In a worker process of ``coinwall scan``'s local cluster (spawned by multiprocessing, which runs this
+    module first): ignore SIGINT, so that Ctrl-C stops the driver alone, which closes the cluster, instead
+    of every worker printing a traceback (coinwall.forward.scan.driver.WORKER_ENVIRONMENT)."""
+    # (multiprocessing.parent_process() is set only after this module ran; spawn_main has been imported by then)
+    if os.environ.get("COINWALL_SCAN_WORKER") == "1" and "multiprocessing.spawn" in sys.modules:
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+_quiet_scan_worker()
+
 # a library message names an argument in backticks: "`max_lag` must be ..."
 _ARGUMENT = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)`")
 # warnings meant for developers (hidden by Python's default filters too)
@@ -136,8 +150,12 @@ def _run(argv) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    from coinwall.forward.formats.output import command_scope
+
     try:
-        return args.run(args)
+        # the files named as positional arguments, and every input file read, cannot be outputs of the command
+        with command_scope(_file_arguments(parser.commands[args.command], args)):
+            return args.run(args)
     except CoinwallError as exc:
         if _debug():
             raise
@@ -148,6 +166,19 @@ def _run(argv) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+
+
+def _file_arguments(parser, args) -> list:
+    """The positional arguments of ``args`` that name an existing regular file (the command's inputs)."""
+    names = []
+    for action in parser._actions:
+        if action.option_strings:
+            continue
+        values = getattr(args, action.dest, None)
+        for value in values if isinstance(values, (list, tuple)) else [values]:
+            if isinstance(value, str) and value and os.path.isfile(value):
+                names.append(value)
+    return names
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -65,10 +65,12 @@ def register(subparsers):
     group.add_argument("--cells", type=count, default=None, help="mesh rows across the strip (splitting)")
     group.add_argument("--order", type=count, default=None, help="element degree 2..4 (splitting)")
     scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
-    scan.add_argument("--scheduler", default="local", metavar="local|tcp://HOST:PORT",
-                      help="'local' (default): a local cluster made for this scan; or a running scheduler")
+    scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",
+                      help="'local' (default): a local cluster made for this scan; 'synchronous': every cell in this "
+                           "process, one after the other; or a running scheduler")
     scan.add_argument("--workers", type=count, default=None,
-                      help="local worker processes (default: one per core); with --scheduler, wait for N")
+                      help="local worker processes (default: one per core, at most what the memory holds); with "
+                           "--scheduler, wait for N")
     scan.add_argument("-o", "--output", required=True, metavar="RESULT.zarr", help="the Zarr store (resumed if it "
                       "exists)")
     scan.add_argument("--figure", action="append", default=[], metavar="FILE",
@@ -150,10 +152,13 @@ def _cmd_scan(args):
         bar.update(done - bar.n)
         bar.set_postfix_str(f"{todo - done} left", refresh=False)
 
+    def note(text):  # as it arises: a damaged cell computed again, fewer workers than asked
+        print(f"coinwall: note: {text}", file=sys.stderr, flush=True)
+
     command = _command(args)
     try:
         result = scan(args.quantity, table, grid, output=args.output, options=options, seed=args.seed,
-                      scheduler=args.scheduler, workers=args.workers, progress=progress, command=command)
+                      scheduler=args.scheduler, workers=args.workers, progress=progress, command=command, notes=note)
     finally:
         if bar is not None:
             bar.close()

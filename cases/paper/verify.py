@@ -13,7 +13,7 @@ import time
 
 from coinwall.forward.errors import InvalidArgument, OutputError
 from coinwall.forward.formats.figure import FIGURE_FORMATS
-from coinwall.forward.formats.output import write_all
+from coinwall.forward.formats.output import prepare_folder, write_all
 from coinwall.forward.validation import check_choice
 
 from .checks import Resolution
@@ -52,16 +52,15 @@ def evaluate(claims, resolution: Resolution, progress: bool = False) -> tuple:
 
 
 def _output_folder(out) -> str:
-    """``out`` as a writable folder, created with its parents if missing."""
+    """``out`` as a folder that is writable or can be made; nothing is created before the report and its
+    figures are written together (write_all makes the folders, and removes them again if that fails)."""
     if not isinstance(out, (str, os.PathLike)):
         raise InvalidArgument(f"`out` must be a folder path, got {out!r}")
     out = os.fspath(out)
     try:
-        os.makedirs(os.path.join(out, "figures"), exist_ok=True)
-    except OSError as exc:
-        raise OutputError(f"`out` {out!r}: cannot create the folder ({exc.strerror or exc})") from None
-    if not os.access(out, os.W_OK):
-        raise OutputError(f"`out` {out!r}: folder is not writable")
+        prepare_folder(os.path.join(out, "figures"))
+    except OutputError as exc:
+        raise OutputError(f"`out` {out!r}: {exc}") from None
     return out
 
 

@@ -34,6 +34,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import stat
 import sys
 import tempfile
@@ -283,8 +284,14 @@ def cache_dir():
 
 def _write_atomic(folder: str, name: str, data: bytes) -> None:
     """Write ``data`` to ``folder/name`` through a temporary file and a rename: readers (other processes
-    compiling the same wall) see the old file or the whole new one, never a part."""
-    fd, temp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".part")
+    compiling the same wall) see the old file or the whole new one, never a part.  The temporary has a
+    marked name (:func:`coinwall.forward.formats.output.marked_name`), so that only temporaries this program
+    made are ever swept (:func:`_sweep_temporaries`)."""
+    from ..formats.output import marked_name
+
+    _clear_name(os.path.join(folder, name))
+    temp = marked_name(folder, "part")
+    fd = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o600)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
@@ -315,6 +322,8 @@ def _digest(path: str) -> str:
 
 def _check_numba_files(folder: str, name: str) -> None:
     """Delete numba's files of ``name`` unless every one is listed, with its SHA-256, in ``<name>.sums``."""
+    for path in [os.path.join(folder, name + ".sums"), *_numba_files(folder, name)]:
+        _clear_name(path)
     files = _numba_files(folder, name)
     if not files:
         return
@@ -342,6 +351,7 @@ def seal(module) -> None:
         return
     name = module.__name__
     try:
+        _clear_name(os.path.join(folder, name + ".sums"))
         sums = json.dumps({os.path.basename(f): _digest(f) for f in _numba_files(folder, name)}, indent=0,
                           sort_keys=True).encode()
         path = os.path.join(folder, name + ".sums")
@@ -362,27 +372,70 @@ def discard(folder: str, name: str, keep_source: bool = False) -> None:
     if not keep_source:
         paths.append(os.path.join(folder, name + ".py"))
     for path in paths:
+        _clear_name(path)
         with contextlib.suppress(FileNotFoundError):
             os.unlink(path)
 
 
-def _sweep_temporaries(folder: str, age: float = 3600.0) -> None:
-    """Remove our own temporary files (``.tmp-*``) older than ``age`` seconds (left by a killed process)."""
+# numba's own temporaries (numba.core.caching._CacheImpl: "<file>.tmp.<16 hex>"), of our modules only
+_NUMBA_TEMP = re.compile(r"coinwall_[a-z_]+_[0-9a-f]{20}\..+\.nb[ic]\.tmp\.[0-9a-f]{16}")
+# the temporaries of coinwall before marked names (tempfile.mkstemp(prefix=".tmp-", suffix=".part")): made in the
+# cache folder, which only coinwall writes (owner-only, checked), so this exact form is taken as ours there
+_LEGACY_TEMP = re.compile(r"\.tmp-[a-z0-9_]{8}\.part")
+_SWEPT: set = set()
+
+
+def _sweep_temporaries(folder: str, age: float = 3600.0) -> int:
+    """Remove the temporaries left in the cache folder by killed processes, older than ``age`` seconds (or whose
+    process is gone), once per process and folder; returns how many.  Only ours: marked names
+    (:func:`coinwall.forward.formats.output.sweep_stale`), numba's temporaries of our generated modules in
+    ``__pycache__``, and the exact form of coinwall's earlier temporaries; regular files owned by this user."""
     import time
 
+    from ..formats.output import sweep_stale
+
+    if folder in _SWEPT:
+        return 0
+    _SWEPT.add(folder)
+    removed = len(sweep_stale(folder, age))
     now = time.time()
-    with contextlib.suppress(OSError):
-        for entry in os.scandir(folder):
-            if entry.name.startswith(".tmp-") and entry.is_file(follow_symlinks=False) \
-                    and now - entry.stat(follow_symlinks=False).st_mtime > age:
+    uid = os.getuid() if hasattr(os, "getuid") else None
+    for place, pattern in ((folder, _LEGACY_TEMP), (os.path.join(folder, "__pycache__"), _NUMBA_TEMP)):
+        with contextlib.suppress(OSError):
+            for entry in os.scandir(place):
+                if not pattern.fullmatch(entry.name):
+                    continue
                 with contextlib.suppress(OSError):
-                    os.unlink(entry.path)
+                    info = entry.stat(follow_symlinks=False)
+                    if stat.S_ISREG(info.st_mode) and (uid is None or info.st_uid == uid) \
+                            and now - info.st_mtime > age:
+                        os.unlink(entry.path)
+                        removed += 1
+    return removed
+
+
+def _clear_name(path: str) -> None:
+    """Make room for a file of ours at ``path`` in the cache folder: something there that is not a regular file
+    (a folder, however deep, a link, a FIFO) is not ours to delete, so it is moved aside, with a note, to
+    ``<name>.not-a-file-<random>``; a cache that could never write its manifest again would never heal."""
+    import secrets
+
+    try:
+        info = os.lstat(path)
+    except FileNotFoundError:
+        return
+    if stat.S_ISREG(info.st_mode):
+        return
+    aside = f"{path}.not-a-file-{secrets.token_hex(4)}"
+    os.rename(path, aside)
+    _note(f"moved {path} aside to {aside}: the kernel cache keeps a file of its own there, and it was not a file")
 
 
 def _stored(folder: str, name: str, data: bytes) -> str:
     """Path of ``folder/name.py`` holding exactly ``data``: a file with other content (damaged, or planted by
     someone) is replaced, with its numba files, before anything of it is used."""
     path = os.path.join(folder, name + ".py")
+    _clear_name(path)
     try:
         with open(path, "rb") as fh:
             stored = fh.read(len(data) + 1)
@@ -392,7 +445,6 @@ def _stored(folder: str, name: str, data: bytes) -> str:
         if stored is not None:
             _note(f"discarded {path}: its content does not match its name (damaged or foreign); writing it again")
         discard(folder, name, keep_source=True)
-        _sweep_temporaries(folder)
         _write_atomic(folder, name + ".py", data)
     return path
 
@@ -433,6 +485,7 @@ def load_module(source: str, prefix: str = "coinwall_gen"):
     folder = cache_dir()
     filename = f"<coinwall generated {name}>"
     if folder is not None:
+        _sweep_temporaries(folder)
         try:
             filename = _stored(folder, name, data)
             _check_numba_files(folder, name)

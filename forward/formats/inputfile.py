@@ -23,6 +23,7 @@ import os
 import stat
 
 from ..errors import InvalidOutline
+from .output import note_input
 
 __all__ = ["MAX_BYTES", "MAX_NESTING", "check_regular", "file_kind", "json_nesting", "json_number", "read_bytes",
            "read_json", "read_text"]
@@ -118,6 +119,7 @@ def read_bytes(path, *, what: str = "input file", error=InvalidOutline, max_byte
         raise error(f"{what} {path!r} is not readable: {exc.strerror or exc}") from None
     try:
         _check_info(path, os.fstat(descriptor), what, error, limit)
+        note_input(path)  # a command's input is never one of its outputs (output.command_scope)
         chunks, total = [], 0
         while total <= limit:
             chunk = os.read(descriptor, min(1 << 20, limit + 1 - total))

@@ -8,12 +8,19 @@ good.  :func:`write_all` then writes every file or none, and says which ones rep
 How the all-or-nothing promise is kept
 --------------------------------------
 1. Every file is written to a temporary file in its own folder (so the final rename stays on one
-   filesystem and is atomic), named ``.coinwall-<host>-<pid>-<random><ext>``: ``host`` is a hash of
-   the host name and ``pid`` our process id, so a later run can tell a temporary left by a process
-   that no longer exists (killed with SIGKILL, a power cut) from one still being written.  Each
+   filesystem and is atomic), named ``.coinwall-tmp.<host>.<pid>.<random>.<mark>.part``: ``host`` is a
+   hash of the host name and ``pid`` our process id, so a later run can tell a temporary left by a
+   process that no longer exists (killed with SIGKILL, a power cut) from one still being written, and
+   ``mark`` is a keyed hash (HMAC-SHA-256) of the rest of the name under a per-user secret
+   (:func:`marked_name`).  Only a name whose mark verifies was made by coinwall for this user: a user's
+   own ``.coinwall-settings.json`` or ``.coinwall-tmp.…`` file can never be taken for one.  Each
    :func:`write_all` first sweeps such stale temporaries (:func:`sweep_stale`) from the folders it
-   writes to: only regular files of this naming, owned by the current user, whose process is gone on
-   this host or which are older than :data:`STALE_SECONDS`.  Nothing else is ever touched.
+   writes to: only regular files owned by the current user whose mark verifies and whose process is
+   gone on this host, or which are older than :data:`STALE_SECONDS`.  Nothing else is ever touched.
+   Missing folders are made once every name is known to be good (:func:`check_paths`, or
+   :func:`write_all` itself); those :func:`write_all` made are removed again when it fails, and inside
+   :func:`command_scope` (the command line) every folder made for the command's outputs is removed
+   when the command fails, each only if it is still the empty folder made here.
 2. While the temporaries exist, SIGTERM and SIGHUP (main thread only, and only when the process does
    not ignore them) remove them before the process dies of the signal as it would have, with the
    conventional status (128 + 15 in a shell); the previous handler is restored afterwards.
@@ -34,6 +41,7 @@ import contextlib
 import contextvars
 import errno
 import hashlib
+import hmac
 import os
 import re
 import secrets
@@ -50,8 +58,12 @@ __all__ = [
     "STALE_SECONDS",
     "Written",
     "check_paths",
+    "command_scope",
     "default_file_mode",
     "existing_files",
+    "is_marked",
+    "marked_name",
+    "note_input",
     "prepare_folder",
     "refuse_non_finite",
     "sweep_stale",
@@ -64,13 +76,19 @@ __all__ = [
 #: folder, or a pid that was reused): no coinwall write takes a day
 STALE_SECONDS = 24 * 3600
 
-_PREFIX = ".coinwall-"
-# .coinwall-<8 hex of the host>-<pid>-<8 hex random><ext>
-_OURS = re.compile(r"\.coinwall-([0-9a-f]{8})-([0-9]{1,10})-[0-9a-f]{8}(\.[A-Za-z0-9]{1,8})?")
-# tempfile.mkstemp's names in coinwall 0.x (8 characters of [a-z0-9_]): swept by age only
-_LEGACY = re.compile(r"\.coinwall-[a-z0-9_]{8}(\.[A-Za-z0-9]{1,8})?")
+_PREFIX = ".coinwall-tmp."
+# .coinwall-tmp.<8 hex of the host>.<pid>.<16 hex random>.<16 hex mark>.<kind>; the mark is an HMAC of the rest
+_OURS = re.compile(r"\.coinwall-tmp\.([0-9a-f]{8})\.([0-9]{1,10})\.([0-9a-f]{16})\.([0-9a-f]{16})\.([a-z]{1,8})")
+#: the kinds of marked names: ``part`` a file being written, ``store`` a folder being made (a scan store)
+KINDS = ("part", "store")
+_KEY_FILE = "temporary-names.key"
+_KEY: list = []  # [the key] once known (per process)
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
 _BATCH = contextvars.ContextVar("coinwall_output_batch", default=None)
+# inside command_scope (the command line): {(st_dev, st_ino): name} of the input files read or named
+_INPUTS = contextvars.ContextVar("coinwall_inputs", default=None)
+# inside command_scope: the folders made for the command's outputs, [(path, (st_dev, st_ino))]
+_MADE = contextvars.ContextVar("coinwall_made_folders", default=None)
 
 
 class Written(list):
@@ -115,50 +133,111 @@ def _missing_folders(folder: str) -> list:
     return missing[::-1]
 
 
-def _create(folders) -> None:
-    for folder in folders:
+def _limits(folder: str) -> tuple:
+    """(longest file name, longest path) of the filesystem holding the existing ``folder``."""
+    def limit(name, default):
         try:
-            os.makedirs(folder, exist_ok=True)
-        except OSError as exc:
-            raise OutputError(f"cannot create folder {folder!r}: {exc.strerror or exc}") from None
+            value = os.pathconf(folder, name)
+        except (OSError, ValueError, AttributeError):
+            value = -1
+        return value if value and value > 0 else default
+
+    return limit("PC_NAME_MAX", 255), limit("PC_PATH_MAX", 4096)
 
 
-def check_paths(paths, allowed) -> None:
+#: the longest temporary name (marked_name), which must fit beside every output
+_TEMP_LENGTH = len(_PREFIX) + 8 + 1 + 10 + 1 + 16 + 1 + 16 + 1 + 8
+
+
+def _short(path: str, limit: int = 80) -> str:
+    return repr(path) if len(path) <= limit else repr(path[:limit // 2]) + "…" + repr(path[-limit // 2:])
+
+
+def _check_length(path: str) -> None:
+    """Refuse a name the filesystem cannot hold (a component or the whole path too long), before any
+    folder is made for it: ``-o d/d/…/d/x.csv`` used to make thousands of folders, then fail."""
+    full = os.path.abspath(path)
+    existing = full
+    while not os.path.isdir(existing) and os.path.dirname(existing) != existing:
+        existing = os.path.dirname(existing)
+    name_max, path_max = _limits(existing)
+    for part in full.split(os.sep):
+        if len(os.fsencode(part)) > name_max:
+            raise OutputError(f"output {_short(path)}: the name {_short(part, 40)} is {len(os.fsencode(part))} bytes "
+                              f"long, more than the {name_max} this filesystem allows")
+    longest = len(os.fsencode(os.path.dirname(full))) + 1 + max(len(os.fsencode(os.path.basename(full))), _TEMP_LENGTH)
+    if longest >= path_max:
+        raise OutputError(f"output {_short(path)}: the path is {longest} bytes long (with its temporary), more than "
+                          f"the {path_max - 1} this system allows; choose a shorter one")
+
+
+def _same_as_input(path: str):
+    """The input file that ``path`` names (the same file, by device and inode), inside :func:`command_scope`."""
+    inputs = _INPUTS.get()
+    if not inputs:
+        return None
+    try:
+        info = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return inputs.get((info.st_dev, info.st_ino))
+
+
+def _refuse_input(path: str) -> None:
+    name = _same_as_input(path)
+    if name is not None:
+        same = "" if os.path.abspath(name) == os.path.abspath(path) else f" (the input {name!r})"
+        raise OutputError(f"output {path!r} is an input file of this command{same}; writing it would replace the "
+                          "input: choose another name")
+
+
+def check_paths(paths, allowed, inputs=()) -> None:
     """Before any work: every output has an extension in ``allowed`` and a place to go.
 
-    Every path is checked first (extension, not a folder, an existing file writable, a folder that
-    exists or can be created, not the same file as another output); only then are missing folders
-    created, so a bad name anywhere in ``paths`` creates nothing.
+    Every path is checked first (extension, a name the filesystem can hold, not a folder, an existing
+    file writable, a folder that exists or can be created, not the same file as another output, not an
+    input of the command: ``inputs`` and, inside :func:`command_scope`, the files it names); only then
+    are missing folders created, so a bad name anywhere in ``paths`` creates nothing.  Inside
+    :func:`command_scope` the folders made are removed again if the command fails.
 
     Raises
     ------
     OutputError
         Naming the first bad path.
     """
-    to_create, seen = [], {}
+    for name in inputs:
+        note_input(name)
+    seen = {}
     for path in paths:
         ext = os.path.splitext(path)[1].lower()
         if ext not in allowed:
             raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(allowed)}")
+        _check_length(path)
         if os.path.isdir(path):
             raise OutputError(f"output {path!r} is a folder, not a file")
         if os.path.exists(path) and not os.access(path, os.W_OK):
             raise OutputError(f"output {path!r}: the existing file is not writable")
+        _refuse_input(path)
+        for name in inputs:  # outside a command scope too
+            if os.path.exists(path) and os.path.exists(name) and os.path.samefile(path, name):
+                raise OutputError(f"output {path!r} is an input file of this command; writing it would replace "
+                                  "the input: choose another name")
         # two names of one file (a.csv and ./a.csv) would be written twice, the first copy lost
         same = os.path.realpath(path)
         if same in seen and seen[same] != path:
             raise OutputError(f"output {path!r} is the same file as {seen[same]!r}")
         seen[same] = path
         try:
-            to_create += _missing_folders(os.path.dirname(os.path.abspath(path)))
+            _missing_folders(os.path.dirname(os.path.abspath(path)))
         except OutputError as exc:
             raise OutputError(f"output {path!r}: {exc}") from None
-    _create(dict.fromkeys(to_create))
+    _make_folders(paths, [])
 
 
 def prepare_folder(folder: str) -> str:
     """Make sure the output folder ``folder`` exists and is writable, creating it (and its parents)
-    when missing; returns ``folder``.
+    when missing; returns ``folder``.  Inside :func:`command_scope` the folders made are removed again
+    if the command fails.
 
     Raises
     ------
@@ -166,12 +245,84 @@ def prepare_folder(folder: str) -> str:
         If ``folder`` or one of its parents is a file, or it cannot be created or written to.
     """
     try:
-        _create(_missing_folders(folder))
+        _check_length(os.path.join(folder, "x"))
+        _make_folders([os.path.join(folder, "x")], [])
     except OutputError as exc:
         raise OutputError(f"output folder {folder!r}: {exc}") from None
     if not os.access(folder, os.W_OK):
         raise OutputError(f"output folder {folder!r} is not writable")
     return folder
+
+
+def _make_folders(paths, made) -> None:
+    """Make the missing folders of ``paths`` (outermost first), listing each in ``made`` (and in the
+    command's list, inside :func:`command_scope`) as ``(folder, (dev, ino))``; on failure the ones
+    made are removed again."""
+    scope = _MADE.get()
+    for folder in dict.fromkeys(os.path.dirname(os.path.abspath(p)) for p in paths):
+        for missing in _missing_folders(folder):
+            try:
+                os.mkdir(missing)
+            except FileExistsError:
+                continue  # made meanwhile by someone else: not ours to remove
+            except OSError as exc:
+                _remove_folders(made)
+                raise OutputError(f"cannot create folder {missing!r}: {exc.strerror or exc}; nothing was written") \
+                    from None
+            info = os.lstat(missing)
+            made.append((missing, (info.st_dev, info.st_ino)))
+            if scope is not None:
+                scope.append(made[-1])
+
+
+def _remove_folders(made) -> None:
+    """Remove the folders of ``made`` (innermost first), each only if it is still the one made here and empty."""
+    for folder, identity in reversed(made):
+        try:
+            info = os.lstat(folder)
+            if (info.st_dev, info.st_ino) == identity:
+                os.rmdir(folder)  # fails (and keeps it) if anything was put in it
+        except OSError:
+            pass
+
+
+@contextlib.contextmanager
+def command_scope(inputs=()):
+    """The span of one command.
+
+    * The files in ``inputs`` and every input file read inside it (:func:`note_input`) cannot be
+      outputs of it (``coinwall solve wall.csv -o wall.csv`` is refused instead of replacing the data
+      it was computed from).
+    * The folders made for its outputs (:func:`check_paths`, :func:`prepare_folder`,
+      :func:`write_all`) are removed again, innermost first and each only if it is still the empty
+      folder made here, when the command ends with an exception (bad input found late, a full disk,
+      Ctrl-C): a failed command leaves no folders behind.
+    """
+    token, made_token = _INPUTS.set({}), _MADE.set([])
+    try:
+        for name in inputs:
+            note_input(name)
+        yield
+    except BaseException:
+        _remove_folders(_MADE.get())
+        raise
+    finally:
+        _MADE.reset(made_token)
+        _INPUTS.reset(token)
+
+
+def note_input(path) -> None:
+    """Record ``path`` (an existing regular file) as an input of the running command (:func:`command_scope`;
+    outside one, nothing is recorded)."""
+    inputs = _INPUTS.get()
+    if inputs is None:
+        return
+    try:
+        info = os.stat(path)
+    except (OSError, ValueError, TypeError):
+        return
+    if stat.S_ISREG(info.st_mode):
+        inputs.setdefault((info.st_dev, info.st_ino), os.fspath(path))
 
 
 def existing_files(paths) -> tuple:
@@ -218,12 +369,97 @@ def _host_tag() -> str:
     return hashlib.sha256(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:8]
 
 
+def _key_folder() -> str:
+    chosen = os.environ.get("COINWALL_CACHE_DIR")
+    if chosen:
+        return os.path.abspath(chosen)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(os.path.abspath(base), "coinwall")
+
+
+def _private(info, uid) -> bool:
+    return (uid is None or info.st_uid == uid) and not info.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+
+
+def _stored_key():
+    """The per-user secret in ``<cache>/temporary-names.key`` (32 random bytes, mode 0600), made once; None
+    when the folder or the file cannot be trusted (another owner, writable by others) or written."""
+    uid = os.getuid() if hasattr(os, "getuid") else None
+    folder = _key_folder()
+    path = os.path.join(folder, _KEY_FILE)
+    try:
+        os.makedirs(folder, mode=0o700, exist_ok=True)
+        if not _private(os.stat(folder), uid):
+            return None
+        try:
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0))
+        except FileNotFoundError:
+            temp = os.path.join(folder, f".{_KEY_FILE}.{os.getpid()}.{secrets.token_hex(8)}")
+            fd = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o600)
+            try:
+                try:
+                    os.write(fd, secrets.token_bytes(32))
+                finally:
+                    os.close(fd)
+                with contextlib.suppress(FileExistsError):  # another process made it first: use theirs
+                    os.link(temp, path)
+            finally:
+                with contextlib.suppress(OSError):
+                    os.unlink(temp)
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0))
+        try:
+            info = os.fstat(fd)
+            key = os.read(fd, 65)
+        finally:
+            os.close(fd)
+        if not stat.S_ISREG(info.st_mode) or not _private(info, uid) or info.st_mode & 0o077 or len(key) != 32:
+            return None
+        return key
+    except OSError:
+        return None
+
+
+def _key() -> bytes:
+    """The key of the marks: the per-user secret, or (where it cannot be kept) a key derived from the user
+    and the host, which still no name chosen by hand matches."""
+    if not _KEY:
+        key = _stored_key()
+        if key is None:
+            uid = os.getuid() if hasattr(os, "getuid") else 0
+            key = hashlib.sha256(f"coinwall temporary names|{uid}|{socket.gethostname()}".encode(
+                "utf-8", "replace")).digest()
+        _KEY.append(key)
+    return _KEY[0]
+
+
+def _mark(body: str) -> str:
+    return hmac.new(_key(), body.encode("ascii"), hashlib.sha256).hexdigest()[:16]
+
+
+def marked_name(folder: str, kind: str = "part") -> str:
+    """A fresh name in ``folder`` that only this program makes, for this user:
+    ``.coinwall-tmp.<host>.<pid>.<random>.<mark>.<kind>``, where ``mark`` is an HMAC of the rest under a
+    per-user secret (module docstring).  ``kind`` is one of :data:`KINDS`."""
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    body = f"{_host_tag()}.{os.getpid()}.{secrets.token_hex(8)}"
+    return os.path.join(folder, f"{_PREFIX}{body}.{_mark(body + '.' + kind)}.{kind}")
+
+
+def is_marked(name: str):
+    """``(host, pid, kind)`` when ``name`` (a base name) is a :func:`marked_name` of this user, else None."""
+    match = _OURS.fullmatch(name)
+    if not match or match.group(5) not in KINDS:
+        return None
+    body = f"{match.group(1)}.{match.group(2)}.{match.group(3)}"
+    if not hmac.compare_digest(_mark(body + "." + match.group(5)), match.group(4)):
+        return None
+    return match.group(1), int(match.group(2)), match.group(5)
+
+
 def temporary_name(path: str) -> str:
-    """A fresh temporary name next to ``path``: ``.coinwall-<host>-<pid>-<random><ext>`` (module docstring)."""
-    folder = os.path.dirname(os.path.abspath(path))
-    ext = os.path.splitext(path)[1]
-    ext = ext if re.fullmatch(r"\.[A-Za-z0-9]{1,8}", ext) else ""
-    return os.path.join(folder, f"{_PREFIX}{_host_tag()}-{os.getpid()}-{secrets.token_hex(4)}{ext}")
+    """A fresh temporary name next to ``path`` (:func:`marked_name`, kind ``part``)."""
+    return marked_name(os.path.dirname(os.path.abspath(path)), "part")
 
 
 def _process_gone(pid: int) -> bool:
@@ -239,21 +475,14 @@ def _process_gone(pid: int) -> bool:
     return False
 
 
-def _stale(name: str, info, now: float) -> bool:
-    old = now - info.st_mtime > STALE_SECONDS
-    ours = _OURS.fullmatch(name)
-    if ours:
-        return old or (ours.group(1) == _host_tag() and _process_gone(int(ours.group(2))))
-    return bool(_LEGACY.fullmatch(name)) and old
+def sweep_stale(folder: str, age: float = STALE_SECONDS) -> list:
+    """Remove the stale temporaries this program made in ``folder``; returns their paths.
 
-
-def sweep_stale(folder: str) -> list:
-    """Remove the stale temporaries of coinwall's own naming from ``folder``; returns their paths.
-
-    Only regular files (not links) owned by the current user, named ``.coinwall-<host>-<pid>-<random>[.ext]``
-    whose process is gone on this host, or of that naming (or the older ``.coinwall-<8 chars>[.ext]``)
-    and older than :data:`STALE_SECONDS`.  Errors (an unreadable folder, a file removed meanwhile) are
-    ignored: sweeping is housekeeping, never a reason to fail a write.
+    Only entries whose name is a :func:`marked_name` of this user (the mark verifies), owned by the
+    current user, not links: files of kind ``part`` and folders of kind ``store``; stale means their
+    process is gone on this host, or they are older than ``age`` seconds.  Every other name is left
+    alone, whatever it looks like.  Errors (an unreadable folder, a file removed meanwhile) are ignored:
+    sweeping is housekeeping, never a reason to fail a write.
     """
     removed = []
     now = time.time()
@@ -262,15 +491,26 @@ def sweep_stale(folder: str) -> list:
         entries = list(os.scandir(folder))
     except OSError:
         return removed
+    host = None
     for entry in entries:
         if not entry.name.startswith(_PREFIX):
             continue
         try:
-            info = entry.stat(follow_symlinks=False)
-            if not stat.S_ISREG(info.st_mode) or (uid is not None and info.st_uid != uid):
+            mine = is_marked(entry.name)
+            if mine is None:
                 continue
-            if _stale(entry.name, info, now):
-                os.unlink(entry.path)
+            info = entry.stat(follow_symlinks=False)
+            if uid is not None and info.st_uid != uid:
+                continue
+            kind_ok = stat.S_ISREG(info.st_mode) if mine[2] == "part" else stat.S_ISDIR(info.st_mode)
+            if not kind_ok:
+                continue
+            host = host or _host_tag()
+            if now - info.st_mtime > age or (mine[0] == host and _process_gone(mine[1])):
+                if mine[2] == "store":
+                    shutil.rmtree(entry.path)
+                else:
+                    os.unlink(entry.path)
                 removed.append(entry.path)
         except OSError:
             continue
@@ -294,6 +534,7 @@ class _Termination:
 
     def __init__(self):
         self.temps = []  # every name is listed before its file is created
+        self.folders = []  # the folders made for the outputs, removed with the temporaries
         self.previous = {}
         self.holding = False
         self.pending = None
@@ -330,6 +571,7 @@ class _Termination:
             self.pending = number
             return
         _remove(self.temps)
+        _remove_folders(self.folders)
         before = self.previous[number]
         signal.signal(number, before)
         if callable(before):
@@ -441,12 +683,17 @@ def write_all(files) -> Written:
     if batch is not None:
         batch.update(files)
         return Written(files, existing_files(files))
+    for path in files:
+        _refuse_input(path)
+        _check_length(path)
     for folder in dict.fromkeys(os.path.dirname(os.path.abspath(path)) for path in files):
-        sweep_stale(folder)
+        if os.path.isdir(folder):
+            sweep_stale(folder)
     pairs = []
     with _Termination() as termination:
-        temps = termination.temps
+        temps, made = termination.temps, termination.folders
         try:
+            _make_folders(files, made)
             for path, data in files.items():
                 temp = temporary_name(path)
                 temps.append(temp)  # listed before it exists, so that a signal handler removes it
@@ -466,6 +713,8 @@ def write_all(files) -> Written:
                 replaced = _commit(pairs)
                 temps.clear()
                 termination.committed = True
+                made.clear()
         finally:
             _remove(temps)
+            _remove_folders(made)  # the write failed: the folders made for it go too
     return Written(files, replaced)

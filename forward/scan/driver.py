@@ -20,8 +20,10 @@ the driver's machine) is resumed by running it again with the same arguments.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
+import signal
 import time
 from dataclasses import dataclass
 
@@ -41,9 +43,13 @@ class ScanError(CoinwallError):
     cells finished are in the store and the same command resumes."""
 
 
-__all__ = ["ScanError", "ScanResult", "make_axes", "scan"]
+__all__ = ["WORKER_BYTES", "ScanError", "ScanResult", "make_axes", "scan", "worker_limit"]
 
 _BYTES_PER_CELL = 4000.0  # the driver's bookkeeping per submitted cell (a future, its key, its arguments)
+#: memory one local worker process holds while it computes a cell: the interpreter, numpy, numba and the compiled
+#: kernel, casadi, dask's worker (measured: 0.25-0.35 GB resident after a chaotic-fraction cell; rounded up)
+WORKER_BYTES = 512 * 2**20
+_QUIET_LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
 
 
 @dataclass(frozen=True, repr=False)
@@ -69,6 +75,8 @@ class ScanResult:
         Wall-clock time of this run.
     workers : int
         Workers of the cluster.
+    notes : tuple of str
+        What the run repaired or changed (damaged cells computed again, fewer workers than asked), in words.
     """
 
     path: str
@@ -80,6 +88,7 @@ class ScanResult:
     messages: tuple
     seconds: float
     workers: int
+    notes: tuple = ()
 
     def dataset(self):
         """The store as an :class:`xarray.Dataset` (lazy)."""
@@ -91,7 +100,7 @@ class ScanResult:
         """JSON-ready dictionary."""
         return {"path": self.path, "quantity": self.quantity, "cells": self.cells, "computed": self.computed,
                 "resumed": self.resumed, "refused": self.refused, "messages": list(self.messages),
-                "seconds": self.seconds, "workers": self.workers}
+                "seconds": self.seconds, "workers": self.workers, "notes": list(self.notes)}
 
     @safe_repr
     def __repr__(self) -> str:
@@ -127,23 +136,113 @@ def _require():
                               f"missing): pip install 'coinwall[scan]'")
 
 
-def _client(scheduler, workers):
+def worker_limit() -> tuple:
+    """``(workers, why)``: how many local worker processes this machine can hold, one per core and
+    :data:`WORKER_BYTES` each within :data:`~coinwall.forward.validation.MEMORY_FRACTION` of the available memory."""
+    from ..validation import MEMORY_FRACTION, available_memory
+
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    memory = MEMORY_FRACTION * available_memory()
+    by_memory = int(memory // WORKER_BYTES)
+    why = (f"{cores} core(s), {memory / 2**30:.3g} GiB of memory for workers at about {WORKER_BYTES / 2**30:.2g} GiB "
+           "each")
+    return max(1, min(cores, by_memory)), why
+
+
+def _quiet_logs():
+    """Silence the loggers of dask.distributed, tornado and asyncio (closing a cluster after Ctrl-C makes them
+    report every cancelled task and closed connection); returns what to restore."""
+    import logging
+
+    saved = {}
+    for name in _QUIET_LOGGERS:
+        logger = logging.getLogger(name)
+        saved[name] = (logger.level, logger.disabled)
+        logger.disabled = True
+    return saved
+
+
+def _restore_logs(saved) -> None:
+    import logging
+
+    for name, (level, disabled) in saved.items():
+        logger = logging.getLogger(name)
+        logger.setLevel(level)
+        logger.disabled = disabled
+
+
+#: set in the environment of the local cluster's worker processes: :mod:`coinwall.cases.cli.main`, which
+#: multiprocessing runs first in every worker it spawns from the command line, then ignores SIGINT there
+WORKER_ENVIRONMENT = "COINWALL_SCAN_WORKER"
+
+
+@contextlib.contextmanager
+def _workers_ignore_sigint():
+    """Ctrl-C in a terminal goes to the whole process group: the worker processes would each print a
+    traceback.  While the cluster starts, SIGINT is ignored here, so that the worker processes start with it
+    ignored (a Python started so keeps it so) and their interpreter start-up cannot be cut short; their
+    environment (:data:`WORKER_ENVIRONMENT`) makes a worker the cluster restarts later ignore it too.  The
+    driver alone stops, and closes the cluster.  (The cost: a Ctrl-C in the second or two the cluster takes
+    to start is not seen; the next one is.)"""
+    import threading
+
+    os.environ[WORKER_ENVIRONMENT] = "1"  # for the cluster's life: removed by _close
+    main = threading.current_thread() is threading.main_thread()
+    handler = signal.getsignal(signal.SIGINT) if main else None
+    if main:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, handler if handler is not None else signal.SIG_DFL)
+
+
+def _check_address(scheduler) -> None:
+    """Refuse, in one line, a scheduler address that is not ``PROTOCOL://HOST:PORT``."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    if not (isinstance(scheduler, str) and scheduler.startswith(("tcp://", "tls://", "ucx://", "inproc://"))):
+        raise InvalidArgument(f"`scheduler` must be 'local', 'synchronous' or an address tcp://HOST:PORT, "
+                              f"got {scheduler!r}")
+    try:
+        protocol, location = parse_address(scheduler)
+        if protocol != "inproc":
+            parse_host_port(location)
+    except Exception:  # noqa: BLE001 - whatever the parser says, the address is not one
+        raise InvalidArgument(f"`scheduler` {scheduler!r} is not an address PROTOCOL://HOST:PORT (an IPv6 host is "
+                              "written in brackets: tcp://[::1]:8786)") from None
+
+
+def _client(scheduler, workers, notes):
     """A connected :class:`distributed.Client` and the LocalCluster we made for it (or None)."""
     from distributed import Client, LocalCluster
 
     if scheduler in (None, "local"):
-        n = workers or os.cpu_count() or 1
+        limit, why = worker_limit()
+        n = min(workers or limit, limit)
+        if workers and workers > limit:
+            notes.append(f"asked for {workers} workers; this machine can hold {limit} ({why}): using {limit}")
         # ":0": any free port for the scheduler's HTTP endpoints (8787 may be taken by another cluster, and
         # the warning that says so would reach the user)
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR)
+        # the workers' own log lines (a heartbeat to a scheduler that is closing) are not the user's business:
+        # a cell that fails reaches the driver as an exception
+        try:
+            with _workers_ignore_sigint():
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                       silence_logs=logging.CRITICAL)
+        except BaseException:
+            os.environ.pop(WORKER_ENVIRONMENT, None)
+            raise
         return Client(cluster), cluster
-    if not (isinstance(scheduler, str) and scheduler.startswith(("tcp://", "tls://", "ucx://", "inproc://"))):
-        raise InvalidArgument(f"`scheduler` must be 'local' or an address tcp://HOST:PORT, got {scheduler!r}")
+    _check_address(scheduler)
     try:
         client = Client(scheduler, timeout="20s")
-    except OSError as exc:
-        raise InvalidArgument(f"`scheduler` {scheduler!r}: cannot connect ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, ValueError of a host that does not resolve ...
+        raise InvalidArgument(f"`scheduler` {scheduler!r}: cannot connect ({type(exc).__name__}: {exc})") from None
     if workers:
         try:
             client.wait_for_workers(workers, timeout=120)
@@ -155,9 +254,24 @@ def _client(scheduler, workers):
     return client, None
 
 
+def _close(client, cluster, interrupted) -> None:
+    """Close the client and the cluster we made; after an interruption quietly (no log lines, no traceback)."""
+    saved = _quiet_logs() if interrupted else None
+    try:
+        with contextlib.suppress(Exception):
+            client.close(timeout=10)
+        if cluster is not None:
+            with contextlib.suppress(Exception):
+                cluster.close(timeout=10)
+            os.environ.pop(WORKER_ENVIRONMENT, None)
+    finally:
+        if saved is not None:
+            _restore_logs(saved)
+
+
 def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: dict | None = None, seed: int = 0,
          scheduler: str = "local", workers: int | None = None, client=None, retries: int = 3, progress=None,
-         command: str = "") -> ScanResult:
+         command: str = "", notes=None) -> ScanResult:
     """Compute ``quantity`` on every cell of ``grid`` and store it at ``output`` (resuming what is there).
 
     Parameters
@@ -176,9 +290,12 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     seed : int
         The scan's seed; each cell's comes from it and the cell's coordinates (:func:`.grid.cell_seed`).
     scheduler : str
-        ``"local"`` (a :class:`~distributed.LocalCluster` made and closed here) or ``"tcp://HOST:PORT"``.
+        ``"local"`` (a :class:`~distributed.LocalCluster` made and closed here), ``"synchronous"`` (every cell
+        in this process, one after the other: small scans, tests, debugging) or ``"tcp://HOST:PORT"``.
     workers : int, optional
-        Local worker processes (default: one per core); with an address, wait for that many.
+        Local worker processes (default: one per core); at most what the machine can hold (cores, and
+        memory at :data:`WORKER_BYTES` each: :func:`worker_limit`), with a note.  With an address, wait for
+        that many.
     client : distributed.Client, optional
         Use this client instead (``scheduler`` and ``workers`` are then ignored).
     retries : int
@@ -187,6 +304,9 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
         ``progress(done, todo)`` after each cell written by this run.
     command : str
         Recorded in the store's attributes (the CLI passes its command line).
+    notes : callable, optional
+        ``notes(text)`` for each note as it arises (a damaged cell computed again, fewer workers); they are
+        also in :attr:`ScanResult.notes`.
 
     Returns
     -------
@@ -214,41 +334,94 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     table.wall_at(first)  # a wrong parameter name or expression fails here, once, not in every cell
     identity = {"quantity": quantity, "options": options, **table.identity(), "seed": seed,
                 "axes": {a.name: list(a.values) for a in axes}, "coinwall_version": __version__}
-    exists = os.path.exists(output)
-    status = open_store(output, identity) if exists else np.zeros(shape, dtype=np.int8)
+    if client is None and scheduler not in (None, "local", "synchronous"):
+        _check_address(scheduler)  # before the store is read or made
+    said = []
+
+    def note(text):
+        said.append(text)
+        if notes is not None:
+            notes(text)
+
+    variables = list(QUANTITIES[quantity].variables)
+    exists = os.path.lexists(output)
+    seeds = np.array([cell_seed(seed, c) for _, c in cells(axes)], dtype=np.uint64).reshape(shape)
+    if exists:
+        verified = open_store(output, identity, axes, variables, seeds)
+        status = verified.status
+        for text in verified.notes:
+            note(text)
+    else:
+        status = np.zeros(shape, dtype=np.int8)
     todo = [(index, coords) for index, coords in cells(axes) if status[index] == STATUS_TODO]
     resumed = total - len(todo)
     start = time.perf_counter()
     messages, computed, n_workers = [], 0, 0
-    own = client is None and bool(todo)
-    cluster = None
+    inline = client is None and scheduler == "synchronous"
+    own = client is None and bool(todo) and not inline
+    cluster, interrupted = None, False
     if own:  # connect before the store is made: a scheduler that cannot be reached leaves no file behind
-        client, cluster = _client(scheduler, workers)
+        told = []
+        with _quiet_on_interrupt():
+            client, cluster = _client(scheduler, workers, told)
+        for text in told:
+            note(text)
     try:
         if not exists:
-            seeds = np.array([cell_seed(seed, c) for _, c in cells(axes)], dtype=np.uint64).reshape(shape)
             attrs = {"coinwall_version": __version__, "quantity": quantity, "seed": seed,
                      "options": repr(options), "wall": table.description, "params": repr(dict(table.params)),
                      "b0": float(table.b0), "kappa": "none" if table.kappa is None else float(table.kappa),
                      "command": command, "title": f"coinwall scan {quantity}"}
             create_store(output, axes, QUANTITIES[quantity].variables, seeds, attrs, identity)
         if todo:
-            writer = CellWriter(output, QUANTITIES[quantity].variables)
-            n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
-            computed, messages = _run(client, quantity, table, names, todo, seed, options, retries, writer,
-                                      progress)
+            writer = CellWriter(output, variables, identity)
+            if inline:
+                n_workers = 1
+                computed, messages = _run_inline(quantity, table, names, todo, seed, options, writer, status,
+                                                 progress)
+            else:
+                n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+                computed, messages = _run(client, quantity, table, names, todo, seed, options, retries, writer,
+                                          progress, status)
+    except KeyboardInterrupt:
+        interrupted = True
+        raise
     finally:
         if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
-    refused = int(np.count_nonzero(open_store(output, identity) == STATUS_REFUSED))
+            _close(client, cluster, interrupted)
+    refused = int(np.count_nonzero(status == STATUS_REFUSED))
     return ScanResult(path=output, quantity=quantity, cells=total, computed=computed, resumed=resumed,
                       refused=refused, messages=tuple(messages), seconds=time.perf_counter() - start,
-                      workers=n_workers)
+                      workers=n_workers, notes=tuple(said))
 
 
-def _run(client, quantity, table, names, todo, seed, options, retries, writer, progress):
+@contextlib.contextmanager
+def _quiet_on_interrupt():
+    """Ctrl-C while the cluster starts: its loggers are silenced before the interruption goes on."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        _quiet_logs()
+        raise
+
+
+def _run_inline(quantity, table, names, todo, seed, options, writer, status, progress):
+    """Every cell in this process, one after the other (``scheduler="synchronous"``)."""
+    messages, done = [], 0
+    for index, coords in todo:
+        result = compute_cell(quantity, table, dict(zip(names, coords[:-1])), coords[-1], cell_seed(seed, coords),
+                              options)
+        writer.write(index, result)
+        status[index] = result["status"]
+        done += 1
+        if result["status"] == STATUS_REFUSED and result["error"] not in messages and len(messages) < 5:
+            messages.append(result["error"])
+        if progress is not None:
+            progress(done, len(todo))
+    return done, messages
+
+
+def _run(client, quantity, table, names, todo, seed, options, retries, writer, progress, status=None):
     """Submit the cells, write each result as it arrives; returns (cells written, refusal messages)."""
     from distributed import as_completed
 
@@ -278,6 +451,8 @@ def _run(client, quantity, table, names, todo, seed, options, retries, writer, p
                                 f"killed?); the {done} cells finished are in the store: run the same command again "
                                 "to compute the rest") from None
             writer.write(futures[future], result)
+            if status is not None:
+                status[futures[future]] = result["status"]
             done += 1
             if result["status"] == STATUS_REFUSED and result["error"] not in messages and len(messages) < 5:
                 messages.append(result["error"])

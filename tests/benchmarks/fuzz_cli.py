@@ -27,13 +27,16 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from cli_fuzz import (  # noqa: E402
     BAD_NUMBERS,
+    BAD_OUTPUTS,
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
+    INPUT_AS_OUTPUT,
     MUTATION_TARGETS,
     MUTATIONS,
     NUMERIC_FLAGS,
     ODD_WALLS,
+    OUTPUT_COMMANDS,
     WALL_COMMANDS,
     Worker,
     check_clean,
@@ -44,6 +47,7 @@ from cli_fuzz import (  # noqa: E402
     snapshot,
     valid_files,
     with_flag,
+    with_output,
 )
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
@@ -53,7 +57,16 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
 
 def draw(rng: random.Random, base: str, hostile: tuple):
     """One random request: (category, argv, certainly_bad, files to write into the working folder)."""
-    kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file"])
+    kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name",
+                       "input-output"])
+    if kind == "output-name":
+        command = rng.choice(OUTPUT_COMMANDS)
+        return kind, [command] + with_output(BASE_COMMANDS[command], rng.choice(BAD_OUTPUTS)), True, {}
+    if kind == "input-output":
+        argv = rng.choice(INPUT_AS_OUTPUT)
+        if "linked.csv" in argv:
+            argv = [a if a != "linked.csv" else "samples.csv" for a in argv]
+        return kind, list(argv), True, {}
     if kind == "number":
         command = rng.choice(sorted(NUMERIC_FLAGS.keys() - {"critical"}))
         flag, value_kind = rng.choice(sorted(NUMERIC_FLAGS[command].items()))
