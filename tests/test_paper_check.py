@@ -130,3 +130,15 @@ def test_run_verify_creates_the_folder_and_writes_vector_figures(tmp_path):
     for name in ("fig4_critical.svg", "appendix_gallery.svg"):
         assert (out / "figures" / name).read_bytes().startswith(b"<?xml")
     assert not [p.name for p in out.rglob(".coinwall-*")]
+
+
+def test_markdown_cells_keep_their_columns_and_the_command_names_the_folder():
+    """A `|` inside a cell (|Δv|, |P − ½|) is escaped, so every table row keeps its six columns; the page
+    names the folder it was written to, not always `docs`."""
+    from coinwall.cases.paper.report import Report, Row
+
+    row = Row("k", "a claim", "eq. 1", "|x| < 1", "max |Δ| = 1e-15", "yes", "yes")
+    page = Report((row,), (), "out/notes/paper-check.md", 1.0, True).markdown()
+    line = next(s for s in page.splitlines() if s.startswith("| 1 |"))
+    assert len(line.replace("\\|", "").split("|")) == 8  # six cells between seven bars
+    assert "`coinwall verify --out out/notes --fast`" in page
