@@ -6,8 +6,18 @@ import json
 import math
 import os
 
-from .common import add_command, check_positive_count, check_seed, count, load_wall, number, progress_bar, \
-    wall_arguments, wall_options, written_lines
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    load_wall,
+    number,
+    progress_bar,
+    wall_arguments,
+    wall_options,
+    written_lines,
+)
 
 __all__ = ["register"]
 

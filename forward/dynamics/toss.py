@@ -138,7 +138,7 @@ class BasinMap:
                       rasterized=True)
         if keller and self.table.g > 0:
             v = np.linspace(max(self.v0.min(), 1e-9), self.v0.max(), 400)
-            for n in range(0, 400):
+            for n in range(400):
                 for q in (0.25, 0.75):
                     w = math.pi * (n + q) * self.table.g / v
                     if w.min() > self.omega0.max():
