@@ -191,6 +191,7 @@ BASE_COMMANDS = {
     "quantum": ["1", "--H", "3", "--levels", "4", "--cells", "4", "-o", "out.json"],
     "scan": ["chaotic-fraction", "sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=2", "--H", "3", "--orbits", "4",
              "--collisions", "50", "--workers", "1", "-o", "out.zarr"],
+    "toss": ["case:coin", "--v0", "0:1:4", "--omega", "0:2:4", "-o", "out.json"],
     "correlation": ["case:coin", "--H", "3", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1",
                     "-o", "out.json"],
 }
@@ -209,6 +210,8 @@ NUMERIC_FLAGS = {
     "quantum": {"--H": "positive", "--b0": "offset", "--levels": "count", "--cells": "count"},
     # (scan's --H is a grid whose out-of-range cells are findings, exit 1: not certainly bad)
     "scan": {"--orbits": "count", "--collisions": "count", "--workers": "count", "--seed": "seed"},
+    "toss": {"--g": "positive", "--e": "positive", "--height": "positive", "--kappa": "positive", "--impacts": "count",
+             "--samples": "count", "--seed": "seed"},
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
 }

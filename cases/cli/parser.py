@@ -12,7 +12,7 @@ import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
 from . import (cases, correlation, critical, explore, export, fit, kam, mass, quantum, scan, section, simulate, solve,
-               verify, wall)
+               toss, verify, wall)
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 
@@ -27,6 +27,7 @@ SUBCOMMANDS = {
     "simulate": simulate,
     "section": section,
     "correlation": correlation,
+    "toss": toss,
     "kam": kam,
     "quantum": quantum,
     "scan": scan,

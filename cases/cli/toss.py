@@ -1,0 +1,186 @@
+"""``coinwall toss``: the toss that lands: basin map of the outcome over launch velocity and spin."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    load_wall,
+    number,
+    progress_bar,
+    wall_arguments,
+    wall_options,
+    written_lines,
+)
+
+__all__ = ["register"]
+
+DESCRIPTION = """\
+The toss that lands: the body is launched from a rest orientation with its centre of mass at
+--height (units of κ) above the floor, with upward velocity v0 and spin ω0 (θ̇), in the field --g
+(κ/s², or m/s² with --kappa in metres), and bounces on the floor with Newton's restitution --e on
+the normal velocity in the billiard metric (frictionless impacts) until its outcome is decided: its
+energy below the barrier of the floor's valley it is in, or the bounces dying out (the chattering
+limit).  With --catch it is caught the first time it meets the floor (Keller's coin).  Reports the
+basin map of the outcome over the grid --v0 × --omega (heads/tails for a coin, else the rest state
+by its angle), the number of floor impacts it took, and with --spread the probability of each
+outcome under a Gaussian spread of (v0, ω0) with its standard error."""
+
+EXAMPLE = ('coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:300 --omega 0:8:300 -o basin.png\n'
+           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --spread 2,5,0.05,0.2 --samples 20000 --seed 1')
+
+
+def _grid(text: str):
+    """``LO:HI:N`` -> N numbers from LO to HI."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise ValueError(text)
+    lo, hi = number(parts[0]), number(parts[1])
+    n = count(parts[2])
+    if not (math.isfinite(lo) and math.isfinite(hi) and hi >= lo and 1 <= n <= 4096):
+        raise ValueError(text)
+    return lo, hi, n
+
+
+def _spread(text: str):
+    parts = [number(p) for p in text.split(",")]
+    if len(parts) != 4 or not all(math.isfinite(p) for p in parts) or parts[2] < 0 or parts[3] < 0:
+        raise ValueError(text)
+    return parts
+
+
+_grid.__name__ = "grid LO:HI:N (N up to 4096)"
+_spread.__name__ = "spread V0,OMEGA0,SIGMA_V0,SIGMA_OMEGA0"
+
+
+def register(subparsers):
+    """Add the ``toss`` subcommand."""
+    parser = add_command(subparsers, "toss", help="the toss that lands: gravity, a floor, restitution; basin maps",
+                         description=DESCRIPTION, example=EXAMPLE)
+    wall_arguments(parser)
+    parser.add_argument("--g", type=number, default=1.0, help="field in κ/s² (default 1; m/s² with --kappa)")
+    parser.add_argument("--e", type=number, default=0.6, help="coefficient of restitution in (0, 1] (default 0.6)")
+    parser.add_argument("--height", type=number, default=None,
+                        help="launch height of the centre of mass (κ; default: the rest height plus the largest "
+                             "wall value, i.e. clear of the floor at every angle)")
+    parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
+    parser.add_argument("--H", type=number, default=None, help="a ceiling at this height (κ; default: none)")
+    parser.add_argument("--kappa", type=number, default=None, metavar="METRES",
+                        help="radius of gyration in metres: --g is then in m/s² and is divided by it")
+    parser.add_argument("--theta0", type=number, default=None,
+                        help="launch orientation (rad; default: heads' rest angle for a coin, else the first)")
+    parser.add_argument("--v0", type=_grid, default=(0.0, 3.0, 120), metavar="LO:HI:N",
+                        help="grid of launch velocities (κ/s; default 0:3:120)")
+    parser.add_argument("--omega", type=_grid, default=(0.0, 8.0, 120), metavar="LO:HI:N",
+                        help="grid of spins ω0 = θ̇ (rad/s; default 0:8:120)")
+    parser.add_argument("--impacts", type=count, default=10_000,
+                        help="impacts per toss at most; a toss still bouncing then is undecided (default 10000)")
+    parser.add_argument("--catch", action="store_true", help="stop at the first floor contact (Keller's toss)")
+    parser.add_argument("--slide", action="store_true",
+                        help="follow tosses that come to slide on a smooth floor until they lift off (slow)")
+    parser.add_argument("--spread", type=_spread, default=None, metavar="V0,OMEGA0,SV,SW",
+                        help="instead of the map: outcome fractions for (v0, ω0) ~ Gaussian(mean, sigma)")
+    parser.add_argument("--samples", type=count, default=10_000, help="draws for --spread (default 10000)")
+    parser.add_argument("--seed", type=count, default=None, help="seed of the --spread draws")
+    parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help="basin map: figure (.png, .svg, .pdf), .csv (v0,omega0,outcome,name,bounces) or .json "
+                             "(repeatable)")
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
+    parser.set_defaults(run=_cmd_toss)
+
+
+def _cmd_toss(args):
+    import numpy as np
+
+    from coinwall.forward.dynamics.field import FieldTable
+    from coinwall.forward.dynamics.toss import basin_map, heads_fraction
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
+    from coinwall.forward.formats.output import check_paths, write_all
+
+    check_positive_count("--impacts", args.impacts)
+    check_positive_count("--samples", args.samples)
+    if args.impacts > 10 ** 9 or args.samples > 10 ** 8:
+        raise InvalidArgument(f"--impacts must be at most 1e9 and --samples at most 1e8, got {args.impacts} and "
+                              f"{args.samples}")
+    check_seed(args.seed)
+    if args.workers is not None:
+        check_positive_count("--workers", args.workers)
+    check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
+    if args.spread is not None and args.output:
+        raise InvalidArgument("-o writes the basin map; --spread prints fractions only (drop one of them)")
+    for name, value in (("--g", args.g), ("--e", args.e), ("--b0", args.b0), ("--H", args.H),
+                        ("--height", args.height), ("--theta0", args.theta0)):
+        if value is not None and not math.isfinite(value):
+            raise InvalidArgument(f"{name} must be a finite number, got {value}")
+    if not args.g > 0:
+        raise InvalidArgument(f"--g must be a positive field, got {args.g}")
+    if not 0 < args.e <= 1:
+        raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
+    if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
+        raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
+    g = args.g / args.kappa if args.kappa is not None else args.g
+    wall = load_wall(args.wall, args.param, **wall_options(args))
+    table = FieldTable(wall, g=g, e=args.e, b0=args.b0, H=args.H)
+    height = args.height
+    if height is None:
+        height = args.b0 + 2.0 * float(np.max(wall(np.linspace(0, 2 * np.pi, 1024, endpoint=False))))
+        height = max(height, args.b0 + 1.0)
+    if args.spread is not None:
+        mean, sigma = args.spread[:2], args.spread[2:]
+        bar = progress_bar(args, args.samples, "toss")
+        try:
+            spread = heads_fraction(table, mean, sigma, height, samples=args.samples, theta0=args.theta0,
+                                    seed=args.seed, impacts=args.impacts, catch=args.catch, workers=args.workers,
+                                    progress=bar.update if bar is not None else None, slide=args.slide)
+        finally:
+            if bar is not None:
+                bar.close()
+        summary = dict(spread.to_dict(), wall=args.wall, g=g, e=args.e, height=height)
+        if args.json:
+            print(json.dumps(summary, indent=1, allow_nan=False))
+        else:
+            print(f"table      {table!r}")
+            print(f"spread     {spread!r}")
+        return 0
+    v = np.linspace(*args.v0[:2], args.v0[2])
+    w = np.linspace(*args.omega[:2], args.omega[2])
+    bar = progress_bar(args, v.size * w.size, "toss")
+    try:
+        result = basin_map(table, v, w, height, theta0=args.theta0, impacts=args.impacts, catch=args.catch,
+                           workers=args.workers, progress=bar.update if bar is not None else None, slide=args.slide)
+    finally:
+        if bar is not None:
+            bar.close()
+    files = {}
+    for path in args.output:
+        ext = os.path.splitext(path)[1].lower()
+        if ext in FIGURE_FORMATS:
+            ax = result.plot(title=f"{args.wall} {' '.join(args.param)}".strip())
+            files[path] = figure_bytes(ax.figure, path)
+        elif ext == ".csv":
+            files[path] = result.to_csv().encode()
+        else:
+            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param),
+                                     allow_nan=False).encode()
+    written = write_all(files)
+    summary = {"wall": args.wall, "params": args.param, "g": g, "e": args.e, "height": height,
+               "theta0": result.theta0, "grid": [int(w.size), int(v.size)], "fractions": result.fractions(),
+               "status": result.status_counts(), "mean_bounces": float(np.mean(result.bounces)),
+               "outputs": args.output}
+    if args.json:
+        print(json.dumps(summary, indent=1, allow_nan=False))
+    else:
+        print(f"table      {table!r}")
+        print(f"map        {result!r}")
+        print(f"bounces    mean {summary['mean_bounces']:.3g} floor impacts before the outcome was decided")
+        for line in written_lines(written, written.replaced):
+            print(line)
+    return 0
