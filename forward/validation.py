@@ -10,15 +10,49 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 
 from .errors import InvalidArgument
 
-__all__ = ["check_count", "check_finite", "check_positive", "check_choice", "check_range", "check_memory",
+__all__ = ["DECIMAL", "parse_number", "parse_number_list", "check_count", "check_finite", "check_positive",
+           "check_choice", "check_range", "check_memory",
            "available_memory", "is_integer", "MEMORY_FRACTION"]
 
 # a request may use at most this fraction of the memory available when it starts (the rest is for the
 # interpreter, the libraries and the copies numpy makes on the way)
 MEMORY_FRACTION = 0.5
+
+#: The one grammar of numbers a user types or writes — flags, parameters, list items, sample files: ASCII
+#: decimal digits with an optional sign, point and exponent (``-1e-3``, ``.5``), or inf/nan (left to the range
+#: checks, which say why they are refused).  Python's ``float`` would also take ``1_0`` and other scripts'
+#: digits (``１``, ``١``), which no flag takes.
+DECIMAL = re.compile(r"[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|inf|infinity|nan)", re.IGNORECASE | re.ASCII)
+
+
+def parse_number(text: str) -> float:
+    """``text`` as a number of the one grammar (:data:`DECIMAL`), surrounding spaces allowed; ValueError else."""
+    if not isinstance(text, str) or not DECIMAL.fullmatch(text.strip()):
+        raise ValueError(f"not a decimal number: {text!r}")
+    return float(text)
+
+
+def parse_number_list(name: str, text: str, *, error=InvalidArgument) -> list[float]:
+    """Comma-separated numbers of the one grammar, finite, no item empty (``3,,4`` is refused, not read as
+    ``3,4``); one line naming ``name`` and the bad item otherwise."""
+    items = str(text).split(",")
+    values = []
+    for index, item in enumerate(items, start=1):
+        if not item.strip():
+            raise error(f"`{name}` must be comma-separated numbers; item {index} of {text!r} is empty")
+        try:
+            value = parse_number(item)
+        except ValueError:
+            raise error(f"`{name}` must be comma-separated numbers; item {index} ({item.strip()!r}) of {text!r} is "
+                        "not a decimal number") from None
+        if not math.isfinite(value):
+            raise error(f"`{name}` must be finite numbers; item {index} of {text!r} is {item.strip()}")
+        values.append(value)
+    return values
 
 
 def is_integer(value) -> bool:

@@ -32,7 +32,7 @@ __all__ = [
 # what a number flag accepts: ASCII decimal notation as in --param (not 0x10, 1_000 or Arabic-Indic digits, which
 # float() takes), and inf/nan, so that the check that follows refuses them with its reason instead of argparse
 _INTEGER = re.compile(r"[+-]?[0-9]+")
-_DECIMAL = re.compile(r"[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|inf|infinity|nan)", re.IGNORECASE | re.ASCII)
+from coinwall.forward.validation import DECIMAL as _DECIMAL  # noqa: E402 (the one number grammar)
 
 #: How far from the true angle ``critical_offset`` may report the minimum of b + b'': its docstring
 #: says ~1e-8 rad (the minimum is flat, so Brent's search stops within about sqrt(machine epsilon)

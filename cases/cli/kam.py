@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import os
 
 from .common import add_command, check_positive_count, check_seed, count, progress_bar, written_lines
@@ -43,15 +42,9 @@ def register(subparsers):
 
 
 def _floats(text, name):
-    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.validation import parse_number_list
 
-    try:
-        values = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        values = []
-    if not values or not all(math.isfinite(v) for v in values):
-        raise InvalidArgument(f"{name} must be comma-separated numbers, got {text!r}")
-    return values
+    return parse_number_list(name.lstrip("-").replace("-", "_") if name.startswith("--") else name, text)
 
 
 def _cmd_kam(args):

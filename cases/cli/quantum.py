@@ -62,15 +62,9 @@ def register(subparsers):
 
 
 def _heights(text):
-    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.validation import parse_number_list
 
-    try:
-        values = [number(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        values = []
-    if not values or not all(math.isfinite(v) for v in values):
-        raise InvalidArgument(f"--H must be a number or comma-separated numbers, got {text!r}")
-    return values
+    return parse_number_list("H", text)
 
 
 def _body(text):

@@ -262,7 +262,9 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
         return [c.strip() for c in parts]
 
     def number(cell):
-        return float(cell.replace(",", ".") if decimal_comma else cell)
+        from ..validation import parse_number  # the one grammar of numbers (no 1_0, no other scripts' digits)
+
+        return parse_number(cell.replace(",", ".") if decimal_comma else cell)
 
     header = cells(first)
     try:
@@ -387,6 +389,10 @@ def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, si
             theta_rounding = np.maximum(_angle_rounding(theta, period), sigma_theta)
             if in_degrees:
                 theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
+            elif len(theta) and np.ptp(theta) > 2 * np.pi * (1 + 1e-9) + 2 * float(np.max(theta_rounding)):
+                # the same check as for a CSV file: radians spanning more than 2π are degrees
+                raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: "
+                                  "are they degrees? Add \"degrees\": true, or pass --degrees")
             return Wall.from_samples(theta, b, rounding=np.maximum(rounding_of(b), sigma_b),
                                      theta_rounding=theta_rounding,
                                      labels=[f"`theta`[{k}]" for k in range(len(theta))],
