@@ -162,8 +162,8 @@ def verify_controls(nodes: np.ndarray, controls: np.ndarray, recorded: dict | No
         return (f"the Bézier controls do not fit the nodes: the control polygon turns clockwise at "
                 f"{_where(int(vertex[right[0]]))} (a convex counter-clockwise outline never does)")
     if round(winding) != 1 or abs(winding - 1) > 1e-6:
-        return (f"the outline winds {winding:.4g} times around its inside instead of once: it crosses itself "
-                "(nodes out of order?)")
+        return (f"the Bézier controls do not fit the nodes: the control polygon winds {winding:.4g} times around "
+                "the inside instead of once, so the outline crosses itself")
     from ..outline import Outline
 
     outline = Outline(nodes, controls)
