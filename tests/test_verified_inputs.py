@@ -88,7 +88,7 @@ def test_damaged_body_file_is_refused(damage, command, solved, tmp_path, capsys,
     args = {"wall": ["wall", "body.json", "-o", "wall.csv"], "mass": ["mass", "body.json", "--json"],
             "export": ["export", "body.json", "-o", "body.svg"]}[command]
     assert main(args) == 2
-    out, err = capsys.readouterr()
+    err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("coinwall: error: body file 'body.json'"), err
     assert any(text in err for text in ((needle,) if isinstance(needle, str) else needle)), err
     assert sorted(os.listdir(tmp_path)) == ["body.json"]  # no output file
@@ -122,8 +122,8 @@ def test_undamaged_body_file_works_byte_for_byte(name, solved, tmp_path, capsys,
             assert main(["mass", "body.json", "--json"]) == 0
             mass = capsys.readouterr().out
             assert main(["export", "body.json", "-o", f"body{verified}.svg"]) == 0
-            outputs[verified] = (open(f"wall{verified}.csv", "rb").read(), mass,
-                                 open(f"body{verified}.svg", "rb").read().replace(str(verified).encode(), b""))
+            with open(f"wall{verified}.csv", "rb") as wall, open(f"body{verified}.svg", "rb") as drawing:
+                outputs[verified] = (wall.read(), mass, drawing.read().replace(str(verified).encode(), b""))
     assert outputs[True] == outputs[False]
 
 

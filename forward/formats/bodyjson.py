@@ -184,7 +184,8 @@ def read_body_json(path: str) -> BodyJson:
     ------
     InvalidOutline
         No ``outline`` or ``points`` list; a point that is not two finite numbers (the message names its
-        index); ``controls`` that do not match the outline (:func:`verify_controls`); more than :data:`~.geometry.MAX_POINTS` points.
+        index); ``controls`` that do not match the outline (:func:`verify_controls`); more than
+        :data:`~.geometry.MAX_POINTS` points.
     """
     from .geometry import MAX_POINTS
     from .inputfile import read_json
