@@ -429,6 +429,10 @@ class Wall:
 
             # after the periodicity check: the interval after the last check angle wraps to the first
             check_singularities(self.description, self._backend.derivatives, theta, (b, d1, d2))
+            from .continuity import check_continuity
+
+            # a support function is continuous: a jump between the check angles (a sign written with abs)
+            check_continuity(self.description, self._backend.derivatives, theta, (b, d1), self._scale)
 
     def _find_kinks(self):
         from scipy.optimize import brentq

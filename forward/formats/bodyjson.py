@@ -5,6 +5,15 @@
 every segment (``CONTROLS_KEY``), in units of κ with the centre of mass at the origin.  Read back, nodes
 and controls give the exact outline again.  Any other JSON object with an ``"outline"`` or ``"points"``
 list of ``[x, y]`` is read as points.
+
+A file with ``controls`` is verified before it is used (:func:`verify_controls`), because a wall, a
+drawing or mass properties made from damaged controls look as good as the real ones: the control
+polygon (every node followed by its segment's two control points) must be convex and turn once,
+counter-clockwise.  By the variation-diminishing property of Bézier curves the outline is then simple,
+convex and counter-clockwise, and at every node the end tangents of the two segments that meet there
+turn left by less than π (a smooth node: by nothing).  A clockwise file is refused, not reversed: coinwall
+writes counter-clockwise outlines, so it was edited.  The ``area`` and ``perimeter`` the file records
+(when it does) must be those of its nodes and controls, to rounding.
 """
 
 from __future__ import annotations
@@ -15,6 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..angles import TWO_PI
 from ..errors import InvalidOutline
 
 __all__ = [
@@ -27,6 +37,7 @@ __all__ = [
     "UNITS_VALUE",
     "BodyJson",
     "read_body_json",
+    "verify_controls",
 ]
 
 #: outline nodes ``[[x, y], …]``
@@ -86,6 +97,85 @@ def _pairs(value, path, key, shape):
     return np.asarray(value, dtype=float).reshape((-1,) + tuple(s for s in shape[1:]))
 
 
+#: a vertex of the control polygon may sit this far (relative to the outline's size) on the wrong side of the
+#: line through its neighbours: rounding of coordinates ~1 written with 17 digits is ~1e-16; the solvers'
+#: own outlines stay below 1e-12 (a cusp of Case II included)
+_TURN_TOLERANCE = 1e-9
+#: edges of the control polygon shorter than this (relative to the size) have no direction: a Bézier arm of
+#: length zero at a corner of the body, two coincident control points
+_SHORT_EDGE = 1e-12
+#: recorded area and perimeter agree with the outline's to this (relative to the size², size)
+_RECORD_TOLERANCE = 1e-9
+
+
+def _where(vertex: int) -> str:
+    """The place in the file of vertex ``vertex`` of the control polygon (node, control, control, node, …)."""
+    segment, part = divmod(vertex, 3)
+    return f"node {segment}" if part == 0 else f"control point {part} of segment {segment}"
+
+
+def verify_controls(nodes: np.ndarray, controls: np.ndarray, recorded: dict | None = None) -> str | None:
+    """What is wrong with a Bézier outline read from a file, or None when it is a coinwall outline.
+
+    Parameters
+    ----------
+    nodes : ndarray, shape (n, 2)
+        Segment end points (segment ``i`` from node ``i`` to node ``i+1``: its end points are nodes by
+        construction).
+    controls : ndarray, shape (n, 2, 2)
+        The two inner control points of every segment.
+    recorded : dict, optional
+        The file's other fields: ``area`` and ``perimeter``, when numbers, must be the outline's.
+
+    Returns
+    -------
+    str or None
+        One line naming the fault (the first place where it shows), or None.
+    """
+    n = len(nodes)
+    if n < 2:
+        return f"an outline needs at least 2 nodes, got {n}"
+    polygon = np.concatenate([nodes[:, None, :], controls], axis=1).reshape(-1, 2)
+    size = float(np.ptp(polygon, axis=0).max())
+    if not size > 0:
+        return "every node and control point is the same point"
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    lengths = np.hypot(*edges.T)
+    kept = np.flatnonzero(lengths > _SHORT_EDGE * size)
+    if len(kept) < 2:
+        return "the control polygon has fewer than two edges of non-zero length"
+    first, second = edges[kept], np.roll(edges[kept], -1, axis=0)
+    cross = first[:, 0] * second[:, 1] - first[:, 1] * second[:, 0]
+    dot = np.einsum("ij,ij->i", first, second)
+    turn = np.arctan2(cross, dot)
+    # a turn of exactly π (the two sides of a body of zero width, a stick) is a left turn
+    turn = np.where(turn < -np.pi + 1e-9, turn + TWO_PI, turn)
+    # the vertex between an edge and the next kept one, and how far it lies on the wrong side of their line
+    vertex = (np.roll(kept, -1)) % len(polygon)
+    slack = _TURN_TOLERANCE * size * (lengths[kept] + np.roll(lengths[kept], -1))
+    winding = float(np.sum(turn)) / TWO_PI
+    if np.all(cross <= slack) and round(winding) == -1:
+        return ("the outline runs clockwise; coinwall writes counter-clockwise outlines, so the file was edited "
+                "(write it again with 'coinwall solve -o')")
+    right = np.flatnonzero(cross < -slack)
+    if len(right):
+        return (f"the Bézier controls do not fit the nodes: the control polygon turns clockwise at "
+                f"{_where(int(vertex[right[0]]))} (a convex counter-clockwise outline never does)")
+    if round(winding) != 1 or abs(winding - 1) > 1e-6:
+        return (f"the Bézier controls do not fit the nodes: the control polygon winds {winding:.4g} times around "
+                "the inside instead of once, so the outline crosses itself")
+    from ..outline import Outline
+
+    outline = Outline(nodes, controls)
+    for key, value, unit in (("area", outline.area, size * size), ("perimeter", outline.perimeter, size)):
+        stored = (recorded or {}).get(key)
+        if isinstance(stored, (int, float)) and not isinstance(stored, bool) \
+                and not abs(stored - value) <= _RECORD_TOLERANCE * unit:
+            return (f"records {key} {stored!r} but its nodes and controls give {value:.12g}: the outline is not the "
+                    "one that was solved")
+    return None
+
+
 def read_body_json(path: str) -> BodyJson:
     """Read a body JSON file (through :mod:`.inputfile`: a regular file of at most 64 MiB, nested at most
     :data:`~.inputfile.MAX_NESTING` deep).
@@ -94,7 +184,8 @@ def read_body_json(path: str) -> BodyJson:
     ------
     InvalidOutline
         No ``outline`` or ``points`` list; a point that is not two finite numbers (the message names its
-        index); ``controls`` that do not match the outline; more than :data:`~.geometry.MAX_POINTS` points.
+        index); ``controls`` that do not match the outline (:func:`verify_controls`); more than
+        :data:`~.geometry.MAX_POINTS` points.
     """
     from .geometry import MAX_POINTS
     from .inputfile import read_json
@@ -111,6 +202,9 @@ def read_body_json(path: str) -> BodyJson:
     if controls is not None:
         # a coinwall body: the controls must be those of this outline, else the file was damaged
         controls = _pairs(controls, path, CONTROLS_KEY, (len(points), 2, 2))
+        fault = verify_controls(points, controls, doc)
+        if fault is not None:
+            raise InvalidOutline(f"body file {path!r}: {fault}")
     if KAPPA_KEY in doc:
         # the scale, κ in the file's units, as SVG and DXF drawings record it: a wrong one is refused, never used
         kappa = doc[KAPPA_KEY]
