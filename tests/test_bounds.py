@@ -23,8 +23,8 @@ def _run(args, limit_bytes, timeout=60, cwd=None):
         resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, limit_bytes))
 
     env = {k: v for k, v in os.environ.items() if k != "COINWALL_DEBUG"}
-    return subprocess.run([sys.executable, "-m", "coinwall", *args], preexec_fn=limit, capture_output=True,
-                          text=True, timeout=timeout, cwd=cwd, env=env)
+    return subprocess.run([sys.executable, "-m", "coinwall", *args], check=False, preexec_fn=limit, capture_output=True, text=True,
+                          timeout=timeout, cwd=cwd, env=env)
 
 
 def _one_error_line(result):

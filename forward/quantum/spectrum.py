@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..display import safe_repr
-from ..errors import InvalidArgument
+from ..errors import CoinwallError, InvalidArgument
 from ..validation import check_choice, check_count
 from ..wall import Wall
 from .strip import Strip, make_strip
@@ -176,7 +176,7 @@ def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2) -> float:
                 if good / bad < 1.01:
                     break
             hint = f"; H ≥ {h_min + good:.6g} fits"
-    except Exception:  # the hint is a courtesy: no hint rather than a second error
+    except (CoinwallError, ArithmeticError, ValueError):  # the hint is a courtesy: no hint, not a second error
         hint = ""
     limit = min(MAX_DOFS, _memory_limit() / BYTES_PER_DOF)
     raise InvalidArgument(f"H = {table.H:.10g} leaves a neck of width {strip.width_min:.3g}: the mesh would have "
