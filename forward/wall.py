@@ -27,7 +27,7 @@ from .angles import TWO_PI
 from .display import safe_repr
 from .errors import InvalidWall
 from .validation import check_memory
-from .wallbackends import _ArcsBackend, _FourierBackend, _SampledBackend
+from .wallbackends import MAX_HARMONICS, MS_PER_HARMONIC, _ArcsBackend, _FourierBackend, _SampledBackend
 
 __all__ = ["BYTES_PER_SAMPLE", "MAX_MAGNITUDE", "MAX_SAMPLES", "Kink", "Wall", "check_magnitude"]
 
@@ -221,6 +221,11 @@ class Wall:
         if coeffs["a0"].size != 1:
             raise InvalidWall(f"Fourier coefficient `a0` must be a single number, got {coeffs['a0'].size} values")
         n = max(coeffs["cos"].size, coeffs["sin"].size)
+        if n > MAX_HARMONICS:
+            raise InvalidWall(f"a Fourier series of {n} harmonics is more than the {MAX_HARMONICS} allowed: every "
+                              f"evaluation costs harmonics × angles (about {MS_PER_HARMONIC:g} ms per harmonic for "
+                              f"`critical`, so {n} would take about {n * MS_PER_HARMONIC / 1000:.0f} s); give fewer "
+                              "harmonics, or samples of the wall")
         return cls(_FourierBackend(float(coeffs["a0"][0]), coeffs["cos"], coeffs["sin"]),
                    f"Fourier series ({n} harmonics)", "fourier")
 

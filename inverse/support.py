@@ -37,11 +37,12 @@ __all__ = [
 #: points help there, nothing helps beyond the bound.)
 MAX_OFFSET_RATIO = 1e8
 
-#: Largest outline resolution, and the memory a solve needs per node: 1,045 bytes per point measured
-#: with tracemalloc at 1e5 points (envelope with the polar cross-check, the command line's default);
-#: counted as 1,536 for the C allocations of casadi and shapely that tracemalloc does not see.
+#: Largest outline resolution, and the memory a solve needs per node, every stage of the command included
+#: (envelope, polar cross-check, wall check, shape check, realizability/κ_max): peak RSS of
+#: `coinwall solve --points N -o body.json` measured 542 MB at 2·10^5, 1,160 MB at 5·10^5 and 2,306 MB at 10^6
+#: points (about 2,200 bytes per point plus ~100 MB of interpreter), counted as 2,560 bytes per point.
 MAX_POINTS = 5_000_000
-BYTES_PER_POINT = 1536
+BYTES_PER_POINT = 2560
 
 
 def check_offset(b0, scale: float = 1.0) -> float:

@@ -128,7 +128,7 @@ def test_points_are_counted_and_checked_against_memory(monkeypatch):
     with pytest.raises(CoinwallError, match="`points` must be an integer from 16 to"):
         check_points(10 ** 9)
     monkeypatch.setattr(validation, "available_memory", lambda: 100 * 2 ** 20)
-    with pytest.raises(CoinwallError, match=r"`points` = 1000000 \(1536 bytes per point\) needs about 1.43 GiB"):
+    with pytest.raises(CoinwallError, match=r"`points` = 1000000 \(2560 bytes per point\) needs about 2.38 GiB"):
         check_points(1_000_000)
     assert check_points(1024) == 1024
 

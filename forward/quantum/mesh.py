@@ -32,7 +32,7 @@ from ..angles import TWO_PI
 from ..display import safe_repr
 from ..validation import check_count
 
-__all__ = ["REGION_FLOOR", "StripMesh", "column_angles", "strip_mesh"]
+__all__ = ["REGION_FLOOR", "StripMesh", "column_angles", "column_count", "strip_mesh"]
 
 #: in a region of a strip that fell apart, columns are no finer than REGION_FLOOR·width_max/cells
 REGION_FLOOR = 0.02
@@ -95,20 +95,40 @@ def _separated(marks):
     return out
 
 
-def _fill(strip, a, b, cells, floor):
-    """Column angles in (a, b] spaced Δθ = max(w, floor)/cells (equidistributing cells·∫dθ/max(w, floor))."""
+def _cumulative(strip, a, b, cells, floor):
     theta = np.linspace(a, b, _SAMPLES + 1)
     density = cells / np.maximum(strip.width(theta), floor)
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(theta))])
-    count = max(1, math.ceil(cumulative[-1] - 1e-9))
+    count = max(1, math.ceil(cumulative[-1] - 1e-9)) if np.isfinite(cumulative[-1]) else math.inf
+    return theta, cumulative, count
+
+
+def _fill(strip, a, b, cells, floor, count_only=False):
+    """Column angles in (a, b] spaced Δθ = max(w, floor)/cells (equidistributing cells·∫dθ/max(w, floor));
+    with ``count_only``, only how many (nothing the size of the mesh is built)."""
+    theta, cumulative, count = _cumulative(strip, a, b, cells, floor)
+    if count_only:
+        return count
     levels = np.linspace(0.0, cumulative[-1], count + 1)[1:]
     nodes = np.interp(levels, cumulative, theta)
     nodes[-1] = b
     return nodes
 
 
-def column_angles(strip, cells, region=None, floor=None):
+def column_count(strip, cells, region=None, floor=None) -> float:
+    """How many column angles :func:`column_angles` returns, without building them (the mesh's size before
+    it is made: a neck of width δ gets about cells·π/√(δ·w'') columns, a flat one cells·length/δ)."""
+    return column_angles(strip, cells + cells % 2, region, floor, count_only=True)
+
+
+def column_angles(strip, cells, region=None, floor=None, count_only=False):
     """The column angles of :func:`strip_mesh` (see the module docstring) and each cell's orientation sign."""
+    if region is not None and count_only:
+        a, b = region
+        floor = REGION_FLOOR * strip.width_max if floor is None else floor
+        inner = [t for t in strip.breakpoints for t in (t, t + TWO_PI) if a < t < b]
+        stops = _separated(sorted(t for t in set(inner) if a + _MERGE < t < b - _MERGE)) + [b]
+        return 1 + sum(_fill(strip, lo, hi, cells, floor, True) for lo, hi in zip([a] + stops[:-1], stops))
     if region is not None:
         a, b = region
         floor = REGION_FLOOR * strip.width_max if floor is None else floor
@@ -129,6 +149,9 @@ def column_angles(strip, cells, region=None, floor=None):
     if mirror:
         marks |= {math.pi - t for t in marks}
     stops = _separated(sorted(t for t in marks if _MERGE < t < end - _MERGE)) + [end]
+    if count_only:
+        half = 1 + sum(_fill(strip, lo, hi, cells, floor, True) for lo, hi in zip([0.0] + stops[:-1], stops))
+        return (2 * half - 1 if mirror else half) * 2 - 1
     half = [0.0]
     for stop in stops:
         half.extend(_fill(strip, half[-1], stop, cells, floor))

@@ -15,12 +15,22 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..display import safe_repr
-from ..errors import InvalidArgument
+from ..errors import CoinwallError, InvalidArgument
 from ..validation import check_choice, check_count
 from ..wall import Wall
 from .strip import Strip, make_strip
 
-__all__ = ["METHODS", "Spectrum", "default_cells", "quantum_spectrum"]
+__all__ = ["BYTES_PER_DOF", "MAX_DOFS", "METHODS", "Spectrum", "check_mesh", "default_cells", "fem_dofs",
+           "quantum_spectrum"]
+
+#: The largest finite-element problem (degrees of freedom, estimated from the mesh before it is built) and its
+#: memory per degree of freedom.  Measured (`quantum 1 --H h --levels 4`, P2, peak RSS, 2 shared cores under
+#: load): 15,120 dofs 0.5 s / 134 MB (h = 2.1), 150,840 dofs 56 s / 446 MB (h = 2.01): about 2.3 kB per dof,
+#: counted as 4 kB; the time grows faster than the size, so the bound is set by time near 400,000 dofs.
+#: The columns follow the strip's width (Δθ = w/cells), so their number grows like 1/(H − H_min) for a circle
+#: and 1/√(H − H_min) at a smooth neck: H = 2.0000001 on a circle wanted 5·10^8 columns (1.5·10^10 dofs).
+MAX_DOFS = 400_000
+BYTES_PER_DOF = 4096
 
 
 @dataclass(frozen=True, repr=False)
@@ -115,6 +125,63 @@ def default_cells(strip: Strip, levels: int, order: int = 2) -> int:
     lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2
     target = {2: 0.5, 3: 1.4, 4: 2.5}.get(order, 0.5)
     return max(4, math.ceil(strip.width_max * math.sqrt(lam) / target))
+
+
+def fem_dofs(strip: Strip, cells: int, order: int = 2) -> float:
+    """The number of degrees of freedom of the finite-element problem, from the column count alone (nothing
+    the size of the mesh is built): about order·columns × order·cells per domain."""
+    from .mesh import column_count
+
+    cells += cells % 2
+    domains = [None] if strip.periodic else list(strip.regions)
+    return float(sum(order * column_count(strip, cells, region) * order * cells for region in domains))
+
+
+def _fits(strip, levels, cells, order):
+    count = fem_dofs(strip, default_cells(strip, levels, order) if cells is None else cells, order)
+    return count <= MAX_DOFS and count * BYTES_PER_DOF <= _memory_limit(), count
+
+
+def _memory_limit():
+    from ..validation import MEMORY_FRACTION, available_memory
+
+    return MEMORY_FRACTION * available_memory()
+
+
+def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2) -> float:
+    """Refuse, before the mesh is built, a finite-element problem above :data:`MAX_DOFS` degrees of freedom
+    or the memory this machine can give it (:data:`BYTES_PER_DOF` each); the message names the smallest H
+    that fits (same wall, offset, levels and cells).  Returns the estimated number of dofs."""
+    ok, count = _fits(strip, levels, cells, order)
+    if ok:
+        return count
+    table = strip.table
+    h_min = table.H - strip.width_min
+    hint = ""
+    try:
+        gap, good = strip.width_min, None
+        for _ in range(60):
+            gap *= 2.0
+            if _fits(make_strip(table.wall, h_min + gap, table.b0), levels, cells, order)[0]:
+                good = gap
+                break
+        if good is not None:
+            bad = strip.width_min
+            for _ in range(30):
+                mid = math.sqrt(bad * good)
+                if _fits(make_strip(table.wall, h_min + mid, table.b0), levels, cells, order)[0]:
+                    good = mid
+                else:
+                    bad = mid
+                if good / bad < 1.01:
+                    break
+            hint = f"; H ≥ {h_min + good:.6g} fits"
+    except (CoinwallError, ArithmeticError, ValueError):  # the hint is a courtesy: no hint, not a second error
+        hint = ""
+    limit = min(MAX_DOFS, _memory_limit() / BYTES_PER_DOF)
+    raise InvalidArgument(f"H = {table.H:.10g} leaves a neck of width {strip.width_min:.3g}: the mesh would have "
+                          f"about {count:.3g} degrees of freedom ({BYTES_PER_DOF} bytes each), more than the "
+                          f"{limit:.3g} allowed (time and memory){hint}, or ask for fewer --levels / --cells")
 
 
 def default_modes(strip: Strip, levels: int) -> int:
@@ -213,6 +280,8 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
     if cells is None:
         cells = default_modes(strip, levels) if method == "spectral" else default_cells(strip, levels, order)
     cells = check_count("cells", cells, minimum=2, maximum=4096)
+    if method == "fem":
+        check_mesh(strip, levels, cells, order)
     start = time.perf_counter()
     values, classes, characters, names, domain, meshes, vectors, dofs = METHODS[method](
         strip, levels, cells, order, symmetry, progress)
