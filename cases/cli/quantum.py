@@ -15,7 +15,7 @@ __all__ = ["METHOD_NAMES", "register"]
 METHOD_NAMES = ("fem", "spectral")
 
 DESCRIPTION = """\
-The lowest levels of the quantum body between the walls (issue 13; docs/quantum.md).
+The lowest levels of the quantum body between the walls (docs/quantum.md).
 
 With η = y/κ the Hamiltonian is −(ħ²/2Mκ²)(∂²_θ + ∂²_η): the levels are the eigenvalues λ of −Δ on the
 billiard's strip b0 + b(θ) < η < H − b0 − b(θ + π), periodic in θ, zero on both walls (units 1/κ²;

@@ -1,4 +1,4 @@
-"""The quantum coin (issue 13): the Dirichlet Laplacian on the billiard strip, periodic in θ.
+"""The quantum coin: the Dirichlet Laplacian on the billiard strip, periodic in θ.
 
 With η = y/κ the body's Hamiltonian is −(ħ²/2Mκ²)(∂²_θ + ∂²_η): the levels are the eigenvalues λ of −Δ on
 the strip lo(θ) < η < hi(θ) of :class:`coinwall.forward.dynamics.billiard.Billiard` (units 1/κ²;

@@ -1,4 +1,4 @@
-"""Parameter scans on dask.distributed (issue 15): a quantity on a grid of wall parameters × H, one seeded task
+"""Parameter scans on dask.distributed: a quantity on a grid of wall parameters × H, one seeded task
 per cell, written cell by cell into an xarray/Zarr store that a restarted scan resumes.
 
 One module per step: :mod:`.grid` (axes, cells, per-cell seeds), :mod:`.table` (the table as data a worker

@@ -5,7 +5,7 @@ over the orbits in every renormalisation round: each round it validates every st
 (:func:`~coinwall.forward.dynamics.billiard.ensemble` checks each one in a Python loop), builds a
 :class:`~coinwall.forward.dynamics.billiard.Trajectory` per orbit and finds each orbit's state at t* with
 its own ``searchsorted``.  For 100 orbits × 1000 collisions that is ~1 s of Python against ~0.1 s of kernel
-(measured in tests/benchmarks/bench_scan.py), the "0.7 s per grid point" of issue 15.
+(measured in tests/benchmarks/bench_scan.py), the "0.7 s per grid point" measured when scans were first built.
 
 :func:`lyapunov_batch` is the same method, the same arithmetic and the same random numbers, with each
 round one call of the compiled ensemble kernel (``_run_many`` of :mod:`coinwall.forward.dynamics.kernel`)
