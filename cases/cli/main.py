@@ -34,6 +34,11 @@ import os
 import re
 import sys
 
+# numba marks up its messages with colorama when that is installed, and colorama then writes a terminal reset
+# (ESC[0m) at exit: after a --json document on a terminal, which is no longer JSON.  The command line wants plain
+# text; numba's own switch for that is this variable (set before numba is imported; a user's value is kept).
+os.environ.setdefault("NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING", "1")
+
 __all__ = ["EX_INTERRUPTED", "EX_SOFTWARE", "flag_message", "main"]
 
 #: exit status for a bug in coinwall (sysexits.h: "an internal software error has been detected")
