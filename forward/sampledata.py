@@ -35,7 +35,7 @@ import numpy as np
 from .angles import TWO_PI
 from .errors import InvalidWall
 
-__all__ = ["SampleData", "sample_intervals", "exact_grid", "curvature_coefficients", "discrete_rho"]
+__all__ = ["SampleData", "sample_intervals", "exact_grid", "curvature_coefficients", "discrete_rho", "thin"]
 
 _EPS = float(np.finfo(float).eps)
 #: angles closer than this (rad, after reduction mod 2π) are one angle: a duplicate sample
@@ -140,16 +140,27 @@ def _slope_bound(theta, b, sigma_b, sigma_theta, h_bound, noise):
     return np.maximum(bounds[0], bounds[1])
 
 
-def _thin(theta, spacing):
-    """Indices of a subset of sorted angles at least ``spacing`` apart (greedy)."""
-    keep, last = [0], theta[0]
-    limit = theta[0] + TWO_PI - spacing
-    while True:
-        j = int(np.searchsorted(theta, last + spacing, side="left"))
-        if j >= theta.size or theta[j] > limit:
-            return np.asarray(keep)
-        keep.append(j)
-        last = theta[j]
+def thin(theta, spacing: float) -> np.ndarray:
+    """Indices of a subset of sorted angles about ``spacing`` apart: the first angle in each bin of that width,
+    then any kept angle closer than half the spacing to the one kept before it dropped (vectorised: 10⁶
+    angles in milliseconds).  Consecutive kept angles are between ``spacing/2`` and ``2·spacing`` apart
+    where the data are dense enough, and the wrap from the last to the first is respected."""
+    theta = np.asarray(theta, float)
+    if spacing <= 0 or theta.size < 2:
+        return np.arange(theta.size)
+    bins = np.floor((theta - theta[0]) / spacing).astype(np.int64)
+    keep = np.flatnonzero(np.r_[True, bins[1:] != bins[:-1]])
+    for _ in range(3):
+        gaps = np.diff(theta[keep])
+        close = np.flatnonzero(gaps < 0.5 * spacing) + 1
+        if close.size == 0:
+            break
+        # drop every other of a run of close ones, so that a run does not vanish whole
+        drop = close[np.r_[True, np.diff(close) > 1]]
+        keep = np.delete(keep, drop)
+    if keep.size > 1 and theta[keep[0]] + TWO_PI - theta[keep[-1]] < 0.5 * spacing:
+        keep = keep[:-1]
+    return keep
 
 
 def curvature_coefficients(theta):
@@ -184,7 +195,7 @@ def _h_bound(theta, b, noise):
     margin of 2."""
     scale = max(float(np.max(np.abs(b))), 1e-300)
     spacing = min(math.sqrt(40.0 * float(np.max(noise)) / scale), TWO_PI / 16)
-    idx = _thin(theta, spacing) if theta.size > 16 and spacing > 0 else np.arange(theta.size)
+    idx = thin(theta, spacing) if theta.size > 16 and spacing > 0 else np.arange(theta.size)
     if idx.size < 8:
         return 4.0 * scale
     rho = discrete_rho(theta[idx], b[idx])

@@ -30,9 +30,9 @@ Where ``b0`` lies below ``b_c⁻`` the data certainly need corners (Case III); a
 body is certainly convex (under the assumption); in between the data cannot decide, and the result
 says so.
 
-Dense data are thinned first (:func:`thin`): samples closer than their own uncertainty say nothing
-the geometry can use (the discrete curvature of lines a hair apart is their rounding divided by the
-square of the hair), so the spacing at which the certified interval is narrowest is chosen from a
+Dense data are thinned first (:func:`coinwall.forward.sampledata.thin`): samples closer than their own
+uncertainty say nothing the geometry can use (the discrete curvature of lines a hair apart is their rounding
+divided by the square of the hair), so the spacing at which the certified interval is narrowest is chosen from a
 ladder, and the rest of the samples are kept for the closing check.  Thinning drops constraints, so the
 lower end stays certified.
 """
@@ -45,10 +45,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.sampledata import curvature_coefficients
-from coinwall.forward.sampledata import discrete_rho as curvature  # noqa: F401 (re-exported: the data's ρ)
+from coinwall.forward.sampledata import curvature_coefficients, thin
+from coinwall.forward.sampledata import discrete_rho as curvature
 
-__all__ = ["ASSUMPTION", "CriticalBound", "certified_critical", "lp_lower_bound", "upper_bound", "thin"]
+__all__ = ["ASSUMPTION", "CriticalBound", "certified_critical", "lp_lower_bound", "upper_bound"]
 
 #: the assumption the upper end of the interval rests on (module docstring)
 ASSUMPTION = ("between samples, b + b'' dips no lower than its discrete values on either side and their slopes "
@@ -175,29 +175,6 @@ def upper_bound(theta, lo, hi, rho_low=None) -> float:
     dip = 2.0 * np.minimum(descent, ascent)
     lowest = np.minimum(left, right) - dip
     return -float(np.min(np.minimum(lowest, r)))
-
-
-def thin(theta, spacing: float) -> np.ndarray:
-    """Indices of a subset of sorted angles about ``spacing`` apart: the first angle in each bin of that width,
-    then any kept angle closer than half the spacing to the one kept before it dropped (vectorised: 10⁶
-    angles in milliseconds).  Consecutive kept angles are between ``spacing/2`` and ``2·spacing`` apart
-    where the data are dense enough, and the wrap from the last to the first is respected."""
-    theta = np.asarray(theta, float)
-    if spacing <= 0 or theta.size < 2:
-        return np.arange(theta.size)
-    bins = np.floor((theta - theta[0]) / spacing).astype(np.int64)
-    keep = np.flatnonzero(np.r_[True, bins[1:] != bins[:-1]])
-    for _ in range(3):
-        gaps = np.diff(theta[keep])
-        close = np.flatnonzero(gaps < 0.5 * spacing) + 1
-        if close.size == 0:
-            break
-        # drop every other of a run of close ones, so that a run does not vanish whole
-        drop = close[np.r_[True, np.diff(close) > 1]]
-        keep = np.delete(keep, drop)
-    if keep.size > 1 and theta[keep[0]] + TWO_PI - theta[keep[-1]] < 0.5 * spacing:
-        keep = keep[:-1]
-    return keep
 
 
 def _width(theta, lo, hi):
