@@ -93,7 +93,10 @@ def kappa_max(outline, per_segment: int = 8):
         if violated.size == 0:
             break
         worst = violated[np.argsort(excess[violated])[::-1][:64]]
-        subset = np.union1d(subset, worst)
+        grown = np.union1d(subset, worst)
+        if grown.size == subset.size:  # rows violated within HiGHS's tolerance, all in already: the same
+            break  # programme again would give the same solution (it ran all 50 rounds at 10⁵ nodes)
+        subset = grown
     weights = -np.asarray(res.ineqlin.marginals)
     active = weights > 1e-12 * max(weights.max(), 1e-300)
     points = pts[subset]
