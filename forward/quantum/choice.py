@@ -1,0 +1,82 @@
+"""Which solver a spectrum gets by default: the fastest accurate one for the strip, and the digits it earns.
+
+Measured on the ε = 0.55 ellipse at H = 2.5 (``tests/benchmarks/bench_quantum_default.py``, whose
+numbers and command are in docs/performance.md):
+
+* The spectral method (:mod:`.spectral`) converges exponentially for a smooth wall on a strip open at
+  every angle: 100 levels to ~1e-12 relative in about a second, against P2 elements' ~5e-5 in twice
+  the time.  Its matrices are dense, so its cost grows like the cube of the number of modes (levels^1.5):
+  beyond :data:`SPECTRAL_MAX_LEVELS` levels P4 elements are faster.
+* Finite elements of degree 4 reach a given accuracy with far fewer unknowns than degree 2 (error
+  ∝ h^8 instead of h^4): at the default mesh (:func:`.spectrum.default_cells`, ~1e-4 relative at the top
+  level for every degree) P4 is both faster and more accurate than P2.
+* A strip with a narrow neck (the walls nearly touch) needs many Fourier modes to follow the mapping
+  there, and a wall with a kink or a jump in curvature gives Fourier modes only algebraic convergence:
+  both go to P4 (which also refuses, with the height that fits, a neck too narrow to mesh).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["SPECTRAL_MAX_LEVELS", "SPECTRAL_MIN_NECK", "SolverChoice", "default_solver"]
+
+#: Most levels the default gives to the spectral method (dense matrices: 400 levels took ~6 s and ~1 GB).
+SPECTRAL_MAX_LEVELS = 400
+#: Narrowest neck, as a fraction of the widest place, that the default gives to the spectral method.
+SPECTRAL_MIN_NECK = 0.25
+
+
+@dataclass(frozen=True)
+class SolverChoice:
+    """The solver picked for a spectrum.
+
+    Attributes
+    ----------
+    method : str
+        ``"spectral"`` or ``"fem"``.
+    order : int
+        Element degree (4 for the finite elements; unused by the spectral method).
+    accuracy : float
+        The relative error its default resolution aims at for the highest level asked for (1e-8 for the
+        spectral method's :func:`.spectrum.default_modes`, 1e-4 for :func:`.spectrum.default_cells`).
+    why : str
+        One line saying why, for the command line's report.
+    """
+
+    method: str
+    order: int
+    accuracy: float
+    why: str
+
+
+def default_solver(strip, levels: int, *, eigenvectors: bool = False) -> SolverChoice:
+    """The fastest accurate solver for ``levels`` levels on ``strip``.
+
+    Parameters
+    ----------
+    strip : Strip
+        The billiard strip (:func:`.strip.make_strip`).
+    levels : int
+        How many levels are asked for.
+    eigenvectors : bool
+        Whether eigenvectors are needed (splittings, |ψ|²): only the finite elements give them.
+
+    Returns
+    -------
+    SolverChoice
+    """
+    wall = strip.table.wall
+    if eigenvectors:
+        why = "eigenvectors needed"
+    elif wall.kinks or wall.breaks:
+        why = "the wall has kinks or curvature jumps"
+    elif not strip.periodic:
+        why = "the strip falls apart"
+    elif strip.width_min < SPECTRAL_MIN_NECK * strip.width_max:
+        why = f"narrow neck (width {strip.width_min:.3g} of {strip.width_max:.3g})"
+    elif levels > SPECTRAL_MAX_LEVELS:
+        why = f"more than {SPECTRAL_MAX_LEVELS} levels"
+    else:
+        return SolverChoice("spectral", 4, 1e-8, "smooth wall, open strip")
+    return SolverChoice("fem", 4, 1e-4, why)
