@@ -19,10 +19,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["SPECTRAL_MAX_LEVELS", "SPECTRAL_MIN_NECK", "SolverChoice", "default_solver"]
+__all__ = ["SPECTRAL_MAX_LEVELS", "SPECTRAL_MAX_MODES", "SPECTRAL_MIN_NECK", "SolverChoice", "default_solver"]
 
 #: Most levels the default gives to the spectral method (dense matrices: 400 levels took ~6 s and ~1 GB).
 SPECTRAL_MAX_LEVELS = 400
+#: Most modes (dense matrix size) the default gives to the spectral method: 400 levels of the ε = 0.55 ellipse
+#: need 5,522 at H = 2.5 and 7,371 at H = 2.2; a strip whose widest place is tiny (H just above the body's
+#: diameter) would need millions, and goes to the elements, which refuse it with the height that fits.
+SPECTRAL_MAX_MODES = 8000
 #: Narrowest neck, as a fraction of the widest place, that the default gives to the spectral method.
 SPECTRAL_MIN_NECK = 0.25
 
@@ -66,6 +70,9 @@ def default_solver(strip, levels: int, *, eigenvectors: bool = False) -> SolverC
     -------
     SolverChoice
     """
+    from .spectral import spectral_modes
+    from .spectrum import default_modes
+
     wall = strip.table.wall
     if eigenvectors:
         why = "eigenvectors needed"
@@ -77,6 +84,14 @@ def default_solver(strip, levels: int, *, eigenvectors: bool = False) -> SolverC
         why = f"narrow neck (width {strip.width_min:.3g} of {strip.width_max:.3g})"
     elif levels > SPECTRAL_MAX_LEVELS:
         why = f"more than {SPECTRAL_MAX_LEVELS} levels"
+    elif _modes(strip, levels, spectral_modes, default_modes) > SPECTRAL_MAX_MODES:
+        why = f"more than {SPECTRAL_MAX_MODES} modes"
     else:
         return SolverChoice("spectral", 4, 1e-8, "smooth wall, open strip")
     return SolverChoice("fem", 4, 1e-4, why)
+
+
+def _modes(strip, levels, spectral_modes, default_modes):
+    """Size of the spectral basis at the default resolution for ``levels`` levels."""
+    M, N = spectral_modes(strip, default_modes(strip, levels))
+    return (2 * M + 1) * N
