@@ -32,7 +32,8 @@ def main():
     parser.add_argument("--bounces", type=int, default=1_000_000)
     parser.add_argument("--orbits", type=int, default=100)
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--smoke", action="store_true", help="2,000 bounces of 4 orbits, κ = 1, three heights: checks the script")
+    parser.add_argument("--smoke", action="store_true",
+                        help="2,000 bounces of 4 orbits, κ = 1, three heights: checks the script")
     args = parser.parse_args()
     if args.smoke:
         args.bounces, args.orbits = 2000, 4
