@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from coinwall.forward.quantum import make_strip, quantum_spectrum
-from coinwall.forward.quantum.choice import SPECTRAL_MAX_LEVELS, default_solver
+from coinwall.forward.quantum.choice import default_solver
 from coinwall.forward.wall import Wall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
@@ -25,7 +25,7 @@ def test_smooth_open_strip_gets_the_spectral_method():
 @pytest.mark.parametrize("wall, H, levels, eigenvectors, why", [
     (Wall.from_expression("max(cos(t), 0.5) + 1"), 4.5, 20, False, "kinks"),
     (ellipse(), 2.5, 20, True, "eigenvectors"),
-    (ellipse(), 2.5, SPECTRAL_MAX_LEVELS + 1, False, "levels"),
+    (ellipse(), 2.2, 1000, False, "modes"),  # 12,069 modes
     (Wall.from_expression("1"), 2.0000001, 4, False, "modes"),  # the widest place is 1e-7
     (ellipse(99.0), 2.05, 10, False, "neck"),
     (ellipse(), 1.8, 4, False, "falls apart"),  # 2b(θ) runs from 1.61 to 2

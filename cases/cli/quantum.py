@@ -43,8 +43,8 @@ def register(subparsers):
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--levels", type=count, required=True, help="number of levels (the lowest)")
     parser.add_argument("--method", choices=("auto",) + METHOD_NAMES, default="auto",
-                        help="solver: auto (default: spectral for a smooth wall on an open strip and at most 400 "
-                             "levels, else fem of degree 4), fem (Lagrange elements on a mesh that follows the walls) "
+                        help="solver: auto (default: spectral for a smooth wall on an open strip, up to 12,000 "
+                             "modes, else fem of degree 4), fem (Lagrange elements on a mesh that follows the walls) "
                              "or spectral (Fourier × Legendre modes, smooth walls only, exponentially convergent; no "
                              "eigenvectors, so no --splittings or |ψ|² figure)")
     parser.add_argument("--order", type=int, default=None, choices=(2, 3, 4), help="element degree (default 4)")
