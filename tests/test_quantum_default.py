@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from coinwall.forward.quantum import make_strip, quantum_spectrum
-from coinwall.forward.quantum.choice import default_solver
+from coinwall.forward.quantum.choice import default_solver, earned_digits, spectral_error
 from coinwall.forward.wall import Wall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
@@ -45,14 +45,30 @@ def run_cli(monkeypatch, argv):
 
 def test_default_prints_the_digits_it_earns(monkeypatch, capsys):
     """Reference: P4 elements with 12 cells, an independent discretisation (~1e-9 on the lowest levels,
-    tests/test_quantum.py); the default's levels agree to its announced 1e-8 and are printed to 10 digits."""
+    tests/test_quantum.py).  The printed levels carry the digits the error estimate allows, and agree."""
     status = run_cli(monkeypatch, ["quantum", ELLIPSE, "--param", "eps=0.55", "--H", "2.5", "--levels", "6"])
     out = capsys.readouterr().out
-    assert status == 0 and "spectral" in out and "about 1e-8 relative" in out
-    printed = [float(line.split("λ = ")[1].split()[0]) for line in out.splitlines() if line.startswith("level")]
+    assert status == 0 and "spectral" in out
+    accuracy = next(line for line in out.splitlines() if line.startswith("accuracy"))
+    estimate = float(accuracy.split()[1])
+    digits = earned_digits(estimate)
+    assert estimate < 1e-8 and f"{digits} digits printed" in accuracy
+    printed = [line.split("λ = ")[1].split()[0] for line in out.splitlines() if line.startswith("level")]
+    assert len(printed) == 6 and max(len(p.replace(".", "").lstrip("0")) for p in printed) <= digits
     reference = quantum_spectrum(ellipse(), 2.5, levels=6, cells=12, order=4).eigenvalues
-    assert len(printed) == 6
-    assert np.max(np.abs(np.array(printed) - reference) / reference) < 1e-8
+    assert np.max(np.abs(np.array([float(p) for p in printed]) - reference) / reference) < 1e-8
+
+
+def test_error_estimate_covers_the_true_error():
+    """At a coarse resolution, where the error shows: the estimate (against 4 fewer modes) is at least the
+    error against P4 elements with 12 cells (~1e-9, independent), and within four orders of it."""
+    strip = make_strip(ellipse(), 2.5)
+    coarse = quantum_spectrum(strip, levels=30, method="spectral", cells=8).eigenvalues  # measured: 3.5e-5
+    reference = quantum_spectrum(strip, levels=30, cells=12, order=4).eigenvalues
+    true = np.abs(coarse - reference) / reference
+    estimate = spectral_error(strip, coarse, 8)  # against 4 modes across: conservative (measured 1.1e-2)
+    assert np.max(true) > 1e-6  # the test sees an error at all
+    assert np.max(estimate) >= np.max(true) and np.max(estimate) < 1e4 * np.max(true)
 
 
 def test_eigenvectors_or_cells_keep_the_elements(monkeypatch, capsys):

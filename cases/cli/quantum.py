@@ -83,6 +83,8 @@ def _body(text):
 
 
 def _solve(args, wall, H, bar):
+    import numpy as np
+
     from coinwall.forward.quantum import make_strip, quantum_spectrum, splitting_of
 
     strip = make_strip(wall, H, args.b0)
@@ -98,10 +100,16 @@ def _solve(args, wall, H, bar):
     splittings = None
     if args.splittings and strip.periodic and spectrum.symmetry_names:
         splittings = [splitting_of(spectrum, k) for k in range(len(spectrum) // 2)]
-    return spectrum, splittings
+    error = None
+    if spectrum.method == "spectral" and args.cells is None:
+        from coinwall.forward.quantum.choice import spectral_error
+
+        # the digits the default modes have earned: a second, coarser solve says (its docstring)
+        error = float(np.max(spectral_error(strip, spectrum.eigenvalues, spectrum.cells)))
+    return spectrum, splittings, error
 
 
-def _summary(spectrum, splittings, body):
+def _summary(spectrum, splittings, error, body):
     from coinwall.forward.quantum.tunnelling import HBAR, tunnelling_time
 
     strip = spectrum.strip
@@ -123,6 +131,8 @@ def _summary(spectrum, splittings, body):
                  "residual": [float(r) for r in weyl.residual], "rms_residual": weyl.rms_residual},
         "strip": strip.to_dict(), "method": spectrum.method, "order": spectrum.order, "cells": spectrum.cells,
         "dofs": spectrum.dofs, "seconds": spectrum.seconds, "body": physical,
+        # the spectral method's largest relative difference from a coarser solve (None: not estimated)
+        "error_estimate": error,
     }
 
 
@@ -180,11 +190,12 @@ def _cmd_quantum(args):
     wall = load_wall(args.wall, args.param, **wall_options(args))
     bar = progress_bar(args, None, "class")
     try:
-        results = [_solve(args, wall, H, bar) for H in heights]
+        solved = [_solve(args, wall, H, bar) for H in heights]
     finally:
         if bar is not None:
             bar.close()
-    summaries = [_summary(*r, body) for r in results]
+    results = [(spectrum, splittings) for spectrum, splittings, _ in solved]
+    summaries = [_summary(*r, body) for r in solved]
     document = summaries[0] if len(summaries) == 1 else {"scan": summaries}
     document = {"wall": args.wall, "params": dict(wall.params), **document}
     files = {}
@@ -197,14 +208,14 @@ def _cmd_quantum(args):
     if args.json:
         print(json.dumps(document, indent=1, allow_nan=False))
         return 0
-    for (spectrum, splittings), summary in zip(results, summaries):
-        _print(spectrum, splittings, summary["body"], default_mesh=args.cells is None)
+    for (spectrum, splittings, error), summary in zip(solved, summaries):
+        _print(spectrum, splittings, summary["body"], default_mesh=args.cells is None, error=error)
     for line in written_lines(written, written.replaced):
         print(line)
     return 0
 
 
-def _print(spectrum, splittings, body, default_mesh=True):
+def _print(spectrum, splittings, body, default_mesh=True, error=None):
     strip = spectrum.strip
     print(f"strip      {strip!r}")
     if not strip.periodic:
@@ -221,11 +232,12 @@ def _print(spectrum, splittings, body, default_mesh=True):
         print("accuracy   about 1e-4 relative at the highest level (the default mesh; --cells for "
               "more; --json has every digit)")
         digits = 6
-    elif default_mesh:
-        # default_modes aims at ~1e-8 relative on an analytic wall (measured: 1.7e-12 at 100 levels)
-        print("accuracy   about 1e-8 relative at the highest level or better (the default modes; --json has "
-              "every digit)")
-        digits = 10
+    elif error is not None:
+        from coinwall.forward.quantum.choice import earned_digits
+
+        digits = earned_digits(error)
+        print(f"accuracy   {error:.1g} relative at most (the difference from a solve with 4 fewer modes across); "
+              f"{digits} digits printed, --json has every digit")
     else:
         digits = 10
     width = len(str(len(spectrum)))

@@ -21,7 +21,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["SPECTRAL_MAX_MODES", "SPECTRAL_MIN_NECK", "SolverChoice", "default_solver"]
+__all__ = ["SPECTRAL_MAX_MODES", "SPECTRAL_MIN_NECK", "SolverChoice", "default_solver", "earned_digits",
+           "spectral_error"]
 
 #: Most modes (basis size) the default gives to the spectral method: 1,000 levels of the ε = 0.55 ellipse
 #: need 9,367 at H = 2.5 (18 s) and 12,069 at H = 2.2; a strip whose widest place is tiny (H just above the
@@ -93,3 +94,48 @@ def _modes(strip, levels, spectral_modes, default_modes):
     """Size of the spectral basis at the default resolution for ``levels`` levels."""
     M, N = spectral_modes(strip, default_modes(strip, levels))
     return (2 * M + 1) * N
+
+
+def spectral_error(strip, values, cells: int, fewer: int = 4):
+    """Relative error estimate of each of ``values``, the spectral method's levels at ``cells`` modes across.
+
+    The same levels are solved again with ``fewer`` modes across (and the Fourier modes that follow, about
+    40 % of the time at the default resolution); the relative difference estimates the coarser solve's
+    error, hence bounds the finer one's for a method that converges exponentially.  Measured on the
+    ε = 0.55 ellipse at H = 2.5: 1,000 levels at the default 29 modes differ from 36 modes by 8.4e-6 at the
+    top level and 4e-14 in the median, which the default's ``accuracy`` line must say, not 1e-8.
+
+    Parameters
+    ----------
+    strip : Strip
+    values : ndarray
+        The levels found with ``cells`` modes across (ascending).
+    cells : int
+        Their modes across.
+    fewer : int
+        How many fewer modes across the check uses.
+
+    Returns
+    -------
+    ndarray
+        ``|λ − λ_coarse| / |λ|`` per level.
+    """
+    import numpy as np
+
+    from .spectrum import quantum_spectrum
+
+    coarse = quantum_spectrum(strip, levels=len(values), method="spectral", cells=max(2, cells - fewer))
+    values = np.asarray(values, dtype=float)
+    count = min(values.size, coarse.eigenvalues.size)
+    error = np.full(values.size, np.inf)
+    error[:count] = np.abs(values[:count] - coarse.eigenvalues[:count]) / np.abs(values[:count])
+    return error
+
+
+def earned_digits(error: float) -> int:
+    """Significant digits a value with relative error ``error`` carries (3 to 12)."""
+    import math
+
+    if not error > 0 or not math.isfinite(error):
+        return 12 if error == 0 else 3
+    return max(3, min(12, math.floor(-math.log10(error)) + 1))

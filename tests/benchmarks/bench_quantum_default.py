@@ -6,13 +6,14 @@ The ε = 0.55 ellipse at H = 2.5.  Each configuration is the command line (``coi
 in a fresh process, so that its peak memory (VmHWM of /proc/self/status) is its own; the old default
 (``--method fem --order 2``) and the new one (no options) alternate, ``--repeats`` times each, and
 the ratio of their medians is reported.  The error of each is the largest relative difference over
-all levels from a reference computed here with a finer resolution of an independent method or degree:
-the spectral method with 1.5× the default modes across (100 levels), P4 elements with 1.25× the default
-cells (1,000 levels; P4's error falls like h^8, so the reference is ~6× closer than the default).
+all levels from a reference computed here by P4 elements on a finer mesh (an independent discretisation
+of the new default's spectral method): 2× the default cells below 1,000 levels (P4's error falls like
+h^8: 1/256 of the default mesh's), 1.25× at 1,000 (0.17 of it; the reference's own error, ~2e-6 at the top
+level, then bounds what can be seen).
 At 1,000 levels the old default (528,000 dofs) is above the bound on degrees of freedom that the
-library has had since it was first measured (400,000: it now refuses with the height that fits); it is
+library gained after it was first measured (400,000: it now refuses, naming the height that fits); it is
 measured here with that bound lifted in its process.
-``--smoke`` runs 4 levels once each (a coarser reference) (a few seconds): it checks the script, not the numbers.
+``--smoke`` runs 4 levels once each, with a coarser reference (seconds): it checks the script, not the numbers.
 """
 
 from __future__ import annotations
@@ -70,18 +71,14 @@ def run(levels, options, lift=False):
 
 
 def reference(levels, smoke):
-    """Eigenvalues of a finer resolution of another method or degree (module docstring)."""
+    """Eigenvalues of P4 elements on a finer mesh than the default's (module docstring)."""
     from coinwall.forward.quantum import make_strip
-    from coinwall.forward.quantum.choice import default_solver
-    from coinwall.forward.quantum.spectrum import default_cells, default_modes
+    from coinwall.forward.quantum.spectrum import default_cells
     from coinwall.forward.wall import Wall
 
     strip = make_strip(Wall.from_expression(ELLIPSE, {"eps": 0.55}), 2.5)
-    finer = 1.2 if smoke else (1.25 if levels >= 1000 else 1.5)  # P4 at 1.25×: (1/1.25)^8 = 0.17 of the error
-    if default_solver(strip, levels).method == "spectral":
-        options = ["--method", "spectral", "--cells", str(int(finer * default_modes(strip, levels)))]
-    else:
-        options = ["--method", "fem", "--order", "4", "--cells", str(int(finer * default_cells(strip, levels, 4)))]
+    finer = 1.2 if smoke else (1.25 if levels >= 1000 else 2.0)  # P4's error ∝ h^8: 1/1.25^8 = 0.17, 1/2^8
+    options = ["--method", "fem", "--order", "4", "--cells", str(int(finer * default_cells(strip, levels, 4)))]
     document, stats = run(levels, options)
     return np.array(document["eigenvalues"]), " ".join(options), stats
 
