@@ -132,7 +132,7 @@ def _summary(spectrum, splittings, error, body):
         "strip": strip.to_dict(), "method": spectrum.method, "order": spectrum.order, "cells": spectrum.cells,
         "dofs": spectrum.dofs, "seconds": spectrum.seconds, "body": physical,
         # the spectral method's largest relative difference from a coarser solve (None: not estimated)
-        "error_estimate": error,
+        "error_estimate": error if error is not None and math.isfinite(error) else None,
     }
 
 
@@ -236,8 +236,12 @@ def _print(spectrum, splittings, body, default_mesh=True, error=None):
         from coinwall.forward.quantum.choice import earned_digits
 
         digits = earned_digits(error)
-        print(f"accuracy   {error:.1g} relative at most (the difference from a solve with 4 fewer modes across); "
-              f"{digits} digits printed, --json has every digit")
+        if math.isfinite(error):
+            print(f"accuracy   {error:.1g} relative at most (the difference from a solve with 4 fewer modes "
+                  f"across); {digits} digits printed, --json has every digit")
+        else:  # the coarser solve has fewer modes than levels asked for
+            print(f"accuracy   not estimated (too few modes for a coarser check); {digits} digits printed, "
+                  "--json has every digit")
     else:
         digits = 10
     width = len(str(len(spectrum)))

@@ -90,7 +90,7 @@ def main(argv=None):
         trees = ([("base", base)] if base else []) + [("this", sys.executable)]
         runs = {tree: [] for tree, _ in trees}
         docs = {}
-        for _, python in trees:  # warm-up, not counted: bytecode written, files in the page cache
+        for _, python in ([] if args.smoke else trees):  # warm-up, not counted: bytecode, page cache
             run(python, cli)
         for _ in range(repeats):
             for tree, python in trees:
