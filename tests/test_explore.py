@@ -248,6 +248,34 @@ def test_odd_requests_are_4xx_json_never_a_bug(client, route, content, field):
         assert answer.json()["field"] == field
 
 
+# one grammar: what the command line refuses, the server refuses -- numbers are JSON numbers (Python's float()
+# would read "3_0" as 30, "３" as 3, true as 1), parameter lists have no empty item, expressions are one line
+_LINE = {"expression": "1 + 0.1*cos(2*t)"}
+
+
+@pytest.mark.parametrize(("route", "request_json", "field", "needle"), [
+    ("/api/table", dict(_LINE, b0=0, H="3_0"), "H", "`H` must be a number, got '3_0'"),
+    ("/api/table", dict(_LINE, b0=0, H="\uff13"), "H", "`H` must be a number"),
+    ("/api/table", dict(_LINE, b0=0, H=True), "H", "`H` must be a number, got True"),
+    ("/api/table", dict(_LINE, b0="0x1", H=3), "b0", "`b0` must be a number"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta="1_0", eta=1.5), "beam", "`theta` must be a number"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta=0.1, eta=1.5, direction="1e999"), "beam", "`direction` must be"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta=0.1, eta=1.5, spread="nan"), "beam", "`spread` must be a number"),
+    ("/api/export", dict(_LINE, b0=0, format="svg", kappa="1_0", units="mm"), "kappa", "`kappa` must be a number"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": "eps=0.1,,"}, "params", "empty item"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": ",eps=0.1"}, "params", "empty item"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": "eps=0.1;"}, "params", "plain decimal number"),
+    ("/api/wall", {"expression": "1 + 0.1*cos(t) # + 0.2*cos(3*t)"}, "wall", "no comments"),
+    ("/api/wall", {"expression": "1 + 0.1*cos(t,)"}, "wall", "empty argument"),
+    ("/api/wall", {"expression": "(1 + 0.1\n*cos(t))"}, "wall", "one line"),
+])
+def test_the_server_reads_the_command_lines_grammar(client, route, request_json, field, needle):
+    answer = client.post(route, json=request_json)
+    assert answer.status_code == 400, answer.text
+    assert answer.json()["field"] == field and needle in answer.json()["error"]
+
+
+
 def test_oversize_upload_is_a_json_413_read_no_further(client, monkeypatch):
     answer = client.post("/api/upload?name=w.csv", content=b"0" * (explore_app.MAX_UPLOAD_BYTES + 1))
     assert answer.status_code == 413 and answer.json() == {"error": "the file is larger than 16 MiB", "field": "upload"}
