@@ -16,8 +16,9 @@ floor: ``A = η0 − b0, B = v, Q = g, φ0 = θ0``; ceiling (if any): ``A = H �
 φ0 = θ0 + π``.  The next impact is the smallest t > 0 with ``f(t) = 0`` over the walls present.
 
 Why the search cannot skip a root.  It is the billiard kernel's search (:mod:`._kernel`, read it for the
-details) with the straight line ``A + B t`` replaced by the parabola ``L(t) = A + B t − ½ Q t²``.  Every
-bound it uses stays a bound:
+details) with the straight line ``A + B t`` replaced by the parabola ``L(t) = A + B t − ½ Q t²``: the same
+code, :func:`._search._search`, compiled into both kernels (this file adds the window of a parabola, the
+flight without rotation, the impact and settling).  Every bound it uses stays a bound:
 
 1. *Band and box test.*  A contact needs ``L(t) ≤ max b + tol``; the window of such times is computed from
    the roots of the quadratic (a concave ``L``, the floor under gravity, is in the band from its first
@@ -32,6 +33,9 @@ bound it uses stays a bound:
 3. *Exact stage.*  The same steps on the exact f with ``f'' ≥ −(Q + ω² c_j)``, ``c_j ≥ max b''`` on the
    cell; the second-order finish uses ``f'' = −Q − ω² b''`` (the field adds no third derivative, so the
    Taylor remainder of the billiard kernel is unchanged).
+4. *Curving-away runs.*  Just after an impact on a wall that curves away (``c_j ≤ 0``) the gap is convex
+   when ``Q ≤ 0`` too (``f'' = −Q − ω² b'' ≥ 0``), and the search skips the run as the billiard's does; under
+   gravity on the floor (``Q > 0``) it does not (the parabola bends back towards the floor).
 
 So every time interval skipped is certified by a lower bound of f (box, proxy or exact parabola): the
 iterates never pass the first contact.  The guarantee is exactly the billiard kernel's, with the same
@@ -69,8 +73,9 @@ bounded by the caller (status 0 when it is reached: "not settled").
 import math
 
 import numpy as np
-from numba import carray, njit, prange, types
-from numba.extending import intrinsic
+from numba import carray, njit, prange
+
+from ._search import INF, MAX_ANGLE, PI, TWO_PI, _data_pointer, _search, wall_b1
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.field
 
@@ -78,52 +83,7 @@ CACHE = True
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 
-def wall_b1(phi, c):
-    """Stand-in for the generated ``wall_b1(phi, c) -> (b, b')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
-
-
-def wall_b2(phi, c):
-    """Stand-in for the generated ``wall_b2(phi, c) -> (b, b', b'')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
-
-
 # ---- field kernel: the text from the line after this one to the end of the file is joined to the wall code ----
-
-TWO_PI = 2.0 * math.pi
-INV_TWO_PI = 1.0 / TWO_PI
-PI = math.pi
-INF = math.inf
-ROUND_T = 1e-15
-LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS = range(16)
-POS_TOL = 0.01
-MAX_ANGLE = 17592186044416.0
-CELL_BUDGET = 134217728
-
-
-@intrinsic
-def _data_pointer(typingctx, arr):
-    # as in _kernel: rebuild arrays as views without a reference count (no atomics per call)
-    def codegen(context, builder, signature, args):
-        return context.make_array(signature.args[0])(context, builder, args[0]).data
-    return types.CPointer(arr.dtype)(arr), codegen
-
-
-@njit(**OPTIONS)
-def _root_step(g0, g1, K):
-    # smallest τ > 0 with g0 + g1 τ − ½ K τ² = 0 (g0 ≥ 0), ∞ if none, or a lower bound of it (as in _kernel;
-    # K may be negative here: a convex parabola, whose smallest root is the same formula)
-    if g1 < 0.0 and K > 0.0 and 2.0 * K * g0 <= g1 * g1:
-        return g0 * (-g1) / (g1 * g1 + 0.5 * K * g0)
-    disc = g1 * g1 + 2.0 * K * g0
-    if disc < 0.0:
-        return INF
-    if g1 < 0.0:
-        return 2.0 * g0 / (-g1 + math.sqrt(disc))
-    if K > 0.0:
-        return (g1 + math.sqrt(disc)) / K
-    return INF
-
 
 @njit(**OPTIONS)
 def _roots(a, b, c):
@@ -188,14 +148,13 @@ def _window(A, B, Q, lo, hi, vt):
 
 
 @njit(inline='always', **OPTIONS)
-def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup, wmin, wmax, tol):
+def _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, leaving, g1_leave, c, cells, lookup, tol):
     # first t in (0, tcap) where f(t) = A + B t − ½ Q t² − b(phi0 + vt t) ≤ tol, and b' there; (INF, 0) if
-    # none; negative codes as in _kernel (−1 no convergence, −2 non-finite wall, −3 cell budget, −4 angle)
-    t_lo, t_hi = _window(A, B, Q, wmin, wmax + tol, vt)
+    # none; negative codes as in _search (−1 no convergence, −2 non-finite wall, −3 cell budget, −4 angle).
+    # [t_lo, t_hi) is the window of the flight (_window), computed by the caller
     t_hi = min(t_hi, tcap)
     if not (t_lo < t_hi):
         return INF, 0.0
-    hq = 0.5 * Q
     if vt == 0.0:  # no rotation: f is a quadratic in t
         b, d1 = wall_b1(phi0, c)
         if not (abs(b) < INF and abs(d1) < INF):
@@ -204,7 +163,7 @@ def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup
             # on this wall at t = 0: the other root, 2B/Q (rising away and falling back), if any
             t = 2.0 * B / Q if (Q > 0.0 and B > 0.0) else INF
         else:
-            r1, r2 = _roots(A - b, B, -hq)
+            r1, r2 = _roots(A - b, B, -0.5 * Q)
             t = INF
             if not math.isnan(r1):
                 if r1 > 0.0:
@@ -214,163 +173,7 @@ def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup
         if t >= tcap:
             return INF, 0.0
         return t, d1
-    m = cells.shape[0]
-    nunif = lookup.shape[0]
-    phi = phi0 + vt * t_lo
-    off = TWO_PI * math.floor(phi * INV_TWO_PI)
-    x = phi - off
-    if x >= TWO_PI:
-        x -= TWO_PI
-        off += TWO_PI
-    elif x < 0.0:
-        x += TWO_PI
-        off -= TWO_PI
-    if not (0.0 <= x < TWO_PI):
-        return -4.0, 0.0
-    i = int(x * (nunif * INV_TWO_PI))
-    if i >= nunif:
-        i = nunif - 1
-    elif i < 0:
-        i = 0
-    j = lookup[i]
-    while j < m - 1 and cells[j, RIGHT] <= x:
-        j += 1
-    while j > 0 and cells[j, LEFT] > x:
-        j -= 1
-    if vt < 0.0 and x == cells[j, LEFT]:
-        j -= 1
-        if j < 0:
-            j = m - 1
-            off -= TWO_PI
-    vt2 = vt * vt
-    edge = RIGHT if vt > 0.0 else LEFT
-    start = off - phi0
-    t_in = t_lo
-    at_edge = False
-    walked = 0
-    # the vertex of a convex L (ceiling under gravity), where its minimum over a cell may lie
-    t_vertex = B / Q if Q < 0.0 else -1.0
-    while True:
-        walked += 1
-        if walked > CELL_BUDGET:
-            return -3.0, 0.0
-        t_out = (cells[j, edge] + start) * ivt
-        t_out = min(t_out, t_hi)
-        l_in = A + B * t_in - hq * t_in * t_in
-        l_out = A + B * t_out - hq * t_out * t_out
-        lmin = min(l_in, l_out)
-        if t_in < t_vertex < t_out:
-            lmin = min(lmin, A + B * t_vertex - hq * t_vertex * t_vertex)
-        if lmin <= cells[j, BMAX] + tol and t_out >= t_in:
-            t = t_in
-            clear = False
-            if leaving and t == 0.0:
-                if not math.isnan(g1_leave):
-                    g1 = g1_leave
-                else:
-                    b, d1 = wall_b1(phi0, c)
-                    g1 = B - vt * d1
-                t = _root_step(0.0, g1, Q + vt2 * cells[j, CMAX])
-                clear = not (t < t_out)
-            if not clear:
-                a = cells[j, LEFT] + start
-                e = cells[j, PERR]
-                Kp = Q + vt2 * cells[j, P2MAX]
-                Ka = vt2 * cells[j, P2ABS] + max(0.0, -Q)
-                c0 = cells[j, P0]
-                c1 = cells[j, P1]
-                c2 = cells[j, P2]
-                c3 = cells[j, P3]
-                c4 = cells[j, P4]
-                c5 = cells[j, P5]
-                c2d = 2.0 * c2
-                c3d = 3.0 * c3
-                c4d = 4.0 * c4
-                c5d = 5.0 * c5
-                for it in range(64):
-                    s = vt * t - a
-                    s2 = s * s
-                    p = (c0 + c1 * s) + s2 * ((c2 + c3 * s) + s2 * (c4 + c5 * s))
-                    G = A + B * t - hq * t * t - p - e - tol
-                    if G <= e:
-                        break
-                    dp = (c1 + c2d * s) + s2 * ((c3d + c4d * s) + s2 * c5d)
-                    G1 = B - Q * t - vt * dp
-                    tau = _root_step(G, G1, Kp)
-                    if not (t + tau < t_out):
-                        clear = True
-                        break
-                    t += tau
-                    if G + G1 * tau + 0.5 * Ka * tau * tau <= e:
-                        break
-            if not clear:
-                K = Q + vt2 * cells[j, CMAX]
-                D3 = abs(vt) * vt2 * cells[j, D3MAX]
-                for it in range(1000):
-                    b, d1, d2 = wall_b2(phi0 + vt * t, c)
-                    second = True
-                    if it == 0 and at_edge and t == t_in:
-                        slope = cells[j, SLOPE_FWD] if vt > 0.0 else cells[j, SLOPE_BWD]
-                        if not math.isnan(slope):
-                            d1 = slope
-                            second = False
-                    g0 = A + B * t - hq * t * t - b
-                    g1 = B - Q * t - vt * d1
-                    if not (abs(g0) < INF and abs(g1) < INF):
-                        return -2.0, 0.0
-                    if second and g1 < 0.0:
-                        dn = g0 / (-g1)
-                        g2 = -Q - vt2 * d2
-                        dh = dn + 0.5 * g2 * dn * dn / (-g1)
-                        rem = D3 * dh * dh * abs(dh) / 6.0
-                        res = abs(g0 + dh * (g1 + 0.5 * g2 * dh)) + rem
-                        slope_err = 0.5 * D3 * dh * dh / abs(vt)
-                        if (res <= POS_TOL * tol and rem <= 1e-17 * abs(g1) and slope_err <= 1e-17 * (1.0 + abs(d1))
-                                and t + dh < t_out):
-                            if g0 <= tol:
-                                return t + dh, d1 + vt * d2 * dh
-                            tau = _root_step(g0, g1, K)
-                            if (t + dh) - (t + tau) <= ROUND_T * (1.0 + t):
-                                return t + dh, d1 + vt * d2 * dh
-                    if g0 <= tol:
-                        if g1 < 0.0:
-                            tn = t + g0 / (-g1)
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) < abs(g0) or g0 < 0.0:
-                                return tn, dn
-                        return t, d1
-                    tau = _root_step(g0, g1, K)
-                    if not (t + tau < t_out):
-                        break
-                    if t + tau == t and g0 <= -g1 * 4.5e-16 * t:
-                        return t, d1
-                    if g1 < 0.0:
-                        tn = t + g0 / (-g1)
-                        if tn - (t + tau) <= ROUND_T * (1.0 + t) and tn < t_out:
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) <= tol:
-                                return tn, dn
-                    t += tau
-                else:
-                    return -1.0, 0.0
-        if t_out >= t_hi:
-            return INF, 0.0
-        if vt > 0.0:
-            j += 1
-            if j == m:
-                j = 0
-                off += TWO_PI
-                start = off - phi0
-        else:
-            j -= 1
-            if j < 0:
-                j = m - 1
-                off -= TWO_PI
-                start = off - phi0
-        t_in = t_out
-        at_edge = True
+    return _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, lookup, tol)
 
 
 @njit(**OPTIONS)
@@ -424,19 +227,21 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
         tu = INF
         dl = 0.0
         du = 0.0
-        lower_first = True
+        # each window once (a quadratic's roots): they order the walls and bound the searches
+        lo_l, hi_l = _window(eta - b0, ve, g, wmin, wmax + tol, vt)
+        lo_u = INF
+        hi_u = INF
         if ceiling:
-            lo_l, _hi_l = _window(eta - b0, ve, g, wmin, wmax + tol, vt)
-            lo_u, _hi_u = _window(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
-            lower_first = lo_l <= lo_u
+            lo_u, hi_u = _window(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
+        lower_first = lo_l <= lo_u
         for k in range(2 if ceiling else 1):
             upper = (not lower_first) if k == 0 else lower_first
             tcap = INF if k == 0 else (tl if lower_first else tu)
             if upper:
-                phi0, A, B, Q, near = th + PI, H - b0 - eta, -ve, -g, leaving == 1
+                phi0, A, B, Q, near, t_lo, t_hi = th + PI, H - b0 - eta, -ve, -g, leaving == 1, lo_u, hi_u
             else:
-                phi0, A, B, Q, near = th, eta - b0, ve, g, leaving == 0
-            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, tcap, near, g1_leave, c, cells, lookup, wmin, wmax, tol)
+                phi0, A, B, Q, near, t_lo, t_hi = th, eta - b0, ve, g, leaving == 0, lo_l, hi_l
+            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, near, g1_leave, c, cells, lookup, tol)
             if upper:
                 tu, du = tk, dk
             else:

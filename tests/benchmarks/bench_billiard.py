@@ -119,7 +119,7 @@ def count_work(table, collisions=20_000, seed=1):
     with counters added at fixed lines, so the counts are those of the compiled kernel's
     algorithm (not its timing).
     """
-    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE
+    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE, SEARCH_SOURCE
 
     source, constants = wall_source(table.wall)
     counts = {"cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}
@@ -128,13 +128,13 @@ def count_work(table, collisions=20_000, seed=1):
                "            counts['box_failed'] += 1\n"),
               ("                    s = vt * t - a\n",
                "                    s = vt * t - a\n                    counts['proxy_steps'] += 1\n")]
-    kernel = KERNEL_SOURCE
+    kernel = SEARCH_SOURCE + KERNEL_SOURCE
     for anchor, replacement in probes:
         if kernel.count(anchor) != 1:
             raise RuntimeError("count_work: the kernel source changed; update the probes")
         kernel = kernel.replace(anchor, replacement)
     namespace = {"math": math, "np": np, "njit": lambda *a, **k: (lambda f: f), "prange": range,
-                 "OPTIONS": {}, "counts": counts,
+                 "OPTIONS": {}, "CACHE": False, "counts": counts,
                  # plain Python has no reference counts to avoid: the arrays themselves serve as views
                  "carray": lambda array, shape: array, "intrinsic": lambda f: (lambda array: array), "types": None}
     exec(source, namespace)  # our own generated source
@@ -153,7 +153,8 @@ def count_work(table, collisions=20_000, seed=1):
     comp = _compiled(table)
     state = random_states(table, 1, seed)[0]
     out = [np.empty(collisions) for _ in range(5)] + [np.empty(collisions, dtype=np.int8)]
-    done, _ = namespace["_run"](state, -1, collisions, *comp.args(table), *out)
+    last = np.empty(2)
+    done, _ = namespace["_run"](state, 0, -1, collisions, *comp.args(table), *out, last)
     return {k: v / done for k, v in counts.items()}
 
 
