@@ -75,7 +75,19 @@ import math
 import numpy as np
 from numba import carray, njit, prange
 
-from ._search import INF, MAX_ANGLE, PI, TWO_PI, _data_pointer, _search, wall_b1
+from ._search import (
+    INF,
+    PI,
+    TWO_PI,
+    _advance,
+    _data_pointer,
+    _earlier,
+    _impact,
+    _leaving_rate,
+    _reduce,
+    _search,
+    wall_b1,
+)
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.field
 
@@ -211,9 +223,7 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     c = carray(_data_pointer(c), c.shape)
     cells = carray(_data_pointer(cells), cells.shape)
     lookup = carray(_data_pointer(lookup), lookup.shape)
-    wraps = math.floor(theta / TWO_PI)
-    th = theta - wraps * TWO_PI
-    wraps += turns
+    th, wraps = _reduce(theta, turns)
     time = 0.0
     floor_hits = 0
     g1_leave = math.nan
@@ -246,48 +256,16 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
                 tu, du = tk, dk
             else:
                 tl, dl = tk, dk
-        if tl == -2.0 or tu == -2.0:
-            status = 8
+        t, side, s, code = _earlier(tl, dl, tu, du, vt)
+        if code != 0:
+            status = (0, 8, 10, 9, 7, 6)[code]
             break
-        if tl == -3.0 or tu == -3.0:
-            status = 10
-            break
-        if tl == -4.0 or tu == -4.0:
-            status = 9
-            break
-        if tl < 0.0 or tu < 0.0:
-            status = 7
-            break
-        if tu < tl:
-            t = tu
-            side = 1
-            s = -du
-        else:
-            t = tl
-            side = 0
-            s = dl
-        if t == INF:
-            status = 6
-            break
-        if not (abs(vt * t) < MAX_ANGLE):
-            status = 9
-            break
-        th += vt * t
+        th, wraps = _advance(th, wraps, vt * t)
         eta += ve * t - 0.5 * g * t * t
         ve -= g * t
         time += t
-        if th >= TWO_PI or th < 0.0:
-            kk = math.floor(th / TWO_PI)
-            th -= kk * TWO_PI
-            wraps += kk
-        # Newton's restitution on the normal velocity (billiard metric, n ∝ (−s, 1))
-        f = (1.0 + e) * (ve - s * vt) / (1.0 + s * s)
-        vt = vt + f * s
-        ve = ve - f
-        if side == 0:
-            g1_leave = ve - vt * s
-        else:
-            g1_leave = -ve + vt * s
+        vt, ve = _impact(vt, ve, s, e)  # Newton's restitution on the normal velocity
+        g1_leave = _leaving_rate(side, vt, ve, s)
         done = i + 1
         if record:
             out_time[i] = time

@@ -116,7 +116,19 @@ import math
 
 from numba import carray, njit, prange
 
-from ._search import INF, MAX_ANGLE, PI, TWO_PI, _data_pointer, _search, wall_b1
+from ._search import (
+    INF,
+    PI,
+    TWO_PI,
+    _advance,
+    _data_pointer,
+    _earlier,
+    _impact,
+    _leaving_rate,
+    _reduce,
+    _search,
+    wall_b1,
+)
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.kernel
 
@@ -176,9 +188,7 @@ def _run(state, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
     c = carray(_data_pointer(c), c.shape)
     cells = carray(_data_pointer(cells), cells.shape)
     lookup = carray(_data_pointer(lookup), lookup.shape)
-    wraps = math.floor(theta / TWO_PI)
-    th = theta - wraps * TWO_PI
-    wraps += turns
+    th, wraps = _reduce(theta, turns)
     last[0] = th
     last[1] = wraps
     time = 0.0
@@ -212,44 +222,17 @@ def _run(state, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
                 tu, du = tk, dk
             else:
                 tl, dl = tk, dk
-        if tl == -2.0 or tu == -2.0:
-            return i, 3
-        if tl == -3.0 or tu == -3.0:
-            return i, 5
-        if tl == -4.0 or tu == -4.0:
-            return i, 4
-        if tl < 0.0 or tu < 0.0:
-            return i, 2
-        if tu < tl:
-            t = tu
-            side = 1
-            s = -du  # the slope found with the contact: no second evaluation of the wall
-        else:
-            t = tl
-            side = 0
-            s = dl
-        if t == INF:
-            return i, 1
-        if not (abs(vt * t) < MAX_ANGLE):
-            return i, 4
-        th += vt * t
+        t, side, s, code = _earlier(tl, dl, tu, du, vt)
+        if code != 0:
+            return i, (0, 3, 5, 4, 2, 1)[code]
+        th, wraps = _advance(th, wraps, vt * t)
         eta += ve * t
         time += t
-        if th >= TWO_PI or th < 0.0:
-            k = math.floor(th / TWO_PI)
-            th -= k * TWO_PI
-            wraps += k
-        f = 2.0 * (ve - s * vt) / (1.0 + s * s)
-        vt = vt + f * s
-        ve = ve - f
+        vt, ve = _impact(vt, ve, s, 1.0)
         scale = 1.0 / math.sqrt(vt * vt + ve * ve)  # keeps the speed 1 to rounding over long runs
         vt *= scale
         ve *= scale
-        # g' of the wall just left (> 0 after the reflection), for the first step of the next search
-        if side == 0:
-            g1_leave = ve - vt * s
-        else:
-            g1_leave = -ve + vt * s
+        g1_leave = _leaving_rate(side, vt, ve, s)
         out_time[i] = time
         out_theta[i] = th + wraps * TWO_PI
         out_eta[i] = eta

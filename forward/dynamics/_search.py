@@ -300,3 +300,66 @@ def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, loo
                 start = off - phi0
         t_in = t_out
         at_edge = True
+
+
+@njit(inline='always', **OPTIONS)
+def _reduce(theta, turns):
+    # θ as (θ mod 2π, whole turns): the form in which both kernels carry the angle along an orbit
+    wraps = math.floor(theta / TWO_PI)
+    return theta - wraps * TWO_PI, wraps + turns
+
+
+@njit(inline='always', **OPTIONS)
+def _earlier(tl, dl, tu, du, vt):
+    # the earlier of the two walls' contacts: (t, side, slope s of the wall there in the billiard's sense,
+    # code); code 0 a contact, else why the orbit stops: 1 the wall is not finite, 2 the cell budget is spent,
+    # 3 the angle is beyond float64, 4 no convergence, 5 free flight (no contact at all)
+    if tl == -2.0 or tu == -2.0:
+        return 0.0, 0, 0.0, 1
+    if tl == -3.0 or tu == -3.0:
+        return 0.0, 0, 0.0, 2
+    if tl == -4.0 or tu == -4.0:
+        return 0.0, 0, 0.0, 3
+    if tl < 0.0 or tu < 0.0:
+        return 0.0, 0, 0.0, 4
+    if tu < tl:
+        t = tu
+        side = 1
+        s = -du  # the slope found with the contact: no second evaluation of the wall
+    else:
+        t = tl
+        side = 0
+        s = dl
+    if t == INF:
+        return t, side, s, 5
+    if not (abs(vt * t) < MAX_ANGLE):
+        return t, side, s, 3
+    return t, side, s, 0
+
+
+@njit(inline='always', **OPTIONS)
+def _leaving_rate(side, vt, ve, s):
+    # g' of the wall just left (> 0 after an impact), for the first step of the next search
+    if side == 0:
+        return ve - vt * s
+    return -ve + vt * s
+
+
+@njit(inline='always', **OPTIONS)
+def _advance(th, wraps, dth):
+    # θ mod 2π and its whole turns after a flight that turned it by dth
+    th += dth
+    if th >= TWO_PI or th < 0.0:
+        k = math.floor(th / TWO_PI)
+        th -= k * TWO_PI
+        wraps += k
+    return th, wraps
+
+
+@njit(inline='always', **OPTIONS)
+def _impact(vt, ve, s, e):
+    # Newton's law on the normal velocity in the billiard metric (n ∝ (−s, 1); e = 1 the specular reflection)
+    f = (1.0 + e) * (ve - s * vt) / (1.0 + s * s)
+    vt = vt + f * s
+    ve = ve - f
+    return vt, ve
