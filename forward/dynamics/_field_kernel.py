@@ -159,6 +159,25 @@ def _window(A, B, Q, lo, hi, vt):
     return t_lo, t_hi
 
 
+@njit(**OPTIONS)
+def _windows(A, B, Q, lo, hi, vt):
+    # _window as up to two intervals [t1, u1), [t2, u2) (t2 = u2 = INF: one): a concave L (the floor under
+    # gravity) that starts in the band rising may leave it above hi and come back; the time above hi has no
+    # contact, and walking its cells one by one (the whole flight up and down) was most of the cost of a toss
+    t_lo, t_hi = _window(A, B, Q, lo, hi, vt)
+    if Q > 0.0 and A <= hi and B > 0.0 and vt != 0.0:
+        r1, r2 = _roots(A - hi, B, -0.5 * Q)
+        if not math.isnan(r1) and r1 > 0.0:
+            u1 = r1 * (1.0 + 1e-12) + 1e-300
+            t2 = r2 * (1.0 - 1e-12)
+            # L is concave: above hi at both ends of [u1, t2] means above hi on all of it (checked, not trusted
+            # to the roots, which lose digits when L barely rises above hi)
+            hq = 0.5 * Q
+            if u1 < t2 < t_hi and A + B * u1 - hq * u1 * u1 > hi and A + B * t2 - hq * t2 * t2 > hi:
+                return t_lo, u1, t2, t_hi
+    return t_lo, t_hi, INF, INF
+
+
 @njit(inline='always', **OPTIONS)
 def _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, leaving, g1_leave, c, cells, lookup, tol):
     # first t in (0, tcap) where f(t) = A + B t − ½ Q t² − b(phi0 + vt t) ≤ tol, and b' there; (INF, 0) if
@@ -232,30 +251,57 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     settle = g > 0.0 and valleys.shape[0] > 0
     for i in range(n):
         ivt = 1.0 / vt if vt != 0.0 else INF
-        # the wall whose band the flight reaches first is searched first; its time caps the other search
         tl = INF
         tu = INF
         dl = 0.0
         du = 0.0
-        # each window once (a quadratic's roots): they order the walls and bound the searches
-        lo_l, hi_l = _window(eta - b0, ve, g, wmin, wmax + tol, vt)
-        lo_u = INF
-        hi_u = INF
+        # the windows of both walls once (a quadratic's roots), up to two a wall: searched in the order they
+        # start, each capped by the earliest contact found so far (a window starting after it is not searched)
+        w0, w1, w2, w3 = _windows(eta - b0, ve, g, wmin, wmax + tol, vt)
+        w4 = INF
+        w5 = INF
+        w6 = INF
+        w7 = INF
         if ceiling:
-            lo_u, hi_u = _window(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
-        lower_first = lo_l <= lo_u
-        for k in range(2 if ceiling else 1):
-            upper = (not lower_first) if k == 0 else lower_first
-            tcap = INF if k == 0 else (tl if lower_first else tu)
-            if upper:
-                phi0, A, B, Q, near, t_lo, t_hi = th + PI, H - b0 - eta, -ve, -g, leaving == 1, lo_u, hi_u
+            w4, w5, w6, w7 = _windows(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
+        searched = 0  # bit k: window k (floor first, floor second, ceiling first, ceiling second) is done
+        for k in range(4):
+            # the window not yet searched that starts first (ties: the floor's, the first)
+            pick = -1
+            first = min(tl, tu)
+            if searched & 1 == 0 and w0 < first:
+                pick, first = 0, w0
+            if searched & 2 == 0 and w2 < first:
+                pick, first = 1, w2
+            if searched & 4 == 0 and w4 < first:
+                pick, first = 2, w4
+            if searched & 8 == 0 and w6 < first:
+                pick, first = 3, w6
+            if pick < 0:
+                break
+            searched |= 1 << pick
+            upper = pick >= 2
+            if pick == 0:
+                t_lo, t_hi = w0, w1
+            elif pick == 1:
+                t_lo, t_hi = w2, w3
+            elif pick == 2:
+                t_lo, t_hi = w4, w5
             else:
-                phi0, A, B, Q, near, t_lo, t_hi = th, eta - b0, ve, g, leaving == 0, lo_l, hi_l
-            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, near, g1_leave, c, cells, lookup, tol)
+                t_lo, t_hi = w6, w7
             if upper:
-                tu, du = tk, dk
+                phi0, A, B, Q, near = th + PI, H - b0 - eta, -ve, -g, leaving == 1
             else:
+                phi0, A, B, Q, near = th, eta - b0, ve, g, leaving == 0
+            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, min(tl, tu), near, g1_leave, c, cells, lookup,
+                                tol)
+            if upper:
+                if tk < tu:
+                    tu, du = tk, dk
+            elif tk < tl:
                 tl, dl = tk, dk
+            if tk < 0.0:
+                break
         t, side, s, code = _earlier(tl, dl, tu, du, vt)
         if code != 0:
             status = (0, 8, 10, 9, 7, 6)[code]
