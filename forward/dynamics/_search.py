@@ -137,16 +137,16 @@ def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, loo
     walked = 0
     # the vertex of a convex L (the ceiling under gravity), where its minimum over a cell may lie
     t_vertex = B / Q if Q < 0.0 else -1.0
+    # g' at t = 0 on the wall just left: known from the impact, or evaluated (an orbit that starts on a wall)
+    g1_start = g1_leave
+    if leaving and t_lo == 0.0 and math.isnan(g1_start):
+        b, d1 = wall_b1(phi0, c)
+        g1_start = B - vt * d1
     if leaving and t_lo == 0.0 and Q <= 0.0 and cells[j, CMAX] <= 0.0:
         # leaving a wall that curves away (b'' ≤ 0: g'' = −Q − vt² b'' ≥ 0 over the cells of this run, which
         # stops at every kink): g(0) = 0 and g'(0) > 0 make g ≥ g'(0) t > 0 up to the run's end, so no contact
         # there and the walk resumes after it (a rising flight otherwise walks every cell it passes over)
-        if not math.isnan(g1_leave):
-            g1 = g1_leave
-        else:
-            b, d1 = wall_b1(phi0, c)
-            g1 = B - vt * d1
-        if g1 > 0.0:
+        if g1_start > 0.0:
             if forward:
                 t_in = (cells[j, RUN_FWD] + start) * ivt
                 jn = int(cells[j, NEXT_FWD])
@@ -178,13 +178,8 @@ def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, loo
             clear = False
             if leaving and t == 0.0:
                 # on the wall just left: g = 0 there (the collision already processed), g' > 0;
-                # the certified step 2 g'/K away from it (g' from the reflection when known)
-                if not math.isnan(g1_leave):
-                    g1 = g1_leave
-                else:
-                    b, d1 = wall_b1(phi0, c)
-                    g1 = B - vt * d1
-                t = _root_step(0.0, g1, Q + vt2 * cells[j, CMAX])
+                # the certified step 2 g'/K away from it
+                t = _root_step(0.0, g1_start, Q + vt2 * cells[j, CMAX])
                 clear = not (t < t_out)
             if not clear:
                 # proxy stage: f − tol ≥ G = L − p_j − e_j − tol; conservative steps on G (curvature bound
