@@ -23,7 +23,11 @@ flight without rotation, the impact and settling).  Every bound it uses stays a 
 1. *Band and box test.*  A contact needs ``L(t) ≤ max b + tol``; the window of such times is computed from
    the roots of the quadratic (a concave ``L``, the floor under gravity, is in the band from its first
    crossing on and must meet the wall before ``L`` falls below ``min b``; a convex ``L``, the ceiling, only
-   while inside a bounded interval).  Per cell the minimum of ``L`` over the time the flight spends over the
+   while inside a bounded interval).  A concave ``L`` that starts in the band rising and leaves it above
+   ``max b + tol`` before coming back is searched in two windows: the time between has no contact, since
+   ``L`` is above the band at both of its ends (checked by evaluating ``L`` there) and concave.  The windows
+   of both walls are searched in the order they start, each capped by the earliest contact found so far.
+   Per cell the minimum of ``L`` over the time the flight spends over the
    cell is at an end of that time for a concave ``L`` and at an end or at the vertex for a convex one; if it
    is above ``bmax_j + tol`` the cell has no contact.
 2. *Proxy stage.*  ``G = L − p_j − e_j − tol`` is a lower bound of ``f − tol``, and
@@ -42,8 +46,9 @@ iterates never pass the first contact.  The guarantee is exactly the billiard ke
 declared approximations (contact tolerance ``tol``; cell bounds from dense sampling with a checked margin,
 not interval arithmetic; time intervals below rounding of t are not resolved).  A flight without rotation
 (ω = 0) meets the wall at the first root of a quadratic, solved in closed form.  With ``g = 0`` and
-``e = 1`` the search and the reflection are the billiard kernel's, operation for operation, except that
-the speed is not renormalised (the field kernel conserves energy by its arithmetic alone).
+``e = 1`` the search and the reflection are the billiard kernel's (the same code), except that the window of
+a flight comes from the quadratic's roots (the billiard's from one product with 1/v_η, so the two agree to
+rounding) and the speed is not renormalised (the field kernel conserves energy by its arithmetic alone).
 
 The impact
 ----------
