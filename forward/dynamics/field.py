@@ -48,7 +48,6 @@ either side, ``sin θ < 0`` and ``> 0``) the valleys are named heads and tails (
 
 from __future__ import annotations
 
-import importlib.resources
 import math
 from dataclasses import dataclass, field
 
@@ -60,6 +59,7 @@ from ..errors import InvalidArgument, InvalidWall
 from ..validation import check_count, check_memory, is_integer
 from ..wall import Wall
 from .billiard import HEIGHT_MAX, HIT_TOL, Billiard
+from .kernel import source_after_marker
 
 __all__ = ["CHATTER_HEIGHT", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "FieldTable", "Flight", "Landscape",
            "compile_field_kernel", "field_run", "field_run_many", "landscape", "reference_run"]
@@ -84,15 +84,7 @@ FIELD_NOTES = {
 }
 
 
-def _field_text() -> str:
-    text = importlib.resources.files(__package__).joinpath("_field_kernel.py").read_text(encoding="utf-8")
-    _head, marker, kernel = text.partition(_MARKER)
-    if not marker:
-        raise RuntimeError("_field_kernel.py has lost its marker line; field.py cannot find the kernel's text")
-    return kernel
-
-
-FIELD_SOURCE = _field_text()
+FIELD_SOURCE = source_after_marker("_field_kernel.py", _MARKER)
 
 
 # ---------------------------------------------------------------------------------------------------- landscape
@@ -335,12 +327,11 @@ class Flight:
 # ---------------------------------------------------------------------------------------------------- kernel
 class _FieldKernel:
     def __init__(self, wall: Wall):
-        from .kernel import HEADER, compiled
-        from .wallcode import load_module, wall_source
+        from .kernel import compiled, kernel_module
 
         base = compiled(_WallHolder(wall))  # the billiard's constants and cell bounds of this wall (kept per wall)
-        source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
-        self.module = load_module(HEADER + source + FIELD_SOURCE, "coinwall_field")
+        # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
+        self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
         self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
         self.sealed = set()
 
