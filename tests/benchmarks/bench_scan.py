@@ -161,14 +161,19 @@ def part_plan(collisions, repeat, points=((0.5, 2.5), (3.0, 3.0), (20.0, 6.0))):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small sizes: checks that the script runs")
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes, one local worker: checks the script")
+    parser.add_argument("--smoke", action="store_true",
+                        help="tiny sizes, no cluster (the thread/process and scaling parts need one): checks it runs")
     parser.add_argument("--json", help="write the numbers here")
     args = parser.parse_args()
     quick = args.quick or args.smoke
     out = {"loadavg_before": os.getloadavg()}
-    if args.smoke:  # every part but the three-cluster thread/process comparison, at tiny sizes
+    if args.smoke:  # tiny sizes; the store written with the synchronous scheduler (no cluster to start)
         out["overhead"] = [part_overhead(10, 100, 1)]
-        out["scaling"] = part_scaling({"eps": "2:4:2", "H": "3"}, {"orbits": 4, "collisions": 100}, workers=(1,))
+        with tempfile.TemporaryDirectory() as folder:
+            result = scan("chaotic-fraction", TableSpec(ELLIPSE_WALL), {"eps": "2:4:2", "H": "3"},
+                          output=os.path.join(folder, "s.zarr"), options={"orbits": 4, "collisions": 100}, seed=0,
+                          scheduler="synchronous")
+        log(f"synchronous: {result.cells} cells in {result.seconds:.2f} s")
         out["plan"] = part_plan(100, 1, points=((3.0, 3.0),))
         print(json.dumps(out, indent=1))
         return
