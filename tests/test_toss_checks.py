@@ -1,0 +1,109 @@
+"""The toss that lands, checked against independent references: the direct rigid-body simulation in gravity,
+the fairness of a bouncing toss, and the uncertainty exponent of the basin boundary.
+
+References that do not share the code under test: forward/dynamics/rigidbody.py (the body's own outline, the
+lab impulse at the contact point, its own certified collision search) for the field kernel; closed forms
+derived in the docstrings for the fairness and the exponent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.field import FieldTable, field_run
+from coinwall.forward.dynamics.rigidbody import (
+    EllipseShape,
+    PolygonShape,
+    RigidBody,
+    body_to_billiard,
+    simulate_rigid_body,
+)
+
+# The bodies, and their walls written from the closed-form support functions (b = h/κ), not from rigidbody.py:
+# a vertex list has h(θ) = max_i p_i·(cos θ, sin θ); an ellipse with centre c, sqrt(a² cos²θ + b² sin²θ) + c·n.
+TRIANGLE = [[0.9, 0.1], [-0.5, 0.7], [-0.4, -0.8]]
+BODIES = {
+    # κ = 0.5: the billiard's lengths are the body's over κ, its field g/κ
+    "triangle": (PolygonShape(TRIANGLE), 0.5,
+                 "2*max(max(0.9*cos(t)+0.1*sin(t), -0.5*cos(t)+0.7*sin(t)), -0.4*cos(t)-0.8*sin(t))"),
+    "egg": (EllipseShape(1.0, 0.9, centre=(0.05, -0.03)), 1.0,
+            "sqrt(cos(t)**2 + 0.81*sin(t)**2) + 0.05*cos(t) - 0.03*sin(t)"),
+}
+
+
+def _pair(name, H, g, e):
+    shape, kappa, text = BODIES[name]
+    body = RigidBody(shape, H=None if H is None else H, kappa=kappa, mass=0.37, g=g, e=e)
+    table = FieldTable(Wall.from_expression(text), g=g / kappa, e=e, H=H)
+    return body, table, kappa
+
+
+@pytest.mark.parametrize("name, H, g, e, start, impacts", [
+    ("triangle", 4.0, 2.0, 1.0, [0.9, 0.3, 0.5, 2.2], 300),     # floor and ceiling, elastic
+    ("egg", 5.0, 1.0, 0.97, [1.8, 0.4, 1.5, -2.0], 150),        # floor and ceiling, inelastic
+    ("triangle", None, 3.0, 0.8, [1.2, 0.3, 0.8, 6.0], 150),    # a floor only: the toss that lands
+])
+def test_rigid_body_in_gravity_is_the_field_billiard_impact_by_impact(name, H, g, e, start, impacts):
+    """From every state of a rigid-body orbit, the field kernel's next impact is the rigid body's next collision
+    (same wall, time, angle, height and velocities to 1e-10), over 90 and more impacts; and whole runs agree
+    for their first impacts (the orbits are chaotic: rounding grows several-fold per impact).  The comparison
+    ends where the kernel declares the chattering limit (``rest``/``slides``: it then takes the normal velocity
+    away, by its stated criterion, while the rigid body goes on bouncing ever lower)."""
+    body, table, kappa = _pair(name, H, g, e)
+    rigid = simulate_rigid_body(body, start, impacts)
+    bill = rigid.billiard
+    n = len(rigid)
+    assert n >= min(impacts, 100), rigid.message
+    worst = 0.0
+    compared = 0
+    for i in range(n - 1):
+        one = field_run(table, bill[i], 1)
+        if one.status in ("rest", "slides"):
+            break
+        assert len(one) == 1 and one.side[0] == rigid.side[i + 1], i
+        dt = rigid.time[i + 1] - rigid.time[i]
+        worst = max(worst, abs(one.time[0] - dt) / (1 + dt),
+                    float(np.max(np.abs(np.array([one.theta[0], one.eta[0], one.v_theta[0], one.v_eta[0]])
+                                        - bill[i + 1]))))
+        compared += 1
+    assert compared >= 90 and worst < 1e-10, (compared, worst)
+    # and the whole orbit from the start, for as long as the kernel runs (it stops when the toss is decided)
+    whole = field_run(table, body_to_billiard(start, kappa), 6)
+    m = len(whole)
+    assert m >= 4 and np.array_equal(whole.side, rigid.side[:m])
+    assert np.allclose(np.column_stack([whole.theta, whole.eta, whole.v_theta, whole.v_eta]), bill[:m],
+                       rtol=0, atol=1e-8)
+
+
+def test_rigid_body_restitution_and_energy():
+    """e < 1: each floor impact leaves the contact point with −e times its normal velocity (checked in the lab);
+    e = 1 in gravity conserves ½mẏ² + ½mκ²ω² + mgy."""
+    shape, kappa, _ = BODIES["egg"]
+    body = RigidBody(shape, H=None, kappa=kappa, mass=0.37, g=9.8, e=0.6)
+    start = [1.5, 0.2, 0.0, 4.0]
+    traj = simulate_rigid_body(body, start, 6)
+    assert len(traj) == 6
+    y, psi, ydot, omega = start
+    for i in range(6):
+        dt = traj.time[i] - (traj.time[i - 1] if i else 0.0)
+        before_ydot = (traj.ydot[i - 1] if i else ydot) - 9.8 * dt
+        before_omega = traj.omega[i - 1] if i else omega
+        lever = traj.lever[i]
+        approach = before_ydot + before_omega * lever
+        after = traj.ydot[i] + traj.omega[i] * lever
+        assert after == pytest.approx(-0.6 * approach, rel=1e-12)
+    elastic = RigidBody(shape, H=6.0, kappa=kappa, mass=0.37, g=9.8, e=1.0)
+    traj = simulate_rigid_body(elastic, start, 500)
+    e0 = elastic.energy(start[2], start[3], start[0])
+    assert len(traj) == 500 and np.max(np.abs(traj.energy - e0)) < 1e-12 * e0
+
+
+@pytest.mark.parametrize("kwargs, match", [({"g": -1.0}, "`g`"), ({"e": 0.0}, "`e`"), ({"e": 1.2}, "`e`"),
+                                           ({"g": 0.0}, "floor without a field"), ({"g": float("nan")}, "`g`")])
+def test_bad_rigid_bodies_are_refused(kwargs, match):
+    from coinwall.forward.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=match):
+        RigidBody(BODIES["egg"][0], H=None, **kwargs)
