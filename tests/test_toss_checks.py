@@ -8,6 +8,8 @@ derived in the docstrings for the fairness and the exponent.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -107,3 +109,76 @@ def test_bad_rigid_bodies_are_refused(kwargs, match):
 
     with pytest.raises(InvalidArgument, match=match):
         RigidBody(BODIES["egg"][0], H=None, **kwargs)
+
+
+# --------------------------------------------------------------------------- fairness versus bounces
+
+COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+
+
+def test_fairness_follows_the_uninterrupted_kernel_toss_by_toss():
+    """The n-th-impact outcome of ``fairness`` (kernel run to each floor contact, then lifted off by the certified
+    free time) is the valley of the n-th impact of one uninterrupted ``field_run`` of the same toss (or its
+    settled outcome), for 300 tosses and n ≤ 10 (rounding differences grow ~4× per impact: 1e-16·4¹⁰ ≈ 1e-10,
+    far from deciding a valley)."""
+    from coinwall.forward.dynamics.fairness import fairness
+    from coinwall.forward.dynamics.toss import launch_states
+
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    table = FieldTable(coin, g=1.0, e=0.6)
+    mean, sigma, n, samples = (2.0, 5.0), (0.3, 1.0), 10, 300
+    result = fairness(table, mean, sigma, 1.2, bounces=n, samples=samples, seed=7)
+    rng = np.random.default_rng(7)
+    v, w = rng.normal(mean[0], sigma[0], samples), rng.normal(mean[1], sigma[1], samples)
+    states = launch_states(table, v, w, 1.2)
+    heads_k = table.landscape.names.index("heads")
+    heads = np.zeros(n)
+    decided = np.zeros(n)
+    for state in states:
+        flight = field_run(table, state, n)
+        valleys = table.landscape.valley(flight.theta)
+        for k in range(n):
+            if k < len(flight):
+                valley = valleys[k]
+            elif flight.status in ("settled", "rest"):
+                valley = flight.valley
+            else:
+                continue
+            decided[k] += 1
+            heads[k] += valley == heads_k
+    assert np.array_equal(np.round((result.heads + result.tails) * samples), decided)
+    assert np.array_equal(np.round(result.heads * samples), heads)
+    assert result.settled[-1] > 0.3     # the comparison covers settled tosses, too
+
+
+def test_fairness_of_the_caught_thin_coin_is_kellers():
+    """n = 1 for a thin coin caught at the floor (the ε = 99 ellipse scaled to semi-axes 1e-4 and 1e-5,
+    launched flat just above the floor): heads exactly when ω v/g is within π/4 of a multiple of π (Keller), for
+    the same Gaussian draws, except for draws within 1% of a boundary (the coin's size moves it by ≤ 2e-3)."""
+    from coinwall.forward.dynamics.fairness import fairness
+
+    wall = Wall.from_expression(COIN, {"eps": 99.0}).scaled(1e-4)
+    table = FieldTable(wall, g=1.0, e=0.5)
+    mean, sigma, samples = (3.0, 4.0), (1.0, 2.0), 20_000
+    result = fairness(table, mean, sigma, 3e-5, bounces=1, samples=samples, seed=11)
+    rng = np.random.default_rng(11)
+    v, w = rng.normal(mean[0], sigma[0], samples), rng.normal(mean[1], sigma[1], samples)
+    x = w * v / math.pi
+    keller = np.abs(x - np.round(x)) < 0.25
+    near = np.abs(np.abs(x - np.round(x)) - 0.25) < 0.01
+    assert result.undecided[0] == 0.0
+    assert abs(result.heads[0] * samples - keller.sum()) <= near.sum()
+    assert near.sum() < 0.05 * samples
+
+
+def test_bounces_randomise_the_toss():
+    """The caught toss (n = 1) is biased for this hand; with e = 0.9 the bias after 30 floor bounces is zero
+    within its error and the toss is fair to 0.01 from some bounce on; ``fair_after`` refuses to claim 0.001
+    with 20 000 tosses (its 2σ band is 0.007)."""
+    from coinwall.forward.dynamics.fairness import fairness
+
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    result = fairness(FieldTable(coin, g=1.0, e=0.9), (2.0, 5.0), (0.05, 0.2), 1.2, bounces=30, samples=20_000)
+    assert abs(result.bias[0]) > 4 * result.stderr[0]
+    assert abs(result.bias[-1]) < 3 * result.stderr[-1]
+    assert result.fair_after(0.01) is not None and result.fair_after(0.001) is None
