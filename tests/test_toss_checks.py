@@ -182,3 +182,61 @@ def test_bounces_randomise_the_toss():
     assert abs(result.bias[0]) > 4 * result.stderr[0]
     assert abs(result.bias[-1]) < 3 * result.stderr[-1]
     assert result.fair_after(0.01) is not None and result.fair_after(0.001) is None
+
+
+# --------------------------------------------------------------------------- the uncertainty exponent
+
+def _keller_length(v0, omega0, g=1.0):
+    """Total length, in the box scaled to the unit square, of Keller's boundaries ω v/g = π(n ± ¼) (numpy)."""
+    v = np.linspace(v0[0], v0[1], 20001)
+    total = 0.0
+    for n in range(200):
+        for q in (0.25, 0.75):
+            w = math.pi * (n + q) * g / v
+            inside = (w >= omega0[0]) & (w <= omega0[1])
+            if inside.sum() > 1:
+                x = (v[inside] - v0[0]) / (v0[1] - v0[0])
+                y = (w[inside] - omega0[0]) / (omega0[1] - omega0[0])
+                total += float(np.sum(np.hypot(np.diff(x), np.diff(y))))
+    return total
+
+
+def test_uncertainty_exponent_of_the_smooth_keller_boundary_is_one():
+    """The caught thin coin's basin boundaries are Keller's hyperbolas, smooth: α = 1 (within 3σ, σ < 0.08), and
+    f(ε) = (4/π) L ε with L their length in the scaled box (the uncertainty module's docstring): each count
+    within 3 of its Poisson standard deviations √(expected) of N·(4/π)Lε (ε ≤ 3e-3, a thirtieth of the
+    curves' smallest spacing, where the O(ε²) terms are below 1%)."""
+    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+
+    wall = Wall.from_expression(COIN, {"eps": 99.0}).scaled(1e-4)
+    table = FieldTable(wall, g=1.0, e=0.5)
+    box_v, box_w = (0.5, 3.0), (0.5, 6.0)
+    result = uncertainty_exponent(table, box_v, box_w, 3e-5, epsilons=(3e-3, 1e-3, 3e-4), samples=20_000,
+                                  catch=True, seed=5)
+    assert result.alpha_stderr < 0.08 and abs(result.alpha - 1.0) < 3 * result.alpha_stderr, result
+    expected = 4 / math.pi * _keller_length(box_v, box_w) * result.epsilons * result.samples
+    assert np.all(np.abs(result.counts - expected) < 3 * np.sqrt(expected)), (result.counts, expected)
+
+
+def test_uncertainty_exponent_of_the_bouncing_toss_is_fractal():
+    """With bounces (e = 0.6) the boundary is far from smooth on these scales: α well below 1."""
+    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    result = uncertainty_exponent(FieldTable(coin, g=1.0, e=0.6), (0.0, 3.0), (0.0, 8.0), 1.2,
+                                  epsilons=(1e-2, 1e-4, 1e-6), samples=3000, seed=2)
+    assert result.alpha + 3 * result.alpha_stderr < 0.5, result
+
+
+def test_toss_uncertainty_on_the_command_line(capsys):
+    import json
+
+    from coinwall.cases.cli.main import main
+
+    code = main(["toss", "case:coin", "--g", "1", "--e", "0.6", "--height", "1.2", "--v0", "0:3:2", "--omega",
+                 "0:8:2", "--uncertainty", "1e-5:1e-2:3", "--samples", "500", "--seed", "3", "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["epsilons"]) == 3 and 0 < out["alpha"] < 1 and out["samples"] == 500
+    assert main(["toss", "case:coin", "--uncertainty", "1e-5:1e-2:3", "--v0", "1:1:3"]) == 2
+    assert "needs a box" in capsys.readouterr().err
