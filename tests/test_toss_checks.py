@@ -240,3 +240,32 @@ def test_toss_uncertainty_on_the_command_line(capsys):
     assert len(out["epsilons"]) == 3 and 0 < out["alpha"] < 1 and out["samples"] == 500
     assert main(["toss", "case:coin", "--uncertainty", "1e-5:1e-2:3", "--v0", "1:1:3"]) == 2
     assert "needs a box" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- scans over (e, toss energy)
+
+def test_toss_scan_cells_are_heads_fraction(tmp_path):
+    """A 2 × 2 scan over (restitution, launch height) on the scan engine: each cell's shares are those of
+    ``toss.heads_fraction`` with the cell's seed (same draws: an independent entry point of the library)."""
+    pytest.importorskip("distributed")
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("zarr")
+    from coinwall.forward.dynamics.toss import heads_fraction
+    from coinwall.forward.scan import TableSpec, scan
+    from coinwall.forward.scan.grid import cell_seed
+
+    spec = TableSpec(COIN, (("eps", 99.0),))
+    store = str(tmp_path / "toss.zarr")
+    result = scan("toss", spec, {"restitution": "0.5,0.9", "H": "1.2,2.0"}, output=store,
+                  options={"tosses": 300}, seed=3, scheduler="synchronous")
+    assert result.computed == 4 and result.refused == 0
+    data = xr.open_zarr(store)
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    for i, e in enumerate((0.5, 0.9)):
+        for j, height in enumerate((1.2, 2.0)):
+            ref = heads_fraction(FieldTable(coin, g=1.0, e=e), (2.0, 5.0), (0.04, 0.1), height, samples=300,
+                                 seed=cell_seed(3, (e, height)))
+            assert float(data["heads"].values[i, j]) == pytest.approx(ref.fractions["heads"][0], abs=1e-12)
+            assert float(data["undecided"].values[i, j]) == pytest.approx(
+                ref.fractions.get("undecided", (0.0, 0.0))[0], abs=1e-12)
+            assert float(data["level"].values[i, j]) == pytest.approx(height + (4 + 25) / 2)
