@@ -40,7 +40,7 @@ from ..errors import InvalidArgument
 from ..validation import check_count
 from .field import FieldTable, field_run_many
 
-__all__ = ["Fairness", "fairness", "fairness_curve"]
+__all__ = ["Fairness", "fairness", "fairness_curve", "plot_fairness"]
 
 _CHUNK = 200_000  # tosses per pass (memory: about 0.2 kB per toss)
 
@@ -224,3 +224,39 @@ def fairness_curve(wall, restitutions, mean, sigma, height: float, g: float = 1.
         results.append(fairness(table, mean, sigma, height, bounces=bounces, samples=samples, seed=seed,
                                 workers=workers))
     return results, [r.fair_after(tolerance) for r in results]
+
+
+def plot_fairness(results, tolerance: float = 1e-3, title: str = ""):
+    """Two panels (house style): |bias| after n floor bounces for each :class:`Fairness` of ``results`` (a list,
+    one per e; error bars 2σ, the tolerance dashed), and the bounce from which each is fair to 0.01 and to
+    ``tolerance`` against e (open markers: not shown within the bounces computed).  Returns the first axes."""
+    from ..formats.figure import new_figure
+
+    fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
+    for r in results:
+        line, = ax.plot(r.bounces, np.abs(r.bias), "o-", ms=3, lw=1, label=f"e = {r.e:g}")
+        ax.fill_between(r.bounces, np.maximum(np.abs(r.bias) - 2 * r.stderr, 1e-5), np.abs(r.bias) + 2 * r.stderr,
+                        color=line.get_color(), alpha=0.15, lw=0)
+    ax.axhline(tolerance, color="k", ls="--", lw=0.8, label=f"{tolerance:g}")
+    ax.axhline(0.01, color="0.5", ls=":", lw=0.8, label="0.01")
+    ax.set_yscale("log")
+    ax.set_ylim(1e-5, 0.5)
+    ax.set_xlabel("floor bounce n at which the toss is stopped")
+    ax.set_ylabel("|P(heads) − ½| among decided tosses (band: ±2σ)")
+    ax.set_title(title or f"bias after n bounces ({results[0].samples} tosses per e)", fontsize=9)
+    ax.legend(fontsize=7, ncol=2)
+    es = np.array([r.e for r in results])
+    top = max(int(r.bounces[-1]) for r in results)
+    for tol, marker, colour in ((0.01, "s", "0.4"), (tolerance, "o", "C3")):
+        n = [r.fair_after(tol) for r in results]
+        shown = np.array([x is not None for x in n])
+        values = np.array([x if x is not None else top + 1 for x in n], dtype=float)
+        bx.plot(es[shown], values[shown], marker, color=colour, ls="-", label=f"fair to {tol:g} (2σ resolved)")
+        bx.plot(es[~shown], values[~shown], marker, color=colour, mfc="none", ls="none",
+                label=f"not shown fair to {tol:g} within {top} bounces")
+    bx.set_xlabel("coefficient of restitution e")
+    bx.set_ylabel("bounces to a fair toss")
+    bx.set_ylim(0, top + 2)
+    bx.legend(fontsize=7)
+    bx.set_title("the casinos' bounce", fontsize=9)
+    return ax

@@ -33,7 +33,7 @@ from ..errors import InvalidArgument
 from ..validation import check_count
 from .field import FieldTable
 
-__all__ = ["Uncertainty", "uncertainty_exponent"]
+__all__ = ["Uncertainty", "plot_uncertainty", "uncertainty_exponent"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -169,3 +169,24 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
     fractions = counts / samples
     alpha, stderr, prefactor = _fit(eps, fractions, samples)
     return Uncertainty(eps, fractions, counts, samples, alpha, stderr, prefactor, box[0], box[1], table.e, bool(catch))
+
+
+def plot_uncertainty(results, title: str = ""):
+    """f(ε) against ε (log–log, house style) for each :class:`Uncertainty` of ``results``, with its fitted
+    power law and α in the legend, and the slope 1 of a smooth boundary for reference.  Returns the axes."""
+    from ..formats.figure import new_figure
+
+    _, ax = new_figure(figsize=(6.4, 4.8), constrained_layout=True)
+    for r in results:
+        err = np.sqrt(np.maximum(r.fractions * (1 - r.fractions), 0) / r.samples)
+        label = ("caught (no bounce)" if r.catch else f"e = {r.e:g}") + f": α = {r.alpha:.3f} ± {r.alpha_stderr:.3f}"
+        bars = ax.errorbar(r.epsilons, r.fractions, yerr=2 * err, fmt="o", ms=4, capsize=2, label=label)
+        grid = np.geomspace(r.epsilons.min(), r.epsilons.max(), 50)
+        ax.plot(grid, r.prefactor * grid ** r.alpha, "-", lw=0.8, color=bars[0].get_color())
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("ε (fraction of the launch box's sides)")
+    ax.set_ylabel("f(ε): share of ε-uncertain launches")
+    ax.set_title(title or "uncertainty exponent of the basin boundary", fontsize=9)
+    ax.legend(fontsize=7)
+    return ax

@@ -40,7 +40,7 @@ from ..errors import InvalidArgument
 from ..validation import check_count
 from ..wall import Wall
 
-__all__ = ["WEDGE_CAP", "WedgeLyapunov", "wedge_flight", "wedge_lyapunov", "wedge_slope", "wedge_wall"]
+__all__ = ["WEDGE_CAP", "WedgeLyapunov", "plot_wedge", "wedge_flight", "wedge_lyapunov", "wedge_slope", "wedge_wall"]
 
 #: :func:`wedge_wall` is the exact V for |θ − π/2| ≤ WEDGE_CAP
 WEDGE_CAP = 1.0
@@ -303,3 +303,29 @@ def wedge_lyapunov(half_angle: float, orbits: int = 8, impacts: int = 20_000, ev
         discarded += lost
     return WedgeLyapunov(float(half_angle), method, np.array(exponents), segments * every, discarded,
                          float(level) if method == "dumbbell" else None)
+
+
+def plot_wedge(results, title: str = ""):
+    """λ per impact against the half-angle (house style): one series per method among ``results`` (a list of
+    :class:`WedgeLyapunov`), error bars 2σ over the orbits, and the regular orbits' 3·log(N)/N.  Returns the axes."""
+    from ..formats.figure import new_figure
+
+    _, ax = new_figure(figsize=(6.4, 4.8), constrained_layout=True)
+    labels = {"map": "numpy wedge", "kernel": "field kernel, exact wedge", "dumbbell": "field kernel, c|cos θ| body"}
+    markers = {"map": "o", "kernel": "s", "dumbbell": "^"}
+    for method in ("map", "kernel", "dumbbell"):
+        rows = sorted((r for r in results if r.method == method), key=lambda r: r.half_angle)
+        if not rows:
+            continue
+        level = f" (level {rows[0].level:g})" if method == "dumbbell" else ""
+        ax.errorbar([r.half_angle for r in rows], [r.exponent for r in rows], yerr=[2 * r.stderr for r in rows],
+                    fmt=markers[method] + ("-" if method == "map" else ""), ms=5, capsize=2, lw=0.8, mfc="none"
+                    if method != "map" else None, label=labels[method] + level)
+    threshold = max(r.threshold for r in results)
+    ax.axhline(threshold, color="k", ls="--", lw=0.8, label=f"3 log(N)/N = {threshold:.1e} (regular orbits below)")
+    ax.axvline(45.0, color="0.6", ls=":", lw=0.8)
+    ax.set_xlabel("wedge half-angle φ (degrees from the vertical)")
+    ax.set_ylabel("largest Lyapunov exponent λ per impact")
+    ax.set_title(title or "the wedge limit: integrable at 45°, chaotic from 45° to 90°", fontsize=9)
+    ax.legend(fontsize=7)
+    return ax
