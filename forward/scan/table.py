@@ -67,7 +67,8 @@ class TableSpec:
         """The Wall with the scanned parameter ``values`` (a dict) on top of the fixed ones, scaled by 1/κ."""
         values = {k: v for k, v in values.items() if k not in TOSS_AXES}
         if isinstance(self.wall, str):
-            wall = Wall.from_expression(self.wall, {**dict(self.params), **values})
+            fixed = {k: v for k, v in self.params if k not in TOSS_AXES}
+            wall = Wall.from_expression(self.wall, {**fixed, **values})
         elif values:
             raise InvalidArgument(f"wall {self.description!r} is not an expression: its parameters "
                                   f"{sorted(values)} cannot be scanned")
@@ -84,11 +85,12 @@ class TableSpec:
 
     def field_table_at(self, values: dict, g: float):
         """The :class:`~coinwall.forward.dynamics.field.FieldTable` of a toss cell: a floor only, the field ``g``
-        (κ/s²) and the restitution ``values["restitution"]`` (1 if the grid has no such axis)."""
+        (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; 1 if neither)."""
         from ..dynamics.field import FieldTable
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
-        return FieldTable(self.wall_at(values), g=g, e=float(values.get("restitution", 1.0)),
+        restitution = {**dict(self.params), **values}.get("restitution", 1.0)
+        return FieldTable(self.wall_at(values), g=g, e=float(restitution),
                           b0=float(self.b0) / kappa)
 
     def identity(self) -> dict:
