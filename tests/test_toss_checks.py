@@ -271,3 +271,28 @@ def test_toss_scan_cells_are_heads_fraction(tmp_path):
             assert float(data["undecided"].values[i, j]) == pytest.approx(
                 ref.fractions.get("undecided", (0.0, 0.0))[0], abs=1e-12)
             assert float(data["level"].values[i, j]) == pytest.approx(height + (4 + 25) / 2)
+
+
+def test_bad_toss_inputs_are_refused(tmp_path):
+    from coinwall.forward.dynamics.fairness import fairness
+    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.errors import InvalidArgument
+
+    coin = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=0.6)
+    corners = FieldTable(Wall.from_expression("abs(cos(t))"), g=1.0, e=0.6)
+    for call, match in [
+        (lambda: fairness(corners, (2, 5), (0.1, 0.1), 1.2), "smooth wall"),
+        (lambda: fairness(coin, (2, 5), (-0.1, 0.1), 1.2), "standard deviations"),
+        (lambda: uncertainty_exponent(coin, (1, 1), (0, 8), 1.2), "`v0`"),
+        (lambda: uncertainty_exponent(coin, (0, 3), (0, 8), 1.2, epsilons=(0.5, 0.1)), "`epsilons`"),
+        (lambda: uncertainty_exponent(coin, (0, 3), (0, 8), 1.2, epsilons=(1e-3,)), "`epsilons`"),
+    ]:
+        with pytest.raises(InvalidArgument, match=match):
+            call()
+    pytest.importorskip("distributed")
+    from coinwall.forward.scan import TableSpec, scan
+
+    with pytest.raises(InvalidArgument, match="toss quantity"):
+        scan("chaotic-fraction", TableSpec(COIN, (("eps", 99.0),)), {"restitution": "0.5,0.7", "H": "3"},
+             output=str(tmp_path / "x.zarr"), scheduler="synchronous")
+    assert not (tmp_path / "x.zarr").exists()
