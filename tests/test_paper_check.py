@@ -76,7 +76,7 @@ def test_report_to_dict_and_repr(fast_report):
     assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == []
     assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
     assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
-    assert "28 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
+    assert "30 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
     assert repr(Report(rows=None)) == "Report(<unprintable>)"
 
 
