@@ -76,18 +76,6 @@ def wedge_wall(half_angle: float) -> Wall:
                                 {"k": wedge_slope(half_angle)})
 
 
-def _elastic(table):
-    """``table`` with no valleys handed to the kernel: its settling test (level below the valley's barrier,
-    always true on a floor with a single valley) would stop an elastic orbit at its first impact, and the
-    wedge's orbits bounce for ever.  (The kernel skips the test when it gets an empty valley table.)"""
-    from .field import Landscape
-
-    land = table.landscape
-    object.__setattr__(table, "landscape", Landscape(land.minima, land.maxima, land.barriers, land.names,
-                                                     np.empty((0, 3))))
-    return table
-
-
 def wedge_flight(slope: float, g: float, state, impacts: int):
     """``impacts`` impacts of a point in the field ``g`` inside the wedge ``η = slope·|θ − π/2|`` (plain numpy).
 
@@ -281,12 +269,12 @@ def wedge_lyapunov(half_angle: float, orbits: int = 8, impacts: int = 20_000, ev
         from .field import FieldTable, field_run
 
         if method == "kernel":
-            table = _elastic(FieldTable(wedge_wall(half_angle), g=g, e=1.0))
+            table = FieldTable(wedge_wall(half_angle), g=g, e=1.0, settle=False)
             top = _LEVEL_SHARE * slope * WEDGE_CAP
         else:
             if not (isinstance(level, (int, float)) and 1e-6 <= level <= 0.5):
                 raise InvalidArgument(f"`level` must be between 1e-6 and 0.5 (κ), got {level!r}")
-            table = _elastic(FieldTable(Wall.from_expression("c*abs(cos(t))", {"c": slope}), g=g, e=1.0))
+            table = FieldTable(Wall.from_expression("c*abs(cos(t))", {"c": slope}), g=g, e=1.0, settle=False)
             top = float(level)
 
         def run(state, n):
