@@ -206,7 +206,8 @@ _MAX_STEPS = 400_000
 
 
 def simulate_3d(system: Rigid3D, state, impacts: int) -> Trajectory3D:
-    """Follow ``state = (r, v, q, L)`` through ``impacts`` impacts (see the module docstring)."""
+    """Follow ``state = (r, v, q, L)`` through ``impacts`` impacts (see the module docstring).  A state on a
+    wall (gap below 1e-9 of the body's reach) leaves it first."""
     from scipy.optimize import brentq
 
     impacts = check_count("impacts", impacts)
@@ -215,7 +216,8 @@ def simulate_3d(system: Rigid3D, state, impacts: int) -> Trajectory3D:
     reach = b.reach
     out = {k: [] for k in ("time", "r", "v", "q", "L", "wall")}
     clock = 0.0
-    leaving = -1
+    start = np.array(system.gaps(r[2], _matrix(q)))
+    leaving = int(np.argmin(start)) if start.min() <= 1e-9 * reach else -1
     status = "impact budget reached"
     for _ in range(impacts):
         at, speed = _flight(system, r, v, q, L)
