@@ -55,7 +55,7 @@ __all__ = []  # called through coinwall.forward.dynamics.top
 
 OPTIONS = {"cache": True, "error_model": "numpy"}
 INF = math.inf
-MAX_STEPS = 2_000_000
+MAX_STEPS = 1_000_000
 #: status codes (as in :data:`.top.STATUS`)
 BUDGET, SETTLED, CAUGHT, FREE, NO_CONVERGENCE, POLE = 0, 1, 2, 6, 7, 11
 
@@ -323,7 +323,31 @@ def impact(theta, w, v, wall, e, kind, verts, eps, ea, ec):
     _, _, dth = support(s, c, 0.0, 0.0, wall == 1, kind, verts, eps, ea, ec)
     slope = dth if wall == 0 else -dth  # the wall's slope dη/dθ in the (θ, η) plane
     fimp = (1.0 + e) * (v - slope * w) / (1.0 + slope * slope)
-    return w + fimp * slope, v - fimp
+    w, v = w + fimp * slope, v - fimp
+    if kind == 0:
+        # at a kink of the wall (two rings touch at once: an edge or a face lying on the wall) the impulse on
+        # one leaves the other moving in: impulses in turn on the piece moving in fastest, until none is
+        cz = c if wall == 0 else -c
+        best = -INF
+        for k in range(verts.shape[0]):
+            best = max(best, verts[k, 0] * s - verts[k, 1] * cz)
+        for _ in range(16):
+            worst = 0.0
+            kw = -1
+            for k in range(verts.shape[0]):
+                if verts[k, 0] * s - verts[k, 1] * cz < best - 1e-12 * (1.0 + abs(best)):
+                    continue
+                sl = verts[k, 0] * cz + verts[k, 1] * s  # the wall's slope on this piece (floor and ceiling)
+                rate = (v - sl * w) if wall == 0 else -(v - sl * w)
+                if rate < worst:
+                    worst = rate
+                    kw = k
+            if kw < 0:
+                break
+            sl = verts[kw, 0] * cz + verts[kw, 1] * s
+            fimp = (1.0 + e) * (v - sl * w) / (1.0 + sl * sl)
+            w, v = w + fimp * sl, v - fimp
+    return w, v
 
 
 @njit(**OPTIONS)
@@ -356,11 +380,15 @@ def sides_many(states, lz, l3, impacts, g, e, H, has_ceiling, kind, verts, eps, 
     """For each toss: the side (sign of cos θ: +1, −1, 0) at each of its first floor impacts, in ``sides``
     (m, impacts), and the status (0: all impacts reached, else the code that stopped it; sides after are 0)."""
     m = states.shape[0]
+    # the side can change only through the equator θ = π/2, where the energy is at least
+    # U = V(π/2) + g b(π/2) = ℓz²/2 + g b(π/2): below it the side is decided for ever
+    hq, _, _ = support(1.0, 0.0, 0.0, 0.0, False, kind, verts, eps, ea, ec)
     for j in prange(m):
         theta, eta, w, v = states[j, 0], states[j, 1], states[j, 2], states[j, 3]
         leaving = -1
         floor = 0
         code = 0
+        barrier = 0.5 * lz[j] * lz[j] + g * hq
         for _ in range(64 * impacts + 64):
             t, wall, code = next_impact(theta, eta, w, v, lz[j], l3[j], leaving, g, H, has_ceiling, kind, verts, eps,
                                         ea, ec, reach, tol, tmax)
@@ -371,10 +399,23 @@ def sides_many(states, lz, l3, impacts, g, e, H, has_ceiling, kind, verts, eps, 
             leaving = wall
             if wall == 0:
                 c = math.cos(theta)
-                sides[j, floor] = 1 if c > 0.0 else (-1 if c < 0.0 else 0)
+                side = 1 if c > 0.0 else (-1 if c < 0.0 else 0)
+                sides[j, floor] = side
                 floor += 1
                 if floor >= impacts:
                     break
+                if g > 0.0 and side != 0:
+                    sn = math.sin(theta)
+                    if sn > 0.0:
+                        p = (lz[j] - l3[j] * c) / sn
+                    else:
+                        p = 0.0
+                    level = 0.5 * (w * w + v * v + p * p) + g * eta
+                    if level < barrier:
+                        for k in range(floor, impacts):
+                            sides[j, k] = side
+                        code = SETTLED
+                        break
         status[j] = code
 
 

@@ -44,7 +44,7 @@ from ..validation import check_count, check_finite
 __all__ = ["STATUS", "TopFlight", "TopTable", "energy", "potential", "reference_run", "top_run", "state_after",
            "sides_at_bounces"]
 
-STATUS = {0: "impact budget reached", 2: "caught", 6: "free flight (no further impact)",
+STATUS = {0: "impact budget reached", 1: "settled (energy below the equator's barrier)", 2: "caught", 6: "free flight (no further impact)",
           7: "the root search did not converge", 11: "a face met the wall flat at a pole (no departure window)"}
 
 
@@ -226,8 +226,10 @@ def state_after(table: TopTable, states, lz, l3, times) -> np.ndarray:
 
 def sides_at_bounces(table: TopTable, states, lz, l3, bounces: int):
     """The side up (+1: cos θ > 0, −1: cos θ < 0) at each of the first ``bounces`` floor impacts of many tosses
-    (compiled, parallel over tosses); returns ``(sides (m, bounces) int8, status (m,))`` (sides after an early
-    stop are 0)."""
+    (compiled, parallel over tosses); returns ``(sides (m, bounces) int8, status (m,))``.  A toss whose energy
+    after a floor impact is below the barrier of the equator, ``ℓz²/2 + g b(π/2)`` (the least energy with which
+    the axis can pass θ = π/2), keeps its side for ever: its remaining bounces get that side (status 1).  After
+    another early stop the sides are 0."""
     from . import _top_kernel as k
 
     bounces = check_count("bounces", bounces, maximum=100_000)
