@@ -43,7 +43,8 @@ def dhm_same_side(psi):
 def psi_from_same_side(p):
     """The ψ (radians, in [45°, 90°]) with ``dhm_same_side(ψ) = p``; 90° for p ≤ ½ (the model's edge)."""
     p = np.clip(np.asarray(p, dtype=float), 0.5, 1.0)
-    return np.arctan(1.0 / np.sqrt(np.sin(math.pi * (p - 0.5))))
+    with np.errstate(divide="ignore"):  # p = ½: arctan(inf) = 90°, exactly the model's edge
+        return np.arctan(1.0 / np.sqrt(np.sin(math.pi * (p - 0.5))))
 
 
 _GH = np.polynomial.hermite_e.hermegauss(80)
