@@ -69,3 +69,41 @@ def test_fit_refuses_bad_counts():
         fit_psi(1, 0)
     with pytest.raises(InvalidArgument, match="psi"):
         simulate_caught(4.0, 10)
+
+
+def _cli(capsys):
+    from coinwall.cases.cli.main import main
+
+    def run(*argv):
+        code = main(["coin3d", *argv])
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    return run
+
+
+def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
+    run = _cli(capsys)
+    for argv, word in ((("caught", "--psi", "270"), "--psi"), (("fit", "--tosser", "T99"), "--tosser"),
+                       (("bounce", "--e", "2"), "--e"), (("caught",), "--psi"), (("caught", "--psi", "nan"), "--psi"),
+                       (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("fit", "-o", str(tmp_path / "x.txt")), "")):
+        code, out, err = run(*argv)
+        assert code == 2 and out == ""
+        assert len(err.strip().splitlines()) == 1 and word in err
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.txt").exists()
+
+
+@pytest.mark.slow
+def test_cli_coin3d_runs(tmp_path, capsys):
+    import json
+
+    run = _cli(capsys)
+    code, out, err = run("caught", "--psi", "70", "--samples", "4000", "--seed", "1", "--json")
+    assert code == 0, err
+    out = json.loads(out)
+    assert abs(out["same_side"] - out["dhm"]) < 4 * out["stderr"]
+    fig = tmp_path / "b.png"
+    code, out, err = run("fit", "-o", str(fig))
+    assert code == 0 and fig.stat().st_size > 10_000 and "81.16°" in out
+    code, out, err = run("bounce", "--psi", "81", "--e", "0.9", "--bounces", "3", "--samples", "500", "--json")
+    assert code == 0 and len(json.loads(out)["same"]) == 3
