@@ -56,8 +56,9 @@ def test_rounded_coin_against_a_fine_polygon_meridian():
     d = t / 2
     for n, tol in ((200, 2e-5), (800, 2e-6)):  # an inscribed polygon: error O(n^-2)
         phi = np.linspace(0, math.pi / 2, n)
-        pts = np.vstack([[[0, -d]], np.column_stack([r - eps + eps * np.cos(phi), -(d - eps) - eps * np.sin(phi)])[::-1],
-                         np.column_stack([r - eps + eps * np.cos(phi), (d - eps) + eps * np.sin(phi)]), [[0, d]]])
+        lower = np.column_stack([r - eps + eps * np.cos(phi), -(d - eps) - eps * np.sin(phi)])[::-1]
+        upper = np.column_stack([r - eps + eps * np.cos(phi), (d - eps) + eps * np.sin(phi)])
+        pts = np.vstack([[[0, -d]], lower, upper, [[0, d]]])
         poly = from_meridian(pts)
         np.testing.assert_allclose([poly.mass, poly.I1, poly.I3], [rounded.mass, rounded.I1, rounded.I3], rtol=tol)
     assert rounded.mass < coin(r, t).mass
@@ -77,7 +78,8 @@ def test_support_is_the_lowest_point_of_the_rotated_3d_body(body):
         # the rim circles of the hull vertices, thickened by the rounding ball
         phi = rng.uniform(0, 2 * math.pi, 200000)
         k = rng.integers(0, body.vertices.shape[0], phi.size)
-        pts = np.column_stack([body.vertices[k, 0] * np.cos(phi), body.vertices[k, 0] * np.sin(phi), body.vertices[k, 1]])
+        rho, zeta = body.vertices[k, 0], body.vertices[k, 1]
+        pts = np.column_stack([rho * np.cos(phi), rho * np.sin(phi), zeta])
         ball = rng.normal(size=pts.shape)
         ball /= np.linalg.norm(ball, axis=1)[:, None]
         pts = pts + body.rounding * ball

@@ -44,7 +44,8 @@ from ..validation import check_count, check_finite
 __all__ = ["STATUS", "TopFlight", "TopTable", "energy", "potential", "reference_run", "top_run", "state_after",
            "sides_at_bounces"]
 
-STATUS = {0: "impact budget reached", 1: "settled (energy below the equator's barrier)", 2: "caught", 6: "free flight (no further impact)",
+STATUS = {0: "impact budget reached", 1: "settled (energy below the equator's barrier)",
+          2: "caught", 6: "free flight (no further impact)",
           7: "the root search did not converge", 11: "a face met the wall flat at a pole (no departure window)"}
 
 
