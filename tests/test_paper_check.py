@@ -20,7 +20,7 @@ RECORDED = {
     "case3-thetac": "partly", "case3-deficit": "yes", "case3-positive": "yes",
     "case1-realizable": "no", "case2-realizable": "no", "large-b0": "yes", "extrema": "yes",
     "four-extrema": "no", "theta-half": "no", "equivalence-simulated": "yes",
-    "quantum-tunnelling": "yes",
+    "quantum-tunnelling": "yes", "three-d-billiard": "yes", "caught-coin-flips": "yes",
 }
 CONDITIONS = (Below, Above, Within, Equals)
 

@@ -28,7 +28,7 @@ from ..display import safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count, check_finite
 
-__all__ = ["BounceStudy", "same_side_by_bounce"]
+__all__ = ["BounceStudy", "plot_studies", "same_side_by_bounce"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -106,3 +106,25 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
               "g": g, "ceiling": ceiling}
     return BounceStudy(same, stderr, reached, float(np.mean(status == 1)),
                        {STATUS.get(int(c), str(int(c))): int(n) for c, n in zip(codes, counts)}, inputs)
+
+
+def plot_studies(studies, caught: float | None = None):
+    """P(same side) against the bounce for each study (one curve per restitution / setting), with ±2 standard
+    errors; ``caught``: the caught share (a horizontal line)."""
+    from ..formats.figure import new_figure
+    from ..formats.style import house_style
+
+    with house_style():
+        fig, ax = new_figure(figsize=(7, 4.2), constrained_layout=True)
+        for label, study in studies.items():
+            n = np.arange(1, study.same.size + 1)
+            ax.errorbar(n, study.same, yerr=2 * study.stderr, marker="o", ms=3, capsize=2, lw=1, label=label)
+        ax.axhline(0.5, color="k", lw=0.8, ls="--", label="fair")
+        if caught is not None:
+            ax.axhline(caught, color="0.4", lw=0.8, ls=":", label=f"caught in the hand (data): {caught:.4f}")
+        first = next(iter(studies.values())).inputs
+        ax.set_xlabel("floor impact n (count)")
+        ax.set_ylabel("P(side up at impact n = start side) (dimensionless)")
+        ax.set_title(f"frictionless coin, ψ = {first['psi_degrees']:.2f}°, {first['samples']} tosses per curve")
+        ax.legend(loc="upper left")
+    return fig
