@@ -277,3 +277,31 @@ def test_to_reduced_round_trip():
                           ([math.pi, 3.0, -0.5, 0.0], -0.6, 0.6)):
         got = to_reduced(system, *from_reduced(system, state, lz, l3, spin_angle=2.0, azimuth=-1.0))
         np.testing.assert_allclose(got, [*state, lz, l3], atol=1e-14)
+
+
+def test_bounce_sides_match_single_orbits_and_settled_coins_keep_their_side():
+    """The parallel bounce statistics against single orbits of the same tosses, and the equator's barrier:
+    a toss marked settled, followed 300 impacts further, never shows the other side."""
+    from coinwall.forward.dynamics.top import sides_at_bounces
+
+    body = coin(1.0, 0.15)
+    table = TopTable(body, g=50.0, e=0.5)
+    rng = np.random.default_rng(2)
+    n = 40
+    psi = math.radians(84.0)
+    om = rng.uniform(20, 30, n)
+    states = np.column_stack([np.zeros(n), np.full(n, 20.0), om * math.sin(psi), rng.uniform(5, 10, n)])
+    ell = om * math.cos(psi)
+    sides, status = sides_at_bounces(table, states, ell, ell, 8)
+    assert np.any(status == 1) and np.all(np.isin(status, (0, 1)))
+    for j in range(n):
+        f = top_run(table, states[j], ell[j], ell[j], 300)
+        floor = np.cos(f.theta[f.wall == 0])
+        got = np.sign(floor[:8]).astype(int)
+        if status[j] == 0:
+            np.testing.assert_array_equal(sides[j], got)
+        else:
+            change = np.flatnonzero(sides[j] != sides[j][-1])
+            k = int(change[-1]) + 1 if change.size else 0  # the settled side fills the run at the end
+            np.testing.assert_array_equal(sides[j][: k + 1], got[: k + 1])
+            assert np.all(np.sign(floor[k:]) == sides[j][-1]), "a settled toss changed side"
