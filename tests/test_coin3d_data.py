@@ -86,7 +86,8 @@ def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
     run = _cli(capsys)
     for argv, word in ((("caught", "--psi", "270"), "--psi"), (("fit", "--tosser", "T99"), "--tosser"),
                        (("bounce", "--e", "2"), "--e"), (("caught",), "--psi"), (("caught", "--psi", "nan"), "--psi"),
-                       (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("fit", "-o", str(tmp_path / "x.txt")), "")):
+                       (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("bounce", "--g", "0"), "--g"),
+                       (("fit", "-o", str(tmp_path / "x.txt")), "")):
         code, out, err = run(*argv)
         assert code == 2 and out == ""
         assert len(err.strip().splitlines()) == 1 and word in err

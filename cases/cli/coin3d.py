@@ -140,6 +140,8 @@ def _bounce(args):
         raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
     if not 0 < args.e <= 1:
         raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
+    if args.g < 0 or (args.g == 0 and args.ceiling is None):
+        raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
     psi = args.psi if args.psi is not None else bartos_fits().overall.psi
     speed = (2.2, 2.7) if args.g > 0 else (-2.7, -2.2)
     study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,

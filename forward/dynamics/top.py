@@ -238,9 +238,17 @@ def sides_at_bounces(table: TopTable, states, lz, l3, bounces: int):
     n = arr.shape[0]
     lz = np.ascontiguousarray(np.broadcast_to(np.asarray(lz, dtype=float), (n,)))
     l3 = np.ascontiguousarray(np.broadcast_to(np.asarray(l3, dtype=float), (n,)))
+    if not (np.all(np.isfinite(arr)) and np.all(np.isfinite(lz)) and np.all(np.isfinite(l3))):
+        raise InvalidArgument("states, ℓz and ℓ3 must be finite numbers")
+    if np.any((arr[:, 0] < 0) | (arr[:, 0] > math.pi)):
+        raise InvalidArgument("every toss's tilt θ must be in [0, π]")
+    if not np.all(np.isfinite(potential(arr[:, 0], lz, l3))):
+        raise InvalidArgument("a toss starts at a pole its ℓz, ℓ3 forbid (at θ = 0 or π, ℓz must equal ±ℓ3)")
     low = table.floor(arr[:, 0])
     if not np.all(arr[:, 1] > low + 10 * table.tol):
         raise InvalidArgument("every toss must start above the floor")
+    if table.H is not None and not np.all(arr[:, 1] < table.ceiling(arr[:, 0]) - 10 * table.tol):
+        raise InvalidArgument("every toss must start below the ceiling")
     sides = np.zeros((n, bounces), dtype=np.int8)
     status = np.zeros(n, dtype=np.int64)
     k.sides_many(arr, lz, l3, bounces, *table.kernel_args(), math.inf, sides, status)
