@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.display import safe_repr
-from coinwall.forward.dynamics.caught import PsiFit, dhm_same_side, fit_psi
+from coinwall.forward.dynamics.caught import PsiFit, dhm_same_side, fit_psi, likelihood_interval
 
 __all__ = ["BartosFits", "bartos_counts", "bartos_fits", "plot_bartos"]
 
@@ -89,9 +89,7 @@ def plot_bartos(fits: BartosFits | None = None):
         y = np.arange(len(names))
         p = np.array([fits.tossers[k].p for k in names])
         # the tossers' own intervals, unclipped at ½ (the data may fall below; the model cannot)
-        from coinwall.forward.dynamics.caught import _lr_interval
-
-        lo, hi = np.array([_lr_interval(fits.tossers[k].same, fits.tossers[k].flips) for k in names]).T
+        lo, hi = np.array([likelihood_interval(fits.tossers[k].same, fits.tossers[k].flips) for k in names]).T
         ax.errorbar(p, y, xerr=[p - lo, hi - p], fmt="o", ms=3, color=PALETTE[0], lw=0.8,
                     label="tosser: same-side share, 95 % interval")
         o = fits.overall

@@ -23,8 +23,8 @@ moment ``ρ² dm`` about the axis and ``(ρ²/2 + ζ²) dm`` about a transverse 
     M = 2π ∬ ρ dA,   M ζ_c = 2π ∬ ρ ζ dA,   I₃ = 2π ∬ ρ³ dA,   I₁ = 2π ∬ ρ (ρ²/2 + ζ²) dA − M ζ_c².
 
 For a polygon these are boundary integrals by Green's theorem (``∬ ∂F/∂ρ dA = ∮ F dζ``) of polynomials of
-degree ≤ 5 along each edge: 3-point Gauss–Legendre is exact.  Closed forms (``tests/test_revolution.py``
-holds them to an independent quadrature): the cylinder of radius r, half-thickness d, ``M = 2π r² d``,
+degree ≤ 5 along each edge: 3-point Gauss–Legendre is exact.  Closed forms (``tests/test_coin3d.py``
+holds them to independent quadratures): the cylinder of radius r, half-thickness d, ``M = 2π r² d``,
 ``I₃ = M r²/2``, ``I₁ = M (r²/4 + d²/3)``; the ellipsoid ``M = 4π a² c/3``, ``I₃ = 2 M a²/5``,
 ``I₁ = M (a² + c²)/5``.  The rounded coin (edge radius ε) is integrated slice by slice
 (``dM = π R(ζ)² dζ``, ``dI₃ = π R⁴/2 dζ``, ``dI₁ = π (R⁴/4 + R² ζ²) dζ`` with the profile R(ζ)) by

@@ -26,7 +26,7 @@ from ..display import safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count, check_finite
 
-__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "psi_from_same_side", "simulate_caught", "spread_same_side",
+__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "psi_from_same_side", "simulate_caught", "spread_same_side",
            "sigma_from_same_side"]
 
 _CHI2_95 = 3.841458820694124  # the 95 % quantile of χ² with one degree of freedom
@@ -109,8 +109,9 @@ class PsiFit:
                 f"σ = {self.sigma:.2f}° [{self.sigma_low:.2f}, {self.sigma_high:.2f}])")
 
 
-def _lr_interval(k, n):
-    """95 % likelihood-ratio interval of a binomial proportion."""
+def likelihood_interval(k: int, n: int):
+    """The 95 % likelihood-ratio interval of a binomial proportion, ``k`` successes in ``n`` trials:
+    ``{p : 2 (log L(k/n) − log L(p)) ≤ 3.84}``."""
     from scipy.optimize import brentq
 
     p = k / n
@@ -135,7 +136,7 @@ def fit_psi(same: int, flips: int) -> PsiFit:
     flips = check_count("flips", flips)
     same = check_count("same", same, minimum=0, maximum=flips)
     p = same / flips
-    lo, hi = _lr_interval(same, flips)
+    lo, hi = likelihood_interval(same, flips)
     deg = 180 / math.pi
 
     def psi(q):
