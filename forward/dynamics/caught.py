@@ -26,8 +26,8 @@ from ..display import safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count, check_finite
 
-__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "psi_from_same_side", "simulate_caught", "spread_same_side",
-           "sigma_from_same_side"]
+__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "psi_from_same_side", "sigma_from_same_side",
+           "simulate_caught", "spread_same_side"]
 
 _CHI2_95 = 3.841458820694124  # the 95 % quantile of χ² with one degree of freedom
 
