@@ -68,6 +68,8 @@ def _cmd_coin3d(args):
         _finite(f"--{name}", getattr(args, name))
     if args.samples > 10 ** 7:
         raise InvalidArgument(f"--samples must be at most 1e7, got {args.samples}")
+    if args.bounces > 1000:
+        raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
     if args.output and args.mode != "fit":
         raise InvalidArgument("-o draws the fit's figure: use it with `coin3d fit`")
     if args.tosser is not None and args.mode != "fit":
@@ -136,8 +138,6 @@ def _bounce(args):
     from coinwall.forward.dynamics.bounced import same_side_by_bounce
     from coinwall.forward.errors import InvalidArgument
 
-    if args.bounces > 1000:
-        raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
     if not 0 < args.e <= 1:
         raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.g < 0 or (args.g == 0 and args.ceiling is None):
