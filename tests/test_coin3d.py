@@ -305,3 +305,47 @@ def test_bounce_sides_match_single_orbits_and_settled_coins_keep_their_side():
             k = int(change[-1]) + 1 if change.size else 0  # the settled side fills the run at the end
             np.testing.assert_array_equal(sides[j][: k + 1], got[: k + 1])
             assert np.all(np.sign(floor[k:]) == sides[j][-1]), "a settled toss changed side"
+
+
+def _section_starts(H, n, seed):
+    """Liouville-random starts of the planar ε = 99 ellipse section, as 3-D states of the ellipsoid (a = 1,
+    c = 0.1): the planar angle θp (from the downward normal to the long axis) gives the normal's tilt
+    cos θ = −sin θp (the normal is the long axis turned by 90°)."""
+    from coinwall.forward.dynamics.billiard import Billiard, random_states
+
+    body = ellipsoid(1.0, 0.1)
+    wall = Wall.from_expression("sqrt(a**2*cos(t)**2 + c**2*sin(t)**2)/k", {"a": 1.0, "c": 0.1, "k": body.kappa1})
+    bil = Billiard(wall, H)
+    starts = random_states(bil, n, seed=seed)
+    th = np.arccos(np.clip(-np.sin(starts[:, 0]), -1, 1))
+    w = starts[:, 2] * np.cos(starts[:, 0]) / np.maximum(np.sin(th), 1e-300)
+    return body, bil, np.column_stack([th, starts[:, 1], w, starts[:, 3]])
+
+
+def test_side_correlation_plateau_and_bias():
+    from coinwall.forward.dynamics.correlation3d import side_correlation
+
+    body, _, states = _section_starts(1.5 * 2 / ellipsoid(1.0, 0.1).kappa1, 6, 3)
+    table = TopTable(body, g=0.0, e=1.0, H=1.5 * 2 / body.kappa1)
+    flat = side_correlation(table, states, 0.0, 0.0, 3000, max_lag=5)
+    spun = side_correlation(table, states, 0.5, 0.5, 3000, max_lag=5)
+    assert abs(flat["heads"] - 0.5) < 4 * flat["heads_stderr"] + 0.02
+    assert spun["heads"] > 0.6  # the potential (ℓz = ℓ3) favours heads
+    assert spun["P_inf"] > 0.5 and np.all(spun["P"] >= spun["P_inf"] - 4 * spun["P_stderr"] - 0.01)
+    assert 0.5 < flat["P"][0] < 1.0 and flat["orbits"] == 6
+    with pytest.raises(InvalidArgument, match="ceiling"):
+        side_correlation(TopTable(body, g=1.0), states, 0.0, 0.0, 100)
+
+
+@pytest.mark.slow
+def test_side_correlation_planar_limit_is_the_papers_correlation():
+    """ℓz = ℓ3 = 0: the 3-D ellipsoid's side-up P(n) is the planar P(n) of its section (the paper's heads)."""
+    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.dynamics.correlation3d import side_correlation
+
+    H = 1.5 * 2 / ellipsoid(1.0, 0.1).kappa1
+    body, bil, states = _section_starts(H, 30, 1)
+    planar = correlation(bil, bounces=300_000, max_lag=6, orbits=30, seed=1)
+    three = side_correlation(TopTable(body, g=0.0, e=1.0, H=H), states, 0.0, 0.0, 20_000, max_lag=6)
+    err = np.hypot(planar.P_stderr[1:7], three["P_stderr"])
+    assert np.all(np.abs(planar.P[1:7] - three["P"]) < 4 * err)
