@@ -31,6 +31,7 @@ from ..display import safe_repr
 from ..errors import InvalidArgument
 from ..revolution import Revolution
 from ..validation import check_count, check_finite
+from .top import first_root  # a quadratic's root: nothing of the reduction
 
 __all__ = ["Rigid3D", "Trajectory3D", "from_reduced", "simulate_3d", "to_reduced"]
 
@@ -240,9 +241,9 @@ def simulate_3d(system: Rigid3D, state, impacts: int) -> Trajectory3D:
                 hit = k
                 break
             vz = v[2] - system.g * t
-            steps = [_lower_root(gp[0], vz - lam, system.g)]
+            steps = [first_root(gp[0], vz - lam, system.g)]
             if system.H is not None:
-                steps.append(_lower_root(gp[1], -vz - lam, -system.g))
+                steps.append(first_root(gp[1], -vz - lam, -system.g))
             tau = min(steps)
             if not math.isfinite(tau) or (system.H is None and system.g == 0 and vz >= 0 and r[2] + v[2] * t > reach):
                 break
@@ -280,13 +281,3 @@ def simulate_3d(system: Rigid3D, state, impacts: int) -> Trajectory3D:
                         np.array(out["q"]).reshape(-1, 4), np.array(out["L"]).reshape(-1, 3),
                         np.array(out["wall"], dtype=np.int8), system, status)
 
-
-def _lower_root(f0, f1, K):
-    disc = f1 * f1 + 2 * K * f0
-    if disc < 0:
-        return math.inf
-    if f1 < 0:
-        return 2 * f0 / (-f1 + math.sqrt(disc))
-    if K > 0:
-        return (f1 + math.sqrt(disc)) / K
-    return math.inf

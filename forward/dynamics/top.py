@@ -41,8 +41,8 @@ from ..errors import InvalidArgument
 from ..revolution import Revolution
 from ..validation import check_count, check_finite
 
-__all__ = ["STATUS", "TopFlight", "TopTable", "energy", "potential", "reference_run", "top_run", "state_after",
-           "sides_at_bounces"]
+__all__ = ["STATUS", "TopFlight", "TopTable", "energy", "first_root", "potential", "reference_run", "sides_at_bounces",
+           "state_after", "top_run"]
 
 STATUS = {0: "impact budget reached", 1: "settled (energy below the equator's barrier)",
           2: "caught", 6: "free flight (no further impact)",
@@ -326,9 +326,9 @@ def reference_run(table: TopTable, state, lz, l3, impacts):
                 hit = k
                 break
             ve = v - g * t
-            steps = [_lower_root(gp[0], ve - lam, g)]
+            steps = [first_root(gp[0], ve - lam, g)]
             if table.H is not None:
-                steps.append(_lower_root(gp[1], -ve - lam, -g))
+                steps.append(first_root(gp[1], -ve - lam, -g))
             tau = min(steps)
             if not math.isfinite(tau) or (table.H is None and g == 0 and ve >= 0 and eta + v * t - reach > 0):
                 return rows, 6
@@ -357,8 +357,9 @@ def reference_run(table: TopTable, state, lz, l3, impacts):
     return rows, 0
 
 
-def _lower_root(f0, f1, K):
-    """Smallest τ > 0 with f0 + f1 τ − ½ K τ² = 0 (f0 > 0), ``inf`` if none."""
+def first_root(f0, f1, K):
+    """Smallest τ > 0 with f0 + f1 τ − ½ K τ² = 0 (f0 > 0; K of either sign), ``inf`` if none: the step of
+    conservative advancement on the lower bound f0 + f1 τ − ½ K τ² of a gap."""
     disc = f1 * f1 + 2 * K * f0
     if disc < 0:
         return math.inf
