@@ -199,6 +199,7 @@ BASE_COMMANDS = {
     "toss": ["case:coin", "--v0", "0:1:4", "--omega", "0:2:4", "-o", "out.json"],
     "correlation": ["case:coin", "--H", "3", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1",
                     "-o", "out.json"],
+    "coin3d": ["caught", "--psi", "70", "--samples", "200", "--seed", "1"],
 }
 # the numeric flags of each base command and the kind of their values (a key of BAD_NUMBERS)
 NUMERIC_FLAGS = {
@@ -219,6 +220,8 @@ NUMERIC_FLAGS = {
              "--samples": "count", "--seed": "seed"},
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
+    # (coin3d's --e, --g, --height, --ceiling belong to its bounce mode; checked there)
+    "coin3d": {"--samples": "count", "--bounces": "count", "--seed": "seed"},
 }
 # the base commands that write a file with -o (scan writes a store folder, see test_nothing_lost.py)
 OUTPUT_COMMANDS = sorted(c for c, argv in BASE_COMMANDS.items() if "-o" in argv and c != "scan")

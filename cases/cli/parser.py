@@ -11,8 +11,8 @@ import argparse
 import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
-from . import (cases, correlation, critical, explore, export, fit, kam, mass, quantum, scan, section, simulate, solve,
-               toss, verify, wall)
+from . import (cases, coin3d, correlation, critical, explore, export, fit, kam, mass, quantum, scan, section, simulate,
+               solve, toss, verify, wall)
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 
@@ -28,6 +28,7 @@ SUBCOMMANDS = {
     "section": section,
     "correlation": correlation,
     "toss": toss,
+    "coin3d": coin3d,
     "kam": kam,
     "quantum": quantum,
     "scan": scan,

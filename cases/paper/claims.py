@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 from coinwall.forward.display import safe_repr
 
-from . import checks, checks_appendix, checks_dynamics, checks_quantum
+from . import checks, checks_appendix, checks_coin3d, checks_dynamics, checks_quantum, checks_toss
 
 __all__ = ["Below", "Above", "Within", "Equals", "Claim", "REGISTRY", "CLAIMS", "judge", "render"]
 
@@ -302,6 +302,28 @@ _CLAIMS = (
           "Section III's statistics (Poincaré sections, KAM boundary eq. 20, the coin's P(n) and τ(H)) are "
           "computed by `coinwall section|kam|correlation` and tests/benchmarks/reproduce_coin.py; their "
           "numbers and verdicts are in docs/dynamics.md (too slow for this report)."),
+    # ------------------------------------------------------------------ external fields: the toss that lands
+    Claim("external-fields", "The results extend to external fields", "sec. V",
+          "can be extended to include external fields", checks_toss.external_fields,
+          {"eps": 0.3, "H": 5.0, "g": 1.0, "e": 0.97}, {"error": Below(1e-9)}, "yes",
+          "rigid body in the field g = {g:g} with restitution e = {e:g} (ellipse ε = {eps}, floor and ceiling H = "
+          "{H:g}) against the field billiard: max state difference {error:.1e} over {impacts} impacts",
+          "The field is a linear potential in η: the body is a point on parabolas in the (θ, η) strip, and "
+          "Newton's restitution at the contact point is restitution of the normal velocity in the billiard "
+          "metric (docs/toss.md). The direct rigid-body simulation in gravity agrees with the field kernel "
+          "impact by impact (restarted from the body's state at each impact: the orbit is chaotic)."),
+    Claim("casino", "Bounces randomise the outcome (the casinos' house rule)", "sec. III (end)",
+          "the bounce plays a significant role in randomizing the outcome", checks_toss.casino_bounces,
+          {"eps": 99.0, "g": 1.0, "height": 1.2, "mean": (2.0, 5.0), "sigma": (0.05, 0.2),
+           "restitutions": (0.3, 0.6, 0.9)},
+          {"caught_sigmas": Above(4.0), "bounced_sigmas": Below(3.0), "fair_found": Equals(True)}, "yes",
+          "coin ε = {eps:g} on a floor, hand (v0, ω0) = {mean} ± {sigma}, {samples} tosses: caught on landing the "
+          "heads bias is {caught_bias:+.4f} ({caught_sigmas:.1f}σ); with e = {e_last:g} it is {bounced_bias:+.4f} "
+          "± {bounced_stderr:.4f} after {bounces} floor bounces, fair to 0.01 from bounce {fair_bounce}",
+          "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor "
+          "impact and reads the face down; a toss settled before keeps its outcome. Fairness to 0.001 needs "
+          "about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. With small e the coin settles "
+          "after a few bounces and the outcome keeps the bias it had then."),
     # ------------------------------------------------------------------ section V: the announced next step
     Claim("quantum-tunnelling", "The quantum body tunnels from heads to tails", "sec. V (last paragraph)",
           "announced as a current focus; nothing computed", checks_quantum.tunnelling_doublets,
@@ -314,6 +336,26 @@ _CLAIMS = (
           "Dirichlet Laplacian on the billiard strip by finite elements. Just above the diameter the levels pair "
           "into heads–tails doublets; the splitting by Herring's flux formula (no subtraction of nearly equal "
           "eigenvalues) agrees with the direct difference and follows exp(−S) through the necks."),
+    Claim("three-d-billiard", "A rigid body in 3-D is a new type of billiard", "sec. V (last paragraph)",
+          "conjectured (\"a new type of billiard motion\"); nothing computed", checks_coin3d.three_d_billiard,
+          {"impacts": 12, "restitution": 0.8}, {"error": Below(1e-9), "momentum_drift": Below(1e-12)}, "yes",
+          "bodies of revolution: the (θ, η) billiard with the top's potential (ℓz − ℓ3 cos θ)²/(2 sin²θ); the "
+          "direct 3-D simulation restarted at each of {impacts} impacts (coin on a floor, ellipsoid between walls, "
+          "e = {restitution}) meets the reduced billiard's next state to {error:.1e}; Lz, L3 kept to "
+          "{momentum_drift:.1e}",
+          "For a body of revolution the conjecture holds exactly: a frictionless horizontal wall conserves L_z "
+          "and L_3, and the motion is a 2-D billiard in (θ, η) whose new ingredient is the symmetric top's "
+          "potential (docs/coin3d.md). The potential breaks the heads/tails symmetry when L_3 ≠ 0, so, unlike "
+          "the planar paper's coin, bounces on a frictionless floor do not make a precessing coin fair."),
+    Claim("caught-coin-flips", "A caught coin keeps its side (DHM 2007; Bartoš et al. 2023)",
+          "beyond the paper", "not in the paper (the planar coin has no precession)",
+          checks_coin3d.caught_coin_against_flips, {"samples": 20000},
+          {"z": Within(0.0, 3.5), "dhm_error": Below(3.5)}, "yes",
+          "350,757 flips: P(same) = {p_data:.4f} ⇒ ψ = {psi:.2f}° [{psi_low:.2f}, {psi_high:.2f}]; the simulated "
+          "caught coin at that ψ ({samples} tosses) gives {p_sim:.4f} ({z:+.1f} σ from the data, {dhm_error:.1f} σ "
+          "from DHM's formula)",
+          "The precessing coin of the reduced billiard, caught after a free flight, reproduces Diaconis, Holmes "
+          "& Montgomery's ½ + arcsin(cot²ψ)/π; the real flips need ψ ≈ 81° (docs/coin3d.md)."),
 )
 
 #: Every claim by key, in the report's order.

@@ -200,8 +200,12 @@ class FieldTable:
         Offset of the wall (``b0 + b`` is the support function), as in :class:`.billiard.Billiard`.
     H : float or None
         Distance of the ceiling (units of κ); ``None``: a floor only.
+    settle : bool
+        Whether an orbit ends once its level is below its valley's barrier (the outcome is then decided; the
+        default).  ``False`` for elastic orbits followed for their own sake (a wedge, where the single valley
+        would end every orbit at its first impact): the kernel gets no valley table and never settles.
     landscape : Landscape
-        The valleys of the floor (:func:`landscape`).
+        The valleys of the floor (:func:`landscape`); with ``settle=False``, without the kernel's valley table.
     """
 
     wall: Wall
@@ -209,6 +213,7 @@ class FieldTable:
     e: float = 1.0
     b0: float = 0.0
     H: float | None = None
+    settle: bool = True
     landscape: Landscape = field(init=False)
 
     def __post_init__(self):
@@ -238,7 +243,12 @@ class FieldTable:
         if self.g == 0.0 and self.H is None:
             raise InvalidArgument("a floor without a field and without a ceiling is met at most once: give `g` > 0 "
                                   "or a ceiling `H`")
-        object.__setattr__(self, "landscape", landscape(self.wall))
+        if not isinstance(self.settle, bool):
+            raise InvalidArgument(f"`settle` must be True or False, got {self.settle!r}")
+        land = landscape(self.wall)
+        if not self.settle:  # the kernel skips the settling test when it gets an empty valley table
+            land = Landscape(land.minima, land.maxima, land.barriers, land.names, np.empty((0, 3)))
+        object.__setattr__(self, "landscape", land)
 
     @classmethod
     def from_si(cls, wall: Wall, kappa: float, g: float = 9.80665, **kwargs) -> FieldTable:

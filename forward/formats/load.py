@@ -42,10 +42,10 @@ from ..angles import TWO_PI
 from ..errors import CoinwallError, InvalidArgument, InvalidOutline
 from ..outline import Outline
 from ..validation import check_choice, check_count, check_positive
-from .geometry import FLATNESS
 from .bodyjson import read_body_json
 from .dxf import read_dxf
 from .geometry import (
+    FLATNESS,
     MAX_COORDINATE,
     MIN_SIZE,
     UNIT_LENGTHS,

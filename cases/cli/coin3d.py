@@ -1,0 +1,159 @@
+"""``coinwall coin3d``: the coin in three dimensions: caught tosses, the real flips, bounced tosses."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .common import add_command, check_positive_count, check_seed, count, number, written_lines
+
+__all__ = ["register"]
+
+DESCRIPTION = """\
+The coin in three dimensions.  A body of revolution bouncing on horizontal walls is a billiard in
+(θ, η) (tilt of the axis, height / transverse radius of gyration) with the spinning top's potential;
+see docs/coin3d.md.  Three questions:
+
+  caught  P(same side) of a coin caught in the hand, by simulating the precessing coin, against
+          Diaconis, Holmes & Montgomery's ½ + arcsin(cot²ψ)/π (ψ: angle between the angular momentum
+          and the coin's normal, degrees).
+  fit     the ψ (one value, and the σ of a spread about 90°) implied by the 350,757 caught flips of
+          Bartoš et al. (2023), overall and per tosser, with 95 % likelihood-ratio intervals;
+          -o draws the data against the model.
+  bounce  the same toss landing on a frictionless floor with restitution --e (or between two walls,
+          --ceiling): P(side up at the n-th bounce = start side) for n = 1 … --bounces."""
+
+EXAMPLE = ("coinwall coin3d caught --psi 70 --samples 100000 --seed 1\n"
+           "coinwall coin3d fit -o bartos.png\n"
+           "coinwall coin3d bounce --psi 81.16 --e 0.6 --bounces 10 --samples 20000 --seed 1")
+
+
+def register(subparsers):
+    """Add the ``coin3d`` subcommand."""
+    parser = add_command(subparsers, "coin3d", help="the coin in 3-D: caught tosses, the real flips, bounces",
+                         description=DESCRIPTION, example=EXAMPLE)
+    parser.add_argument("mode", choices=("caught", "fit", "bounce"), help="what to compute (see above)")
+    parser.add_argument("--psi", type=number, default=None,
+                        help="angle between angular momentum and normal, degrees (caught: required; bounce: default "
+                             "the value fitted to the real flips)")
+    parser.add_argument("--samples", type=count, default=20_000, help="tosses simulated (default 20000)")
+    parser.add_argument("--seed", type=count, default=None, help="seed of the draws")
+    parser.add_argument("--e", type=number, default=0.6, help="bounce: restitution in (0, 1] (default 0.6)")
+    parser.add_argument("--bounces", type=count, default=10, help="bounce: floor impacts followed (default 10)")
+    parser.add_argument("--g", type=number, default=9.81, help="bounce: gravity in m/s² (default 9.81)")
+    parser.add_argument("--ceiling", type=number, default=None,
+                        help="bounce: a second wall this high above the floor (m; default none)")
+    parser.add_argument("--height", type=number, default=1.0, help="bounce: launch height above the floor (m)")
+    parser.add_argument("--tosser", default=None, help="fit: one tosser (T01 … T48) instead of the table")
+    parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                        help="fit: figure of the data against the model (.png, .svg, .pdf; repeatable)")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    parser.set_defaults(run=_cmd_coin3d)
+
+
+def _finite(name, value):
+    from coinwall.forward.errors import InvalidArgument
+
+    if value is not None and not math.isfinite(value):
+        raise InvalidArgument(f"{name} must be a finite number, got {value}")
+
+
+def _cmd_coin3d(args):
+    from coinwall.forward.errors import InvalidArgument
+
+    check_positive_count("--samples", args.samples)
+    check_positive_count("--bounces", args.bounces)
+    check_seed(args.seed)
+    for name in ("psi", "e", "g", "ceiling", "height"):
+        _finite(f"--{name}", getattr(args, name))
+    if args.samples > 10 ** 7:
+        raise InvalidArgument(f"--samples must be at most 1e7, got {args.samples}")
+    if args.bounces > 1000:
+        raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
+    if args.output and args.mode != "fit":
+        raise InvalidArgument("-o draws the fit's figure: use it with `coin3d fit`")
+    if args.tosser is not None and args.mode != "fit":
+        raise InvalidArgument("--tosser belongs to `coin3d fit`")
+    if args.mode == "caught":
+        return _caught(args)
+    if args.mode == "fit":
+        return _fit(args)
+    return _bounce(args)
+
+
+def _caught(args):
+    from coinwall.forward.dynamics.caught import dhm_same_side, simulate_caught
+    from coinwall.forward.errors import InvalidArgument
+
+    if args.psi is None:
+        raise InvalidArgument("`coin3d caught` needs --psi (degrees, 0 to 180)")
+    if not 0 <= args.psi <= 180:
+        raise InvalidArgument(f"--psi must be an angle in degrees from 0 to 180, got {args.psi}")
+    p, se = simulate_caught(math.radians(args.psi), args.samples, seed=args.seed)
+    dhm = float(dhm_same_side(math.radians(args.psi)))
+    out = {"psi_degrees": args.psi, "samples": args.samples, "seed": args.seed, "same_side": p, "stderr": se,
+           "dhm": dhm, "z": (p - dhm) / se if se > 0 else 0.0}
+    if args.json:
+        print(json.dumps(out, indent=1))
+    else:
+        print(f"caught     ψ = {args.psi:g}°, {args.samples} tosses: P(same side) = {p:.5f} ± {se:.5f}")
+        print(f"DHM        ½ + arcsin(cot²ψ)/π = {dhm:.5f}  (difference {out['z']:+.2f} standard errors)")
+    return 0
+
+
+def _fit(args):
+    from coinwall.cases.bartos import bartos_fits, plot_bartos
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
+    from coinwall.forward.formats.output import check_paths, write_all
+
+    check_paths(args.output, FIGURE_FORMATS)
+    fits = bartos_fits()
+    if args.tosser is not None:
+        if args.tosser not in fits.tossers:
+            raise InvalidArgument(f"--tosser must be one of T01 … T{len(fits.tossers):02d}, got {args.tosser!r}")
+        one = fits.tossers[args.tosser]
+        print(json.dumps(one.to_dict(), indent=1) if args.json else f"{args.tosser}  {one!r}")
+        return 0
+    files = {path: figure_bytes(plot_bartos(fits), path) for path in args.output}
+    written = write_all(files)
+    if args.json:
+        print(json.dumps(dict(fits.to_dict(), outputs=args.output), indent=1))
+        return 0
+    o = fits.overall
+    print(f"all flips  {o.same:,} same side of {o.flips:,}: {o.p:.5f} [{o.p_low:.5f}, {o.p_high:.5f}] (95 %, "
+          "likelihood ratio)")
+    print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}]")
+    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}]")
+    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g}")
+    for name, f in fits.tossers.items():
+        print(f"  {name}  {f.same:>6}/{f.flips:<6} {f.p:.4f}  ψ = {f.psi:5.2f}° [{f.psi_low:5.2f}, {f.psi_high:5.2f}]")
+    for line in written_lines(written, written.replaced):
+        print(line)
+    return 0
+
+
+def _bounce(args):
+    from coinwall.cases.bartos import bartos_fits
+    from coinwall.forward.dynamics.bounced import same_side_by_bounce
+    from coinwall.forward.errors import InvalidArgument
+
+    if not 0 < args.e <= 1:
+        raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
+    if args.g < 0 or (args.g == 0 and args.ceiling is None):
+        raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
+    psi = args.psi if args.psi is not None else bartos_fits().overall.psi
+    speed = (2.2, 2.7) if args.g > 0 else (-2.7, -2.2)
+    study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,
+                                height=args.height, ceiling=args.ceiling, speed=speed)
+    if args.json:
+        print(json.dumps(study.to_dict(), indent=1))
+        return 0
+    print(f"bounce     {study!r}")
+    print(f"status     {study.status}")
+    for n, (p, s, k) in enumerate(zip(study.same, study.stderr, study.reached), start=1):
+        print(f"  bounce {n:>3}: P(same side) = {p:.4f} ± {s:.4f}  ({k} tosses)")
+    n = study.bounces_to_fair()
+    print("fair       " + (f"within 0.001 of ½ from bounce {n}" if n else
+                           "never within 0.001 of ½ (by two standard errors) in these bounces"))
+    return 0

@@ -1,0 +1,110 @@
+"""Caught tosses: DHM's closed form reproduced by simulating the precessing coin, and the fit to the flips
+of Bartoš et al. (2023).  Reference values: DHM, SIAM Rev. 49 (2007) 211, P = ½ + arcsin(cot²ψ)/π; the
+totals 178,078 of 350,757 from the paper (cases/data/README.md)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from coinwall.cases.bartos import bartos_counts, bartos_fits
+from coinwall.forward.dynamics.caught import (
+    dhm_same_side,
+    fit_psi,
+    psi_from_same_side,
+    simulate_caught,
+    spread_same_side,
+)
+from coinwall.forward.errors import InvalidArgument
+
+
+@pytest.mark.parametrize("degrees", [50, 55, 62, 70, 78, 85])
+def test_simulated_caught_coin_reproduces_dhm(degrees):
+    """Six angles ψ > 45°, 40,000 tosses each: within 3.5 binomial standard errors (a false alarm rate of
+    ~5e-4 per angle); the simulation knows nothing of the formula (it integrates the top's flight)."""
+    psi = math.radians(degrees)
+    p, se = simulate_caught(psi, 40_000, seed=degrees)
+    assert abs(p - float(dhm_same_side(psi))) < 3.5 * se
+    assert se > 0
+
+
+def test_below_45_degrees_the_coin_never_turns_over():
+    p, se = simulate_caught(math.radians(40), 5_000, seed=1)
+    assert p == 1.0 and float(dhm_same_side(math.radians(40))) == 1.0
+
+
+def test_psi_inverts_the_model():
+    psi = np.radians(np.linspace(46, 90, 23))
+    np.testing.assert_allclose(psi_from_same_side(dhm_same_side(psi)), psi, atol=1e-12)
+    assert psi_from_same_side(0.49) == pytest.approx(math.pi / 2)
+
+
+def test_spread_model_limits():
+    assert spread_same_side(0.0) == pytest.approx(0.5)
+    # a small spread: E[½ + arcsin(cot²ψ)/π] ≈ ½ + E[δ²]/π = ½ + σ²/π (cot ψ ≈ δ near 90°)
+    assert spread_same_side(0.01) == pytest.approx(0.5 + 0.01 ** 2 / math.pi, rel=1e-3)
+
+
+def test_bartos_totals_and_fit():
+    data = bartos_counts()
+    assert len(data["tosser"]) == 48
+    assert int(data["same"].sum()) == 178_078 and int(data["flips"].sum()) == 350_757
+    np.testing.assert_array_equal(data["same"], data["heads_same"] + data["tails_same"])
+    fits = bartos_fits()
+    o = fits.overall
+    assert o.p == pytest.approx(178_078 / 350_757)
+    # the paper's 95 % interval [0.506, 0.509] (its rounding)
+    assert o.p_low == pytest.approx(0.506, abs=6e-4) and o.p_high == pytest.approx(0.509, abs=6e-4)
+    assert float(dhm_same_side(math.radians(o.psi))) == pytest.approx(o.p, abs=1e-12)
+    assert o.psi_low < o.psi < o.psi_high < 90
+    assert spread_same_side(math.radians(o.sigma)) == pytest.approx(o.p, abs=1e-9)
+    # the tossers differ far beyond binomial noise
+    assert fits.dof == 47 and fits.p_value < 1e-10
+
+
+def test_fit_refuses_bad_counts():
+    with pytest.raises(InvalidArgument, match="same"):
+        fit_psi(11, 10)
+    with pytest.raises(InvalidArgument, match="flips"):
+        fit_psi(1, 0)
+    with pytest.raises(InvalidArgument, match="psi"):
+        simulate_caught(4.0, 10)
+
+
+def _cli(capsys):
+    from coinwall.cases.cli.main import main
+
+    def run(*argv):
+        code = main(["coin3d", *argv])
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    return run
+
+
+def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
+    run = _cli(capsys)
+    for argv, word in ((("caught", "--psi", "270"), "--psi"), (("fit", "--tosser", "T99"), "--tosser"),
+                       (("bounce", "--e", "2"), "--e"), (("caught",), "--psi"), (("caught", "--psi", "nan"), "--psi"),
+                       (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("bounce", "--g", "0"), "--g"),
+                       (("fit", "-o", str(tmp_path / "x.txt")), "")):
+        code, out, err = run(*argv)
+        assert code == 2 and out == ""
+        assert len(err.strip().splitlines()) == 1 and word in err
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.txt").exists()
+
+
+@pytest.mark.slow
+def test_cli_coin3d_runs(tmp_path, capsys):
+    import json
+
+    run = _cli(capsys)
+    code, out, err = run("caught", "--psi", "70", "--samples", "4000", "--seed", "1", "--json")
+    assert code == 0, err
+    out = json.loads(out)
+    assert abs(out["same_side"] - out["dhm"]) < 4 * out["stderr"]
+    fig = tmp_path / "b.png"
+    code, out, err = run("fit", "-o", str(fig))
+    assert code == 0 and fig.stat().st_size > 10_000 and "81.16°" in out
+    code, out, err = run("bounce", "--psi", "81", "--e", "0.9", "--bounces", "3", "--samples", "500", "--json")
+    assert code == 0 and len(json.loads(out)["same"]) == 3
