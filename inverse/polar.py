@@ -270,8 +270,6 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
     nodes : Nodes
     solution : PolarSolution
     """
-    from scipy.optimize import brentq
-
     dense = sample_support(wall, b0, max(oversample * points, 4096))
     branches, folds = _branches(wall, b0, dense)
     targets = np.linspace(0.0, TWO_PI, points, endpoint=False)
@@ -385,6 +383,8 @@ def polar_nodes(wall, b0: float, points: int, *, oversample: int = 4):
         if not pairs:
             continue  # the branches meet at an edge end or a corner already among the special nodes
         k = pairs[0]
+        from scipy.optimize import brentq  # here, not above: importing it costs ~0.3 s, most solves never do
+
         astar = brentq(diff, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200) \
             if values[k] * values[k + 1] < 0 else (grid[k] if values[k] == 0 else grid[k + 1])
         ra, pa = _radius_on(wall, b0, ba, astar)

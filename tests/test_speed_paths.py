@@ -9,7 +9,7 @@ from shapely.geometry import Polygon
 from coinwall.forward import Wall
 from coinwall.forward.wallvector import ArrayProgram
 from coinwall.inverse.convexity import simple_convex
-from coinwall.inverse.solve import shape_check
+from coinwall.inverse.solve import shape_check, solve_body
 
 # every function of the expression grammar, min/max (kinks), powers, quotients
 EXPRESSIONS = [
@@ -97,3 +97,45 @@ def test_never_convex_when_shapely_says_otherwise():
             accepted += 1
             assert _shapely(pts) == (True, True)
     assert accepted > 50  # the fast path is taken, not only the fallback
+
+
+def test_bounded_minimum_is_scipys_bit_for_bit():
+    """Reference: scipy.optimize.minimize_scalar(method="bounded"), the code it transcribes."""
+    from scipy.optimize import minimize_scalar
+
+    from coinwall.inverse.scalarmin import bounded_minimum
+
+    rng = np.random.default_rng(3)
+    for _ in range(100):
+        c = rng.normal(size=4)
+        lo, hi = -2 * rng.random(), 2 * rng.random()
+
+        def func(x, c=c):
+            return float(c[0] * math.cos(3 * x + c[1]) + c[2] * x * x + c[3] * math.sin(x) ** 3)
+
+        for xatol in (1e-15, 1e-10, 1e-5):
+            want = minimize_scalar(func, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
+            assert bounded_minimum(func, lo, hi, xatol) == (want.x, want.fun)
+
+
+def test_kappa_max_of_an_ellipse_is_its_semi_major_axis():
+    """Closed form (inverse/realizability.py docstring): a centred ellipse with semi-axes a ≥ b has κ_max = a."""
+    from coinwall.inverse.realizability import kappa_max
+
+    a, b = 1.3, 0.7
+    wall = Wall.from_expression("sqrt(a**2*cos(t)**2 + b**2*sin(t)**2)", {"a": a, "b": b})
+    value, support = kappa_max(solve_body(wall, 0.0).outline)
+    assert value == pytest.approx(a, rel=1e-9) and len(support) == 2
+    assert np.allclose(np.sort(np.abs(support[:, 0])), [a, a], rtol=1e-6) and np.allclose(support[:, 2], 0.5)
+
+
+def test_solving_a_formula_wall_does_not_import_scipy_optimize():
+    """Importing scipy.optimize costs 0.3-0.7 s, a third of the built-in example's whole run."""
+    import subprocess
+    import sys
+
+    code = ("import sys, io, contextlib\nfrom coinwall.cases.cli.main import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()): status = main(['solve', '--json'])\n"
+            "print(status, 'scipy.optimize' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.split() == ["0", "False"], done.stderr[-2000:]
