@@ -39,7 +39,7 @@ DOCUMENTED_MODULES = (
     "coinwall.forward.dynamics",
     "coinwall.forward.formats",
     "coinwall.forward.quantum",
-    "coinwall.forward.scan",
+    "coinwall.cases.scan",
     "coinwall.inverse",
     "coinwall.inverse.export",
     "coinwall.inverse.fit",

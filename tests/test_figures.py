@@ -260,7 +260,7 @@ def _store(eps_values, H_values):
 
 
 def test_scan_figures_name_the_wall_and_cells():
-    from coinwall.forward.scan.figures import plot_scan
+    from coinwall.cases.scan.figures import plot_scan
 
     ax = plot_scan(_store([0.5, 1.0, 2.0, 4.0, 8.0], [2.0, 3.0, 4.0]))
     fig = ax.figure

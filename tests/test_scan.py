@@ -16,12 +16,7 @@ pytest.importorskip("distributed")
 pytest.importorskip("xarray")
 pytest.importorskip("zarr")
 
-from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
-from coinwall.forward.errors import InvalidArgument
-from coinwall.forward.scan import (
+from coinwall.cases.scan import (
     QUANTITIES,
     TableSpec,
     cell_seed,
@@ -31,7 +26,12 @@ from coinwall.forward.scan import (
     parse_axis,
     scan,
 )
-from coinwall.forward.scan.islands import eps_star, eps_star_star
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import Billiard, random_states
+from coinwall.forward.dynamics.islands import eps_star, eps_star_star
+from coinwall.forward.dynamics.kam import ELLIPSE_WALL
+from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
+from coinwall.forward.errors import InvalidArgument
 
 TABLE = TableSpec(ELLIPSE_WALL)
 GRID = {"eps": "1:20:3log", "H": "0.4,2,3"}   # H = 0.4 < 2/√(1+ε) for ε ≤ 20: the strip is closed, refused cells
@@ -305,7 +305,7 @@ def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
     import distributed
     from distributed import KilledWorker
 
-    from coinwall.forward.scan import driver
+    from coinwall.cases.scan import driver
 
     class DyingFuture:
         def result(self):
@@ -328,8 +328,8 @@ def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
                                           ({"collisions": 10 ** 9}, r"collisions, more than the 1e\+10")])
 def test_cells_too_large_are_refused_before_any_work(options, text):
     """Found by tests/benchmarks/fuzz_cli.py: `--orbits 1e19` used to start the cluster and refuse every cell."""
+    from coinwall.cases.scan.quantities import check_options
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.scan.quantities import check_options
 
     with pytest.raises(InvalidArgument, match=text):
         check_options("chaotic-fraction", options)

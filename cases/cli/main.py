@@ -50,7 +50,7 @@ EX_INTERRUPTED = 130
 def _quiet_scan_worker() -> None:
     """In a worker process of ``coinwall scan``'s local cluster (spawned by multiprocessing, which runs this
     module first): ignore SIGINT, so that Ctrl-C stops the driver alone, which closes the cluster, instead
-    of every worker printing a traceback (coinwall.forward.scan.driver.WORKER_ENVIRONMENT)."""
+    of every worker printing a traceback (coinwall.cases.scan.driver.WORKER_ENVIRONMENT)."""
     # (multiprocessing.parent_process() is set only after this module ran; spawn_main has been imported by then)
     if os.environ.get("COINWALL_SCAN_WORKER") == "1" and "multiprocessing.spawn" in sys.modules:
         import signal

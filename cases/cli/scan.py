@@ -29,7 +29,7 @@ EXAMPLE = """\
 coinwall scan chaotic-fraction "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.5:30:16log --H 2:8:13 -o kam.zarr --figure kam.png
 coinwall scan tau "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 2.1:3:7 --bounces 100000 -o tau.zarr --figure tau.png"""
 
-#: the quantities of coinwall.forward.scan.QUANTITIES (written out: --help must not import numpy; a test compares)
+#: the quantities of coinwall.cases.scan.QUANTITIES (written out: --help must not import numpy; a test compares)
 QUANTITY_NAMES = ("chaotic-fraction", "lyapunov", "tau", "splitting")
 #: quantity options: flag dest -> library option name (each applies to some quantities; others are refused)
 _OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order")
@@ -81,8 +81,8 @@ def register(subparsers):
 
 def _table(args):
     """The TableSpec and the scanned axes' texts from WALL and --param."""
+    from coinwall.cases.scan import TableSpec
     from coinwall.forward.errors import InvalidArgument, InvalidParameter
-    from coinwall.forward.scan import TableSpec
 
     from .common import load_wall, parse_params, wall_options
 
@@ -132,9 +132,9 @@ def _command(args) -> str:
 
 
 def _cmd_scan(args):
+    from coinwall.cases.scan import scan
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
-    from coinwall.forward.scan import scan
 
     check_seed(args.seed)
     check_paths(args.figure, FIGURE_FORMATS)
@@ -164,7 +164,7 @@ def _cmd_scan(args):
             bar.close()
     files = {}
     if args.figure:
-        from coinwall.forward.scan.figures import plot_scan
+        from coinwall.cases.scan.figures import plot_scan
 
         dataset = result.dataset()
         for path in args.figure:

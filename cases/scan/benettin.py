@@ -21,9 +21,9 @@ import math
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..errors import InvalidArgument
-from ..validation import check_count, check_memory
+from coinwall.forward.angles import TWO_PI
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.validation import check_count, check_memory
 
 __all__ = ["lyapunov_batch"]
 
@@ -76,7 +76,7 @@ def lyapunov_batch(table, states, collisions: int = 2000, every: int = 10, d0: f
     """
     import numba
 
-    from ..dynamics.kernel import compiled
+    from coinwall.forward.dynamics.kernel import compiled
 
     transient = check_count("transient", transient, minimum=0)
     collisions = check_count("collisions", collisions)

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InvalidArgument
-from ..validation import check_choice, check_count, check_memory, check_positive
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.validation import check_choice, check_count, check_memory, check_positive
 
 __all__ = ["MAX_CELL_WORK", "QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
 
@@ -51,7 +51,8 @@ class Quantity:
 
 
 def _exponents(table, orbits, collisions, every, seed):
-    from ..dynamics.billiard import random_states
+    from coinwall.forward.dynamics.billiard import random_states
+
     from .benettin import lyapunov_batch
 
     # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
@@ -60,7 +61,7 @@ def _exponents(table, orbits, collisions, every, seed):
 
 
 def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
-    from ..dynamics.lyapunov import default_threshold
+    from coinwall.forward.dynamics.lyapunov import default_threshold
 
     per_collision, _, _ = _exponents(table, orbits, collisions, every, seed)
     lam = per_collision[np.isfinite(per_collision)]
@@ -89,7 +90,7 @@ def _lyapunov(table, seed, orbits, collisions, every):
 
 
 def _tau(table, seed, bounces, max_lag, orbits, count):
-    from ..dynamics.correlation import correlation
+    from coinwall.forward.dynamics.correlation import correlation
 
     result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1)
     return {"tau": result.tau, "tau_stderr": result.tau_stderr, "P1": float(result.P[1]),
@@ -97,7 +98,7 @@ def _tau(table, seed, bounces, max_lag, orbits, count):
 
 
 def _splitting(table, seed, pair, cells, order):
-    from ..quantum import doublet_splitting
+    from coinwall.forward.quantum import doublet_splitting
 
     s = doublet_splitting(table.wall, table.H, table.b0, pair=pair, cells=cells, order=order)
     return {"splitting": s.direct, "splitting_flux": s.flux, "direct_trusted": float(s.direct_trusted),
@@ -223,7 +224,7 @@ def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, o
         refuses this cell's input (a table that does not open at this (ε, H), H below the diameter for a
         splitting): a finding about that cell, not a failure of the scan.
     """
-    from ..errors import CoinwallError
+    from coinwall.forward.errors import CoinwallError
 
     try:
         table = table_spec.table_at(values, H)

@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..errors import InvalidArgument
-from ..wall import Wall
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.wall import Wall
 
 __all__ = ["TableSpec"]
 
@@ -73,7 +73,7 @@ class TableSpec:
 
     def table_at(self, values: dict, H: float):
         """The :class:`~coinwall.forward.dynamics.billiard.Billiard` of a cell (H in the wall's length unit)."""
-        from ..dynamics.billiard import Billiard
+        from coinwall.forward.dynamics.billiard import Billiard
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         return Billiard(self.wall_at(values), float(H) / kappa, float(self.b0) / kappa)

@@ -6,7 +6,7 @@ Parts (each prints its numbers; nothing is asserted, this is a measurement):
 
 1. Per-cell cost of one chaotic-fraction cell (ellipse wall, ε = 3, H = 3, 100 orbits): the library's
    ``chaotic_fraction`` (Python loop over orbits in every renormalisation round) against the scan's cell
-   (:func:`coinwall.forward.scan.benettin.lyapunov_batch`, arrays), and the time spent inside the compiled
+   (:func:`coinwall.cases.scan.benettin.lyapunov_batch`, arrays), and the time spent inside the compiled
    ensemble kernel (``_run_many``, timed by wrapping ``CompiledKernel.call``).  Overhead = cell − kernel.
 2. GIL: the same cells on one worker process with 2 threads against 2 processes of 1 thread (the kernel is
    compiled without ``nogil``; if it held the GIL, 2 threads would take as long as 1).
@@ -28,12 +28,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
+from coinwall.cases.scan import TableSpec, check_options, compute_cell, scan
+from coinwall.cases.scan.benettin import lyapunov_batch
 from coinwall.forward.dynamics.billiard import Billiard, random_states
 from coinwall.forward.dynamics.kam import ELLIPSE_WALL
 from coinwall.forward.dynamics.kernel import CompiledKernel
 from coinwall.forward.dynamics.lyapunov import chaotic_fraction
-from coinwall.forward.scan import TableSpec, check_options, compute_cell, scan
-from coinwall.forward.scan.benettin import lyapunov_batch
 from coinwall.forward.wall import Wall
 
 
