@@ -16,20 +16,20 @@ pytest.importorskip("distributed")
 pytest.importorskip("xarray")
 pytest.importorskip("zarr")
 
+from benettin_loop import lyapunov_loop
+
 from coinwall.cases.scan import (
     QUANTITIES,
     TableSpec,
     cell_seed,
     check_options,
     compute_cell,
-    lyapunov_batch,
     parse_axis,
     scan,
 )
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.islands import eps_star, eps_star_star
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL, eps_star, eps_star_star
 from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
 from coinwall.forward.errors import InvalidArgument
 
@@ -102,15 +102,30 @@ def test_check_options():
 
 
 # ---------------------------------------------------------------------------------------------------- cells
-def test_lyapunov_batch_reproduces_lyapunov_many():
-    """The array bookkeeping is the same method with the same arithmetic: identical exponents (to the bit)."""
+def test_lyapunov_many_reproduces_the_per_orbit_loop():
+    """The array bookkeeping is the same method with the same arithmetic as a loop over the orbits on the
+    public API (tests/benettin_loop.py): identical exponents, times and counts (to the bit)."""
     table = Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": 3.0}), 3.0)
     states = random_states(table, 12, 5)
-    ref = lyapunov_many(table, states, 200, seed=5, workers=1)
-    per_collision, per_time, used = lyapunov_batch(table, states, 200, seed=5)
-    assert np.array_equal(per_collision, ref.per_collision)
-    assert np.array_equal(per_time, ref.per_time)
-    assert np.array_equal(used, ref.collisions)
+    result = lyapunov_many(table, states, 200, seed=5, workers=1)
+    per_collision, per_time, used, time, notes = lyapunov_loop(table, states, 200, seed=5, workers=1)
+    assert np.array_equal(result.per_collision, per_collision)
+    assert np.array_equal(result.per_time, per_time)
+    assert np.array_equal(result.collisions, used)
+    assert np.array_equal(result.time, time)
+    assert result.notes == notes == ()
+
+
+def test_lyapunov_many_notes_orbits_that_stop_as_the_loop_does():
+    """A stick (flat walls) in an open channel: orbits that fly parallel to the walls stop early; the notes
+    name them and why, as the per-orbit loop's do, and their exponents are NaN."""
+    table = Billiard(Wall.from_expression("1 + 0*t"), 3.0)
+    states = np.array([[0.1, 1.5, 1.0, 0.3], [0.2, 1.5, 1.0, 0.0], [0.3, 1.4, 0.2, 1.0]])
+    result = lyapunov_many(table, states, 40, seed=1, workers=1)
+    per_collision, _, used, _, notes = lyapunov_loop(table, states, 40, seed=1, workers=1)
+    assert result.notes == notes and len(notes) >= 1 and notes[0].startswith("orbit 1: free flight")
+    assert np.array_equal(np.isnan(result.per_collision), np.isnan(per_collision))
+    assert np.isnan(result.per_collision[1]) and np.array_equal(result.collisions, used)
 
 
 def test_chaotic_fraction_cell_equals_library():

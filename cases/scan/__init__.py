@@ -2,13 +2,12 @@
 per cell, written cell by cell into an xarray/Zarr store that a restarted scan resumes.
 
 One module per step: :mod:`.grid` (axes, cells, per-cell seeds), :mod:`.table` (the table as data a worker
-rebuilds), :mod:`.benettin` (the ensemble's Lyapunov exponents with array bookkeeping),
-:mod:`.quantities` (the per-cell functions), :mod:`.store` (the Zarr store), :mod:`.driver` (the dask map),
-:mod:`.islands` (the closed-form ε*(H), ε**(H) of the ellipse wall) and :mod:`.figures`.  dask, xarray and
+rebuilds), :mod:`.quantities` (the per-cell functions, calling the library), :mod:`.store` (the Zarr
+store), :mod:`.driver` (the dask map) and :mod:`.figures` (with the closed-form ε*(H), ε**(H) of
+:mod:`coinwall.forward.dynamics.islands`).  dask, xarray and
 zarr are imported only when a scan runs (the ``scan`` extra).
 """
 
-from .benettin import lyapunov_batch
 from .driver import ScanResult, make_axes, scan
 from .grid import Axis, cell_seed, parse_axis
 from .quantities import QUANTITIES, Quantity, check_options, compute_cell
@@ -23,7 +22,6 @@ __all__ = [
     "cell_seed",
     "check_options",
     "compute_cell",
-    "lyapunov_batch",
     "make_axes",
     "parse_axis",
     "scan",

@@ -88,7 +88,7 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     curves : bool
         Draw 1/H + 17/H², ε*(H) and ε**(H) (only for the ellipse wall scanned over ``eps``).
     """
-    from coinwall.forward.dynamics.kam import ELLIPSE_WALL
+    from coinwall.forward.dynamics.islands import ELLIPSE_WALL
     from coinwall.forward.formats.figure import axes_or_new
 
     variable = variable or _main_variable(dataset)

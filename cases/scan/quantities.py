@@ -7,8 +7,7 @@ returns a dict of floats.  The same arguments give the same numbers on any worke
 
 ============================ ===================================================================================
 ``chaotic-fraction``         share of ``orbits`` Liouville-random orbits with λ/collision > 3 ln N/N over N =
-                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`, with the
-                             bookkeeping in arrays: :func:`.benettin.lyapunov_batch`, identical numbers)
+                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`'s numbers)
 ``lyapunov``                 mean, spread and median of λ over ``orbits`` orbits, per collision and per unit time
 ``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.correlation.correlation`)
 ``splitting``                the lowest heads–tails doublet's splitting
@@ -52,12 +51,12 @@ class Quantity:
 
 def _exponents(table, orbits, collisions, every, seed):
     from coinwall.forward.dynamics.billiard import random_states
-
-    from .benettin import lyapunov_batch
+    from coinwall.forward.dynamics.lyapunov import lyapunov_many
 
     # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
     states = random_states(table, orbits, seed)
-    return lyapunov_batch(table, states, collisions, every, seed=seed, threads=1)
+    result = lyapunov_many(table, states, collisions, every, seed=seed, workers=1)
+    return result.per_collision, result.per_time, result.collisions
 
 
 def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):

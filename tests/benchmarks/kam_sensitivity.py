@@ -7,7 +7,7 @@ Run:  PYTHONPATH=. python tests/benchmarks/kam_sensitivity.py [--quick] [--H 2,3
 Full run: ~6 min per H value on 2 shared cores (default H = 2,3: 656 s wall, 930 s CPU); ``--quick`` (smaller samples,
 coarser bisection) ~1 min per H, for checking that the script runs, not for numbers.
 
-The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.kam.ELLIPSE_WALL``).
+The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.islands.ELLIPSE_WALL``).
 The criterion of :func:`coinwall.forward.dynamics.kam.kam_boundary`: ``orbits`` Liouville-random orbits, each classified
 regular when its Lyapunov exponent per collision over N = ``collisions`` collisions is ≤ 3 ln N / N
 (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`); fully chaotic when the regular fraction is < ``regular_max``.
@@ -76,7 +76,8 @@ if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
 from coinwall.forward.dynamics.billiard import Billiard, simulate  # noqa: E402
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL, kam_boundary, paper_boundary  # noqa: E402
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL, paper_boundary  # noqa: E402
+from coinwall.forward.dynamics.kam import kam_boundary  # noqa: E402
 from coinwall.forward.dynamics.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many  # noqa: E402
 from coinwall.forward.dynamics.poincare import poincare_section  # noqa: E402
 from coinwall.forward.wall import Wall  # noqa: E402
