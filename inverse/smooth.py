@@ -1,4 +1,11 @@
-"""``solve_body``: wall function + offset → body outline, verified through the forward wall."""
+"""The smooth solver's toolbox: the body of a wall known everywhere, and the checks of a solved body.
+
+:func:`solve_smooth` runs the envelope or polar construction (:data:`METHODS`) on a grid of normal angles
+and checks the outline against the wall on a second grid; :func:`shape_check`, :func:`outline_support` and
+:func:`body_warnings` are the checks every solved body gets (the sampled path of :mod:`.sampled` uses them
+too).  :func:`coinwall.inverse.solve.solve_body` chooses the path.  The tolerances are those of
+:mod:`.tolerances`.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +15,6 @@ import time
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.errors import InvalidArgument, InvalidWall
 from coinwall.forward.outline import support_function
 
 from .body import Body
@@ -16,15 +22,10 @@ from .corners import Corner, corner_deficit
 from .critical import critical_offset, regime_of
 from .envelope import envelope_nodes
 from .polar import polar_nodes
-from .support import check_offset, check_points, sample_support
+from .support import sample_support
+from .tolerances import AREA_TOLERANCE, DEFICIT_TOLERANCE, DIRECTION_TOLERANCE, WALL_ACCURACY
 
-__all__ = ["DEFAULT_POINTS", "METHODS", "MIN_BODY_SIZE", "WALL_ACCURACY", "body_warnings", "outline_support",
-           "shape_check", "solve_body", "solve_smooth"]
-
-DEFAULT_POINTS = 1024
-#: Largest wall error and solver disagreement (relative to the wall's scale) of a formula wall's body
-#: that still counts as the answer; above it the body carries a warning.
-WALL_ACCURACY = 1e-6
+__all__ = ["METHODS", "body_warnings", "outline_support", "shape_check", "solve_smooth"]
 
 
 def _envelope(wall, b0, points, regime, samples=None):
@@ -53,67 +54,6 @@ def _check_grid(n_nodes, windows, offset):
     return theta, keep
 
 
-def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int = DEFAULT_POINTS,
-               cross_check: bool = False) -> Body:
-    """Solve the inverse problem: the body whose wall is ``b0 + b(θ)``.
-
-    Parameters
-    ----------
-    wall : forward.Wall
-        The prescribed wall function.
-    b0 : float
-        Offset added to the wall (the paper's ``b0``).
-    method : {"envelope", "polar"}
-        ``"envelope"`` (default: exact Legendre construction, fastest and most
-        accurate) or ``"polar"`` (the paper's equation for R(α) with branch
-        tracking).
-    points : int
-        Number of outline nodes (uniform in the normal angle for ``envelope``,
-        in the polar angle for ``polar``); corners and kinks add nodes.
-    cross_check : bool
-        Also run the other method and report the largest difference of the two
-        bodies' walls in :attr:`Body.cross_check`.
-
-    Returns
-    -------
-    Body
-        Below the critical offset (``regime == "corner"``) the largest convex
-        body whose wall never exceeds the prescribed one, with its corners.
-
-    Raises
-    ------
-    InvalidArgument, InvalidParameter, InvalidWall
-        For an unknown method, a bad resolution, a non-finite offset, or an
-        offset for which the centre of mass would lie outside the body.
-    """
-    started = time.perf_counter()
-    if method not in METHODS:
-        raise InvalidArgument(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
-    b0 = check_offset(b0, wall.scale)
-    points = check_points(points)
-    _check_size(wall, b0)
-    if wall.samples is not None:
-        from .sampled import solve_samples
-
-        return solve_samples(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
-    return solve_smooth(wall, b0, method=method, points=points, cross_check=cross_check, started=started)
-
-
-#: Smallest ``max(b0 + b)`` a body is solved for (units of κ).  Every body reaches at least κ from its
-#: centre of mass (κ² = J/M ≤ R_max²), and the solvers' tolerances are absolute near 1e-9 κ: a body
-#: below 1e-6 κ is unphysical and lost in them (1e-300·cos t gave NaN in the polar solver).
-MIN_BODY_SIZE = 1e-6
-
-
-def _check_size(wall, b0):
-    values = wall.samples[1] if wall.samples is not None else wall(np.linspace(0.0, TWO_PI, 256, endpoint=False))
-    top = b0 + float(np.max(values))
-    if b0 + float(np.min(values)) >= 0 and top < MIN_BODY_SIZE:  # (below 0: the centre-of-mass check speaks)
-        raise InvalidWall(f"b0 + b(θ) is at most {top:.3g}: the body would be smaller than {MIN_BODY_SIZE:g} κ, "
-                          "but every body reaches at least κ from its centre of mass (κ² = J/M ≤ R_max²); "
-                          "give the wall in units of κ")
-
-
 def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float,
                  accuracy: float | None = None) -> Body:
     """The body of a wall known everywhere (a formula, or data shown to be smooth): the envelope or
@@ -135,7 +75,7 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
 
     corners = []
     widths = nodes.window_widths()
-    for i in np.flatnonzero(widths > 1e-9):
+    for i in np.flatnonzero(widths > DIRECTION_TOLERANCE):
         px, py = nodes.x[i]
         lo, hi = float(nodes.phi_in[i]), float(nodes.phi_out[i])
         deficit, where = corner_deficit(wall, b0, nodes.x[i], lo, hi)
@@ -146,11 +86,11 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
         corners.append(Corner(direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
                               deficit, (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
                               where))
-    deficit_windows = [c.window for c in corners if c.max_deficit > 1e-10 * wall.scale]
+    deficit_windows = [c.window for c in corners if c.max_deficit > DEFICIT_TOLERANCE * wall.scale]
 
     area = outline.area
     notes = []
-    if area <= 1e-12 * scale**2:
+    if area <= AREA_TOLERANCE * scale**2:
         # a segment (the stick) has no interior; shapely calls such a polygon invalid
         valid, convex = True, True
         notes.append("the body is a segment (zero area)")
@@ -175,7 +115,8 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
 
     rho_in, rho_out = nodes.rho_in, nodes.rho_out
     with np.errstate(divide="ignore"):
-        curvature = np.where((widths > 1e-9) | (np.minimum(rho_in, rho_out) <= 0), np.inf, 1.0 / rho_out)
+        curvature = np.where((widths > DIRECTION_TOLERANCE) | (np.minimum(rho_in, rho_out) <= 0), np.inf,
+                             1.0 / rho_out)
     x, y = nodes.x[:, 0], nodes.x[:, 1]
     com_inside = lowest > 0  # on the check grid and the construction grid
     if not com_inside:

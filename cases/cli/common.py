@@ -10,7 +10,6 @@ import re
 import sys
 
 __all__ = [
-    "ANGLE_TOLERANCE",
     "add_command",
     "check_body_finite",
     "check_positive_count",
@@ -34,10 +33,8 @@ __all__ = [
 _INTEGER = re.compile(r"[+-]?[0-9]+")
 from coinwall.forward.validation import DECIMAL as _DECIMAL  # noqa: E402 (the one number grammar)
 
-#: How far from the true angle ``critical_offset`` may report the minimum of b + b'': its docstring
-#: says ~1e-8 rad (the minimum is flat, so Brent's search stops within about sqrt(machine epsilon)
-#: of it; 1.12e-8 for the ellipse wall at θ = 0).  Ten times that is what a reader should read as 0.
-ANGLE_TOLERANCE = 1e-7
+#: How far from the true angle ``critical_offset`` may report the minimum of b + b'' (read as 0)
+from coinwall.inverse.tolerances import ANGLE_TOLERANCE  # noqa: E402
 
 
 def add_command(subparsers, name, *, help, description, example):

@@ -221,8 +221,8 @@ def cases(request: dict) -> dict:
 def _bc_text(wall, result) -> str:
     """b_c at its precision: the digits down to its tolerance (`coinwall critical`'s rule), so the coin's
     b_c = −1/100 prints as -0.01, not -0.0099999999999999."""
-    from coinwall.cases.cli.solve import OFFSET_TOLERANCE
     from coinwall.forward.display import format_number
+    from coinwall.inverse.tolerances import OFFSET_TOLERANCE
 
     if not math.isfinite(result.b_c):
         return "inf"
