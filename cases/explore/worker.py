@@ -25,6 +25,8 @@ import multiprocessing
 import re
 import threading
 
+from coinwall.forward.display import one_line
+
 __all__ = ["JobError", "Superseded", "Worker", "page_words"]
 
 
