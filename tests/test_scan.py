@@ -275,10 +275,12 @@ def cli():
     return main
 
 
-def test_cli_quantity_names_match_library():
-    from coinwall.cases.cli.scan import QUANTITY_NAMES
+def test_cli_quantity_choices_are_the_library_table():
+    """QUANTITY offers the library's QUANTITIES, read from the library when the command runs."""
+    from coinwall.cases.cli.parser import build_parser
 
-    assert QUANTITY_NAMES == tuple(QUANTITIES)
+    action = next(a for a in build_parser().commands["scan"]._actions if a.dest == "quantity")
+    assert list(action.choices) == list(QUANTITIES) and "tau" in action.choices and "magic" not in action.choices
 
 
 def test_cli_scan_json_figure_and_refusals(cli, tmp_path, capsys):

@@ -8,8 +8,10 @@ import math
 import os
 import re
 import sys
+from collections.abc import Sequence
 
 __all__ = [
+    "LibraryChoices",
     "add_command",
     "check_body_finite",
     "check_positive_count",
@@ -35,6 +37,43 @@ from coinwall.forward.validation import DECIMAL as _DECIMAL  # noqa: E402 (the o
 
 #: How far from the true angle ``critical_offset`` may report the minimum of b + b'' (read as 0)
 from coinwall.inverse.tolerances import ANGLE_TOLERANCE  # noqa: E402
+
+
+class LibraryChoices(Sequence):
+    """The names of a table of the library (``QUANTITIES``, ``METHODS``), read on first use.
+
+    argparse checks a value against ``choices`` and lists them in a usage error, but ``coinwall --help``
+    builds every subcommand's parser and reads none of them: the table's module (and numpy, which it
+    imports) is loaded only when a command that has the option runs or shows its own help.  Give the
+    argument a ``metavar``: argparse would otherwise list the choices while the parser is built.
+
+    Parameters
+    ----------
+    module : str
+        The module that defines the table, e.g. ``"coinwall.cases.scan.quantities"``.
+    table : str
+        The table's name in it (its keys are the choices, in its order).
+    """
+
+    def __init__(self, module: str, table: str):
+        self.module, self.table = module, table
+        self._names = None
+
+    def _load(self) -> tuple:
+        if self._names is None:
+            import importlib
+
+            self._names = tuple(getattr(importlib.import_module(self.module), self.table))
+        return self._names
+
+    def __getitem__(self, index):
+        return self._load()[index]
+
+    def __len__(self) -> int:
+        return len(self._load())
+
+    def __contains__(self, value) -> bool:
+        return value in self._load()
 
 
 def add_command(subparsers, name, *, help, description, example):

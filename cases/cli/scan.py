@@ -7,7 +7,7 @@ import os
 import shlex
 import sys
 
-from .common import add_command, check_seed, count, number, progress_bar, written_lines
+from .common import LibraryChoices, add_command, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -29,8 +29,6 @@ EXAMPLE = """\
 coinwall scan chaotic-fraction "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.5:30:16log --H 2:8:13 -o kam.zarr --figure kam.png
 coinwall scan tau "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 2.1:3:7 --bounces 100000 -o tau.zarr --figure tau.png"""
 
-#: the quantities of coinwall.cases.scan.QUANTITIES (written out: --help must not import numpy; a test compares)
-QUANTITY_NAMES = ("chaotic-fraction", "lyapunov", "tau", "splitting")
 #: quantity options: flag dest -> library option name (each applies to some quantities; others are refused)
 _OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order")
 
@@ -39,7 +37,8 @@ def register(subparsers):
     """Add the ``scan`` subcommand."""
     scan = add_command(subparsers, "scan", help="a quantity on a grid of (parameter, H) on dask.distributed, "
                        "resumable, into a Zarr store", description=DESCRIPTION, example=EXAMPLE)
-    scan.add_argument("quantity", choices=QUANTITY_NAMES, metavar="QUANTITY", help=", ".join(QUANTITY_NAMES))
+    scan.add_argument("quantity", choices=LibraryChoices("coinwall.cases.scan.quantities", "QUANTITIES"),
+                      metavar="QUANTITY", help="%(choices)s")
     scan.add_argument("wall", help="wall b(θ): an expression in t, case:NAME, or a .csv/.json wall file "
                                    "(only an expression's parameters can be scanned)")
     scan.add_argument("--param", action="append", default=[], metavar="NAME=VALUES",

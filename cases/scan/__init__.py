@@ -8,21 +8,7 @@ store), :mod:`.driver` (the dask map) and :mod:`.figures` (with the closed-form 
 zarr are imported only when a scan runs (the ``scan`` extra).
 """
 
-from .driver import ScanResult, make_axes, scan
-from .grid import Axis, cell_seed, parse_axis
-from .quantities import QUANTITIES, Quantity, check_options, compute_cell
-from .table import TableSpec
+from coinwall._lazy import attach_stub
 
-__all__ = [
-    "QUANTITIES",
-    "Axis",
-    "Quantity",
-    "ScanResult",
-    "TableSpec",
-    "cell_seed",
-    "check_options",
-    "compute_cell",
-    "make_axes",
-    "parse_axis",
-    "scan",
-]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)
