@@ -1,6 +1,6 @@
 """Benchmark of the billiard kernel against a simple conservative-advancement stepper.
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count]
+Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count]
 
 The baseline is written for this benchmark and compiled with numba like the kernel, with
 the same exactness goal: it advances by the *global* Lipschitz bound

@@ -1,6 +1,6 @@
 """Benchmark of the field kernel per collision against the field-free billiard kernel.
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_toss.py [--collisions N] [--rounds R]
+Run:  python tests/benchmarks/bench_toss.py [--collisions N] [--rounds R]
 
 Same wall (the coin, ε = 99), same strip (H = 3), same start, one thread, compile time excluded (one
 warm-up run each); best of R rounds.  Three lines: the billiard kernel; the field kernel with g = 0, e = 1
