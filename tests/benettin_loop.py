@@ -4,7 +4,7 @@ One Python loop over the orbits in every renormalisation round, built on the pub
 round :func:`~coinwall.forward.dynamics.billiard.ensemble` follows each orbit and its companion (checking
 every state), and each orbit's state at t* is found from its own :class:`Trajectory` with
 ``searchsorted``.  This was the library's implementation before the bookkeeping moved into arrays; it
-stays here so that the array version is compared with an independent loop (tests/test_scan.py and
+stays here so that the array version is compared with an independent loop (tests/cases/scan/test_scan.py and
 tests/benchmarks/bench_scan.py, which times both).
 """
 

@@ -9,7 +9,7 @@ list, or an ellipse given by its semi-axes and centre) rotated into the lab
 frame, finds the first instant at which the lowest (highest) point of the
 body reaches the floor (ceiling), and applies the impulse computed from the
 actual contact point, lever arm included (paper eq. 2 and 13), with
-restitution 1 along the wall normal.  ``tests/test_rigidbody.py`` holds it to
+restitution 1 along the wall normal.  ``tests/forward/dynamics/test_rigidbody.py`` holds it to
 the billiard of :mod:`.billiard`; ``docs/equivalence.md`` derives why
 they must agree.
 
