@@ -30,14 +30,14 @@ if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 sys.path.insert(0, os.path.join(ROOT, "tests"))  # the per-orbit loop, tests/benettin_loop.py
 
+from benettin_loop import lyapunov_loop  # noqa: E402
+
 from coinwall.cases.scan import TableSpec, check_options, compute_cell, scan
 from coinwall.forward.dynamics.billiard import Billiard, random_states
 from coinwall.forward.dynamics.islands import ELLIPSE_WALL
 from coinwall.forward.dynamics.kernel import CompiledKernel
 from coinwall.forward.dynamics.lyapunov import lyapunov_many
 from coinwall.forward.wall import Wall
-
-from benettin_loop import lyapunov_loop  # noqa: E402
 
 
 def log(*text):
