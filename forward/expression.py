@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     import casadi
 from .display import safe_repr
 
-__all__ = ["ParsedExpression", "check_ascii", "parse_expression", "parse_param", "parse_params"]
+__all__ = ["ParsedExpression", "check_ascii", "check_one_line", "parse_expression", "parse_param", "parse_params"]
 
 MAX_LENGTH = 2000
 MAX_NODES = 1000
@@ -311,6 +311,32 @@ class _Translator:
         self.fail(f"{kind} {self.segment(node)} is not allowed", allowed=True)
 
 
+_TRAILING_COMMA = re.compile(r",\s*\)")
+
+
+def check_one_line(source: str, what: str = "expression") -> str:
+    """Refuse what Python's parser would take but the expression grammar does not: an expression is one line.
+
+    No line breaks or other control characters (a tab is a blank), no comment (``#`` would silently drop
+    the rest of the line: ``1 + 0.1*cos(t) # + 0.2*cos(3*t)``), no backslash continuation, and no empty item
+    in an argument list (``max(t, 1,)``): list items are never empty, as in every list coinwall reads.
+    """
+    for column, char in enumerate(source, start=1):
+        if (ord(char) < 32 and char != "\t") or ord(char) == 127:
+            kind = "a line break" if char in "\n\r" else f"control character {char!r}"
+            raise InvalidExpression(f"{what} {_show(source)}: {kind} at column {column}; an expression is one line")
+        if char == "#":
+            raise InvalidExpression(f"{what} {_show(source)}: '#' at column {column} is not allowed (no comments in "
+                                    "an expression: the rest of the line would be ignored)")
+        if char == "\\":
+            raise InvalidExpression(f"{what} {_show(source)}: '\\' at column {column} is not allowed (no line "
+                                    "continuations: an expression is one line)")
+    match = _TRAILING_COMMA.search(source)
+    if match:
+        raise InvalidExpression(f"{what} {_show(source)}: empty argument after ',' at column {match.start() + 1}")
+    return source
+
+
 def _parse_tree(text: str, source: str) -> ast.Expression:
     """Parse ``source`` and refuse pathological size or nesting before the recursive walk."""
     try:
@@ -376,6 +402,7 @@ def parse_expression(text: str, params: Mapping[str, float] | None = None) -> Pa
     values = {_check_name(name): _check_value(name, value) for name, value in params.items()}
     source = text.strip()  # a leading blank would be an IndentationError
     check_ascii(source)
+    check_one_line(source)
     if not source:
         raise InvalidExpression(f"expression {_show(text)} is empty; give a wall such as '1 + 0.1*cos(2*t)'")
     if len(source) > MAX_LENGTH:

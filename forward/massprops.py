@@ -142,6 +142,7 @@ def parse_density(text: str, params=None):
         raise InvalidParameter(f"parameter {clash[0]!r} is a density variable; rename it")
     source = text.strip()
     ex.check_ascii(source, "density")  # lookalike letters are refused, not folded to ASCII (see check_ascii)
+    ex.check_one_line(source, "density")
     if len(source) > ex.MAX_LENGTH:
         raise InvalidExpression(f"density expression is too long ({len(source)} characters, at most {ex.MAX_LENGTH})")
     tree = ex._parse_tree(text, source)

@@ -20,6 +20,7 @@ The contract every request is checked against (:func:`check_clean`):
 from __future__ import annotations
 
 import json
+import math
 import os
 import select
 import subprocess
@@ -171,7 +172,11 @@ BAD_WALLS = ["", " ", "(", ")", "sin(", "1+", "t**", "1/0", "nan", "inf", "-inf"
              "sqrt(-1-cos(t))", "2+tan(t)", "1/cos(t)", "x+cos(t)", "__import__('os').system('true')",
              "().__class__", "lambda: 1", "t if t else 1", "[1, 2]", "1; 2", "ｓｉｎ(t)+2", "2+𝐭", "0x10+cos(t)",
              "1_0+cos(t)", "2+cos(t" + ")" * 3, "1+0.1*sqrt(1-1e-9-cos(t-1.2358771881065316))",
-             "1e308*cos(t)+1e308", "(" * 100000 + "1" + ")" * 100000]
+             "1e308*cos(t)+1e308", "(" * 100000 + "1" + ")" * 100000,
+             # one grammar: an expression is one line -- no comment, continuation or empty argument
+             "1+0.1*cos(t) # +0.2*cos(3*t)", "1+\\\n0.1*cos(t)", "(1+0.1\n*cos(t))", "1+0.1*cos(t,)", "max(t,1,)+1",
+             # walls that jump: no b_c exists
+             "1+0.1*cos(t)/abs(cos(t))", "2+sign(sin(t))"]
 # walls that may be valid or not, but must never crash anything: long, deep, steep, tiny, huge
 ODD_WALLS = ["(" * 200 + "1" + ")" * 200, "2+" + "+".join(["cos(t)"] * 2000), "1+0.999999*cos(2*t)/3",
              "1e-300+0*t", "1e300+cos(t)", "-cos(t)+2", "abs(cos(t))+1", "1+0.1*sign(cos(t))", "exp(50*cos(t))",
@@ -319,6 +324,12 @@ def hostile_files(folder) -> dict:
     put("nothing.svg", '<svg xmlns="http://www.w3.org/2000/svg"/>', "SVG with no shape")
     put("badkappa.json", json.dumps({"outline": [[1, 0], [0, 1], [-1, 0], [0, -1]], "kappa": -3}),
         "body JSON with kappa -3")
+    # one grammar and one degrees check for every sample format
+    degrees = list(range(0, 360, 2))
+    put("degrees.json", json.dumps({"theta": degrees, "b": [1 + 0.1 * math.cos(math.radians(d)) for d in degrees]}),
+        "JSON samples in degrees, not marked as such")
+    put("underscore.csv", "theta,b\n" + "".join(f"{k / 10},1_0\n" for k in range(60)), "CSV with 1_0")
+    put("fullwidth.csv", "theta,b\n" + "".join(f"{k / 10},\uff11\n" for k in range(60)), "CSV with fullwidth digits")
     os.mkdir(os.path.join(folder, "folder.csv"))
     files["folder.csv"] = "a folder"
     files["missing.csv"] = "a file that does not exist"

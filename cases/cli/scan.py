@@ -17,8 +17,10 @@ cell by cell, into the Zarr store RESULT (read it with xarray.open_zarr; docs/sc
 
 QUANTITY: chaotic-fraction (share of Liouville-random orbits with λ/collision > 3 ln N/N), lyapunov
 (mean λ over orbits), tau (decay time of P(n)), splitting (lowest heads–tails doublet of the quantum
-coin).  Axes: --param NAME=LIST|START:STOP:N[log] scans a parameter of the wall expression
-(--param NAME=VALUE fixes one), --H LIST|START:STOP:N is required; e.g. eps=0.5:30:20log, H=2,3,4.
+coin), toss (the toss that lands on a floor: outcome shares, bias and bounces under a Gaussian hand;
+scan --param restitution=LIST with --H as the launch height, i.e. the toss energy).
+Axes: --param NAME=LIST|START:STOP:N[log] scans a parameter of the wall expression (--param
+NAME=VALUE fixes one), --H LIST|START:STOP:N is required; e.g. eps=0.5:30:20log, H=2,3,4.
 Each cell has its own seed, from --seed and the cell's coordinates: the arrays do not depend on
 the number of workers.  Started again with the same command, a scan computes only the cells that
 are missing (a killed scan loses only the cells it was computing); a store made with other options
@@ -27,10 +29,12 @@ tcp://HOST:PORT uses a running cluster whose workers have coinwall installed."""
 
 EXAMPLE = """\
 coinwall scan chaotic-fraction "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.5:30:16log --H 2:8:13 -o kam.zarr --figure kam.png
-coinwall scan tau "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 2.1:3:7 --bounces 100000 -o tau.zarr --figure tau.png"""
+coinwall scan tau "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 2.1:3:7 --bounces 100000 -o tau.zarr --figure tau.png
+coinwall scan toss "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --param restitution=0.3:0.9:7 --H 1.2:6:9 -o toss.zarr --figure toss.png"""
 
 #: quantity options: flag dest -> library option name (each applies to some quantities; others are refused)
-_OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order")
+_OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order",
+            "tosses", "g", "v0", "omega0", "spread", "impacts")
 
 
 def register(subparsers):
@@ -63,6 +67,13 @@ def register(subparsers):
     group.add_argument("--pair", type=count, default=None, help="doublet index, 0 = lowest (splitting)")
     group.add_argument("--cells", type=count, default=None, help="mesh rows across the strip (splitting)")
     group.add_argument("--order", type=count, default=None, help="element degree 2..4 (splitting)")
+    group.add_argument("--tosses", type=count, default=None, help="tosses per cell (toss; default 2000)")
+    group.add_argument("--g", type=number, default=None, help="field in κ/s² (toss; default 1)")
+    group.add_argument("--v0", type=number, default=None, help="launch velocity, κ/s (toss; default 2)")
+    group.add_argument("--omega0", type=number, default=None, help="launch spin, rad/s (toss; default 5)")
+    group.add_argument("--spread", type=number, default=None,
+                       help="relative standard deviation of the hand's v0 and ω0 (toss; default 0.02)")
+    group.add_argument("--impacts", type=count, default=None, help="impacts per toss at most (toss; default 10000)")
     scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
     scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",
                       help="'local' (default): a local cluster made for this scan; 'synchronous': every cell in this "

@@ -30,10 +30,15 @@ energy below the barrier of the floor's valley it is in, or the bounces dying ou
 limit).  With --catch it is caught the first time it meets the floor (Keller's coin).  Reports the
 basin map of the outcome over the grid --v0 × --omega (heads/tails for a coin, else the rest state
 by its angle), the number of floor impacts it took, and with --spread the probability of each
-outcome under a Gaussian spread of (v0, ω0) with its standard error."""
+outcome under a Gaussian spread of (v0, ω0) with its standard error.  With --uncertainty it reports
+instead the uncertainty exponent α of the basin boundary (Grebogi, Ott and Yorke) over the box of
+--v0 × --omega: the share f(ε) of launches whose outcome changes when moved by ±ε (a fraction of
+the box's sides, in a random direction), fitted to f ∝ ε^α (α = 1 for a smooth boundary, less for
+a fractal one; --samples launches per ε)."""
 
 EXAMPLE = ('coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:300 --omega 0:8:300 -o basin.png\n'
-           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --spread 2,5,0.05,0.2 --samples 20000 --seed 1')
+           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --spread 2,5,0.05,0.2 --samples 20000 --seed 1\n'
+           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:2 --omega 0:8:2 --uncertainty 1e-6:1e-2:5')
 
 
 def _grid(text: str):
@@ -55,7 +60,20 @@ def _spread(text: str):
     return parts
 
 
+def _epsilons(text: str):
+    """``LO:HI:N`` -> N log-spaced ε from LO to HI, in (0, 0.1]."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise ValueError(text)
+    lo, hi = number(parts[0]), number(parts[1])
+    n = count(parts[2])
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi <= 0.1 and 2 <= n <= 50):
+        raise ValueError(text)
+    return lo, hi, n
+
+
 _grid.__name__ = "grid LO:HI:N (N up to 4096)"
+_epsilons.__name__ = "epsilons LO:HI:N (0 < LO < HI <= 0.1, 2 <= N <= 50)"
 _spread.__name__ = "spread V0,OMEGA0,SIGMA_V0,SIGMA_OMEGA0"
 
 
@@ -86,8 +104,12 @@ def register(subparsers):
                         help="follow tosses that come to slide on a smooth floor until they lift off (slow)")
     parser.add_argument("--spread", type=_spread, default=None, metavar="V0,OMEGA0,SV,SW",
                         help="instead of the map: outcome fractions for (v0, ω0) ~ Gaussian(mean, sigma)")
-    parser.add_argument("--samples", type=count, default=10_000, help="draws for --spread (default 10000)")
-    parser.add_argument("--seed", type=count, default=None, help="seed of the --spread draws")
+    parser.add_argument("--uncertainty", type=_epsilons, default=None, metavar="LO:HI:N",
+                        help="instead of the map: the uncertainty exponent of the outcome over the --v0 × --omega box, "
+                             "from N log-spaced ε between LO and HI (fractions of the box's sides)")
+    parser.add_argument("--samples", type=count, default=10_000,
+                        help="draws for --spread, launches per ε for --uncertainty (default 10000)")
+    parser.add_argument("--seed", type=count, default=None, help="seed of the --spread or --uncertainty draws")
     parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="basin map: figure (.png, .svg, .pdf), .csv (v0,omega0,outcome,name,bounces) or .json "
@@ -116,6 +138,8 @@ def _cmd_toss(args):
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     if args.spread is not None and args.output:
         raise InvalidArgument("-o writes the basin map; --spread prints fractions only (drop one of them)")
+    if args.uncertainty is not None and (args.output or args.spread is not None):
+        raise InvalidArgument("--uncertainty prints the exponent only: drop -o and --spread")
     for name, value in (("--g", args.g), ("--e", args.e), ("--b0", args.b0), ("--H", args.H),
                         ("--height", args.height), ("--theta0", args.theta0)):
         if value is not None and not math.isfinite(value):
@@ -150,6 +174,8 @@ def _cmd_toss(args):
             print(f"table      {table!r}")
             print(f"spread     {spread!r}")
         return 0
+    if args.uncertainty is not None:
+        return _uncertainty(args, table, height, g)
     v = np.linspace(*args.v0[:2], args.v0[2])
     w = np.linspace(*args.omega[:2], args.omega[2])
     bar = progress_bar(args, v.size * w.size, "toss")
@@ -183,4 +209,30 @@ def _cmd_toss(args):
         print(f"bounces    mean {summary['mean_bounces']:.3g} floor impacts before the outcome was decided")
         for line in written_lines(written, written.replaced):
             print(line)
+    return 0
+
+
+def _uncertainty(args, table, height, g):
+    import numpy as np
+
+    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.errors import InvalidArgument
+
+    if not (args.v0[1] > args.v0[0] and args.omega[1] > args.omega[0]):
+        raise InvalidArgument(f"--uncertainty needs a box: --v0 and --omega must have LO < HI, got "
+                              f"{args.v0[0]:g}:{args.v0[1]:g} and {args.omega[0]:g}:{args.omega[1]:g}")
+    lo, hi, n = args.uncertainty
+    eps = np.geomspace(lo, hi, n)
+    result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
+                                  theta0=args.theta0, seed=args.seed if args.seed is not None else 0,
+                                  impacts=args.impacts, catch=args.catch, workers=args.workers)
+    if args.json:
+        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param, g=g, height=height),
+                         indent=1, allow_nan=False))
+        return 0
+    print(f"table      {table!r}")
+    print(f"exponent   {result!r}")
+    print("epsilon        uncertain fraction")
+    for e, f, c in zip(result.epsilons, result.fractions, result.counts):
+        print(f"{e:<14.4g} {f:.5f}  ({c} of {result.samples})")
     return 0

@@ -26,7 +26,7 @@ from coinwall.forward.display import json_number
 
 __all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
            "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "crash", "export",
-           "field", "free_names", "get_wall", "realize", "table", "upload", "wall_info"]
+           "field", "free_names", "get_wall", "number", "realize", "table", "upload", "wall_info"]
 
 #: the case the page opens on: the paper's Appendix wall (ellipse ε = 1), b_c = −1/2, at b0 = −0.3 (convex)
 CASE_DEFAULT = "appendix-convex"
@@ -60,6 +60,31 @@ def field(name: str):
             with contextlib.suppress(AttributeError, TypeError):
                 exc.explore_field = name
         raise
+
+
+_MISSING = object()
+
+
+def number(spec: dict, key: str, default=_MISSING) -> float:
+    """The finite number ``spec[key]`` (``default`` when absent or null): a JSON number, never text or a truth value.
+
+    The page sends numbers as JSON numbers; the command line's grammar for text (ASCII decimals) is not
+    re-implemented here because text is simply refused: ``"3_0"``, ``"３"`` or ``"0x1"`` would each have
+    been read by Python's ``float`` (as 30, 3 and an error), and ``true`` as 1.
+    """
+    from coinwall.forward.errors import InvalidArgument
+
+    value = spec.get(key)
+    if value is None:
+        if default is _MISSING:
+            raise InvalidArgument(f"`{key}` is missing; give a number")
+        return default
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InvalidArgument(f"`{key}` must be a number, got {value!r}"[:200])
+    value = float(value)  # the JSON reader caps numbers at 100 characters: no overflow here
+    if not math.isfinite(value):
+        raise InvalidArgument(f"`{key}` must be finite, got {value}")
+    return value
 
 
 def _list(values, digits=_DIGITS):
@@ -115,8 +140,12 @@ def _given_params(spec) -> dict:
 
     raw = spec.get("params") or {}
     if isinstance(raw, str):
-        items = [part.strip() for part in raw.replace(";", ",").replace("\n", ",").split(",") if part.strip()]
-        return parse_params(items, what="parameter")
+        # the command line's grammar: NAME=VALUE items separated by commas, none of them empty
+        items = [part.strip() for part in raw.split(",")]
+        if raw.strip() and not all(items):
+            raise InvalidParameter(f"the parameters {raw[:80]!r} have an empty item; write NAME=VALUE pairs separated "
+                                   "by single commas, e.g. eps=1, a=0.5")
+        return parse_params([item for item in items if item], what="parameter")
     if not isinstance(raw, dict):
         raise InvalidParameter("the parameters must be NAME=VALUE pairs, e.g. eps=1")
     return {str(k): v for k, v in raw.items()}
@@ -355,7 +384,7 @@ def export(spec: dict) -> dict:
             raise InvalidArgument(f"`format` must be svg, dxf or json, got {spec.get('format')!r}")
     with field("kappa"):
         kappa = spec.get("kappa")
-        kappa = None if kappa in (None, "") else float(kappa)
+        kappa = None if kappa in (None, "") else number(spec, "kappa")
         units = spec.get("units") or None
         options = ExportOptions(kappa=kappa, units=units) if kappa is not None else ExportOptions()
     _, solved = _solve(spec)
@@ -378,7 +407,11 @@ def _table(spec):
 
     wall = get_wall(spec)
     with field("H"):
-        return Billiard(wall, float(spec.get("H")), float(spec.get("b0")))
+        H = number(spec, "H")
+    with field("b0"):
+        b0 = number(spec, "b0")
+    with field("H"):
+        return Billiard(wall, H, b0)
 
 
 def beam(spec: dict) -> dict:
@@ -396,9 +429,9 @@ def beam(spec: dict) -> dict:
     with field("beam"):
         n = check_count("rays", spec.get("rays", 200), minimum=1, maximum=MAX_BEAM)
         collisions = check_count("collisions", spec.get("collisions", 30), minimum=1, maximum=MAX_BEAM_COLLISIONS)
-        spread = check_range("spread", float(spec.get("spread", 0.02)), 0.0, math.pi)
-        direction = float(spec.get("direction", 1.0))
-        theta, eta = float(spec["theta"]), float(spec["eta"])
+        spread = check_range("spread", number(spec, "spread", 0.02), 0.0, math.pi)
+        direction = number(spec, "direction", 1.0)
+        theta, eta = number(spec, "theta"), number(spec, "eta")
         angles = direction + (np.linspace(-spread, spread, n) if n > 1 else np.zeros(1))
         angles = np.concatenate([[direction], angles[:-1]]) if n > 1 else angles  # orbit 0: the centre ray
         states = np.column_stack([np.full(n, theta), np.full(n, eta), np.cos(angles), np.sin(angles)])

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 from coinwall.forward.display import safe_repr
 
-from . import checks, checks_appendix, checks_dynamics, checks_quantum
+from . import checks, checks_appendix, checks_dynamics, checks_quantum, checks_toss
 
 __all__ = ["Below", "Above", "Within", "Equals", "Claim", "REGISTRY", "CLAIMS", "judge", "render"]
 
@@ -302,6 +302,28 @@ _CLAIMS = (
           "Section III's statistics (Poincaré sections, KAM boundary eq. 20, the coin's P(n) and τ(H)) are "
           "computed by `coinwall section|kam|correlation` and tests/benchmarks/reproduce_coin.py; their "
           "numbers and verdicts are in docs/dynamics.md (too slow for this report)."),
+    # ------------------------------------------------------------------ external fields: the toss that lands
+    Claim("external-fields", "The results extend to external fields", "sec. V",
+          "can be extended to include external fields", checks_toss.external_fields,
+          {"eps": 0.3, "H": 5.0, "g": 1.0, "e": 0.97}, {"error": Below(1e-9)}, "yes",
+          "rigid body in the field g = {g:g} with restitution e = {e:g} (ellipse ε = {eps}, floor and ceiling H = "
+          "{H:g}) against the field billiard: max state difference {error:.1e} over {impacts} impacts",
+          "The field is a linear potential in η: the body is a point on parabolas in the (θ, η) strip, and "
+          "Newton's restitution at the contact point is restitution of the normal velocity in the billiard "
+          "metric (docs/toss.md). The direct rigid-body simulation in gravity agrees with the field kernel "
+          "impact by impact (restarted from the body's state at each impact: the orbit is chaotic)."),
+    Claim("casino", "Bounces randomise the outcome (the casinos' house rule)", "sec. III (end)",
+          "the bounce plays a significant role in randomizing the outcome", checks_toss.casino_bounces,
+          {"eps": 99.0, "g": 1.0, "height": 1.2, "mean": (2.0, 5.0), "sigma": (0.05, 0.2),
+           "restitutions": (0.3, 0.6, 0.9)},
+          {"caught_sigmas": Above(4.0), "bounced_sigmas": Below(3.0), "fair_found": Equals(True)}, "yes",
+          "coin ε = {eps:g} on a floor, hand (v0, ω0) = {mean} ± {sigma}, {samples} tosses: caught on landing the "
+          "heads bias is {caught_bias:+.4f} ({caught_sigmas:.1f}σ); with e = {e_last:g} it is {bounced_bias:+.4f} "
+          "± {bounced_stderr:.4f} after {bounces} floor bounces, fair to 0.01 from bounce {fair_bounce}",
+          "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor "
+          "impact and reads the face down; a toss settled before keeps its outcome. Fairness to 0.001 needs "
+          "about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. With small e the coin settles "
+          "after a few bounces and the outcome keeps the bias it had then."),
     # ------------------------------------------------------------------ section V: the announced next step
     Claim("quantum-tunnelling", "The quantum body tunnels from heads to tails", "sec. V (last paragraph)",
           "announced as a current focus; nothing computed", checks_quantum.tunnelling_doublets,

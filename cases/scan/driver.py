@@ -326,6 +326,11 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     if not isinstance(output, str) or not output.strip():
         raise InvalidArgument(f"`output` must be a path for the store, got {output!r}")
     axes = make_axes(grid, table)
+    from .table import TOSS_AXES
+
+    misplaced = sorted(set(TOSS_AXES) & ({a.name for a in axes} | {k for k, _ in table.params}))
+    if misplaced and quantity != "toss":
+        raise InvalidArgument(f"`{misplaced[0]}` is a parameter of the toss quantity, not of {quantity!r}")
     shape = tuple(len(a) for a in axes)
     total = int(np.prod(shape))
     check_memory(f"a grid of {total} cells ({_BYTES_PER_CELL:g} bytes of bookkeeping per cell)",

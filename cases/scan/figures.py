@@ -118,8 +118,9 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     if log:
         plain_log_axis(ax.yaxis)
     ax.grid(False)  # the cells are the picture
-    ax.set_xlabel(f"wall distance H ({_units(dataset['H'])})")
-    ax.set_ylabel(f"wall parameter {name} ({_units(dataset[name])})")
+    toss = dataset.attrs.get("quantity") == "toss"  # its H is the launch height; restitution is not of the wall
+    ax.set_xlabel(f"{'launch height' if toss else 'wall distance'} H ({_units(dataset['H'])})")
+    ax.set_ylabel(f"{'' if toss and name == 'restitution' else 'wall parameter '}{name} ({_units(dataset[name])})")
     done = int(np.count_nonzero(np.asarray(dataset["cell_status"].values) == 1))
     ax.set_title(f"{variable} on {p.size} {name} × {H.size} H cells ({done} computed)\n{_about(dataset)}")
     if own:

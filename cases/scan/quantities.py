@@ -12,6 +12,10 @@ returns a dict of floats.  The same arguments give the same numbers on any worke
 ``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.correlation.correlation`)
 ``splitting``                the lowest heads–tails doublet's splitting
                              (:func:`coinwall.forward.quantum.doublet_splitting`); not random
+``toss``                     the toss that lands on a floor (:func:`coinwall.forward.dynamics.toss.heads_fraction`):
+                             outcome shares under a Gaussian hand about (``v0``, ``omega0``), relative spread
+                             ``spread``, launched from the height H (κ), restitution from a ``restitution`` axis;
+                             the toss energy level is ``H + (v0² + ω0²)/(2g)``
 ============================ ===================================================================================
 """
 
@@ -105,7 +109,34 @@ def _splitting(table, seed, pair, cells, order):
             "neck_width": s.gap}
 
 
+def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
+    from coinwall.forward.dynamics.toss import UNDECIDED, _outcomes, launch_states
+
+    table = table_spec.field_table_at(values, g)
+    kappa = 1.0 if table_spec.kappa is None else float(table_spec.kappa)
+    height = float(H) / kappa
+    # the draws of dynamics.toss.heads_fraction (same seed, same order), with the bounces kept
+    rng = np.random.default_rng(seed)
+    v = rng.normal(v0, spread * abs(v0), tosses)
+    w = rng.normal(omega0, spread * abs(omega0), tosses)
+    outcome, bounces, _ = _outcomes(table, launch_states(table, v, w, height), impacts, False, 1, None)
+    names = table.landscape.names
+    heads_k = names.index("heads") if "heads" in names else 0
+    heads = float(np.mean(outcome == heads_k))
+    undecided = float(np.mean(outcome == UNDECIDED))
+    tails = 1.0 - heads - undecided
+    decided = outcome != UNDECIDED
+    n = int(decided.sum())
+    p = heads * tosses / n if n else math.nan
+    return {"heads": heads, "heads_stderr": math.sqrt(heads * (1 - heads) / tosses), "tails": tails,
+            "undecided": undecided, "bias": p - 0.5, "bias_stderr": math.sqrt(p * (1 - p) / n) if n else math.nan,
+            "mean_bounces": float(bounces[decided].mean()) if n else math.nan,
+            "level": height + (v0 * v0 + omega0 * omega0) / (2.0 * g)}
+
+
 _FUNCTIONS = {"chaotic-fraction": _chaotic_fraction, "lyapunov": _lyapunov, "tau": _tau, "splitting": _splitting}
+#: quantities whose cell function builds its own table from (table spec, values, H)
+_OWN_TABLE = {"toss": _toss}
 
 QUANTITIES = {
     "chaotic-fraction": Quantity(
@@ -141,6 +172,16 @@ QUANTITIES = {
          "wkb_action": ("1", "WKB action S through one neck (splitting ~ exp(-S))"),
          "neck_width": ("kappa", "H - D, the width of the necks")},
         {"pair": 0, "cells": 8, "order": 2}, seeded=False),
+    "toss": Quantity(
+        "toss",
+        {"heads": ("1", "share of the tosses that end heads (a coin's wall; the first valley otherwise)"),
+         "heads_stderr": ("1", "binomial standard error of heads"),
+         "tails": ("1", "share of the tosses that end tails"),
+         "undecided": ("1", "share still bouncing at the impact budget, or sliding above their barrier"),
+         "bias": ("1", "heads/(heads + tails) - 1/2"), "bias_stderr": ("1", "binomial standard error of bias"),
+         "mean_bounces": ("1", "mean floor impacts before the outcome was decided (decided tosses)"),
+         "level": ("kappa", "toss energy level E/(M g kappa) = H + (v0^2 + omega0^2)/(2g)")},
+        {"tosses": 2000, "g": 1.0, "v0": 2.0, "omega0": 5.0, "spread": 0.02, "impacts": 10_000}),
 }
 
 
@@ -158,7 +199,7 @@ def check_options(quantity: str, options: dict | None) -> dict:
         raise InvalidArgument(f"`{unknown[0]}` is not an option of {quantity!r}; its options are "
                               f"{', '.join(spec.defaults)}")
     out = {**spec.defaults, **{k: v for k, v in options.items() if v is not None}}
-    for name in ("orbits", "collisions", "every", "bounces", "max_lag", "cells"):
+    for name in ("orbits", "collisions", "every", "bounces", "max_lag", "cells", "tosses", "impacts"):
         if name in out:
             out[name] = check_count(name, out[name])
     for name in ("pair", ):
@@ -170,6 +211,15 @@ def check_options(quantity: str, options: dict | None) -> dict:
         out["threshold"] = check_positive("threshold", out["threshold"])
     if "count" in out:
         check_choice("count", out["count"], ("bottom", "all"))
+    if quantity == "toss":
+        out["g"] = check_positive("g", out["g"])
+        for name in ("v0", "omega0", "spread"):
+            value = out[name]
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
+            out[name] = float(value)
+        if not 0.0 <= out["spread"] <= 1.0:
+            raise InvalidArgument(f"`spread` must be a relative spread in [0, 1], got {out['spread']!r}")
     work = work_of(quantity, out)
     if work > MAX_CELL_WORK:  # (nan for splitting: its cost is the mesh's, bounded by `cells`)
         raise InvalidArgument(f"one cell of {quantity!r} would follow about {work:.3g} collisions, more than the "
@@ -196,6 +246,8 @@ def work_of(quantity: str, options: dict) -> float:
         return 2.0 * options["orbits"] * (-(-options["collisions"] // every) + 3) * (every + 2)
     if quantity == "tau":
         return 2.0 * options["bounces"]
+    if quantity == "toss":
+        return float(options["tosses"]) * options["impacts"]
     return math.nan
 
 
@@ -226,8 +278,11 @@ def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, o
     from coinwall.forward.errors import CoinwallError
 
     try:
-        table = table_spec.table_at(values, H)
-        numbers = _FUNCTIONS[quantity](table, seed, **options)
+        if quantity in _OWN_TABLE:
+            numbers = _OWN_TABLE[quantity](table_spec, values, H, seed, **options)
+        else:
+            table = table_spec.table_at(values, H)
+            numbers = _FUNCTIONS[quantity](table, seed, **options)
     except CoinwallError as exc:
         return {"status": 2, "error": str(exc)}
     return {"status": 1, **{k: float(v) for k, v in numbers.items()}}

@@ -16,7 +16,10 @@ from dataclasses import dataclass, field
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.wall import Wall
 
-__all__ = ["TableSpec"]
+__all__ = ["TOSS_AXES", "TableSpec"]
+
+#: axis names that are not wall parameters: the toss quantities read them (the coefficient of restitution)
+TOSS_AXES = ("restitution",)
 
 
 @dataclass(frozen=True)
@@ -62,8 +65,10 @@ class TableSpec:
 
     def wall_at(self, values: dict) -> Wall:
         """The Wall with the scanned parameter ``values`` (a dict) on top of the fixed ones, scaled by 1/κ."""
+        values = {k: v for k, v in values.items() if k not in TOSS_AXES}
         if isinstance(self.wall, str):
-            wall = Wall.from_expression(self.wall, {**dict(self.params), **values})
+            fixed = {k: v for k, v in self.params if k not in TOSS_AXES}
+            wall = Wall.from_expression(self.wall, {**fixed, **values})
         elif values:
             raise InvalidArgument(f"wall {self.description!r} is not an expression: its parameters "
                                   f"{sorted(values)} cannot be scanned")
@@ -77,6 +82,16 @@ class TableSpec:
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         return Billiard(self.wall_at(values), float(H) / kappa, float(self.b0) / kappa)
+
+    def field_table_at(self, values: dict, g: float):
+        """The :class:`~coinwall.forward.dynamics.field.FieldTable` of a toss cell: a floor only, the field ``g``
+        (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; 1 if neither)."""
+        from coinwall.forward.dynamics.field import FieldTable
+
+        kappa = 1.0 if self.kappa is None else float(self.kappa)
+        restitution = {**dict(self.params), **values}.get("restitution", 1.0)
+        return FieldTable(self.wall_at(values), g=g, e=float(restitution),
+                          b0=float(self.b0) / kappa)
 
     def identity(self) -> dict:
         """JSON-ready description (compared when a scan resumes into an existing store)."""

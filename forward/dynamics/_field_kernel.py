@@ -16,13 +16,18 @@ floor: ``A = η0 − b0, B = v, Q = g, φ0 = θ0``; ceiling (if any): ``A = H �
 φ0 = θ0 + π``.  The next impact is the smallest t > 0 with ``f(t) = 0`` over the walls present.
 
 Why the search cannot skip a root.  It is the billiard kernel's search (:mod:`._kernel`, read it for the
-details) with the straight line ``A + B t`` replaced by the parabola ``L(t) = A + B t − ½ Q t²``.  Every
-bound it uses stays a bound:
+details) with the straight line ``A + B t`` replaced by the parabola ``L(t) = A + B t − ½ Q t²``: the same
+code, :func:`._search._search`, compiled into both kernels (this file adds the window of a parabola, the
+flight without rotation, the impact and settling).  Every bound it uses stays a bound:
 
 1. *Band and box test.*  A contact needs ``L(t) ≤ max b + tol``; the window of such times is computed from
    the roots of the quadratic (a concave ``L``, the floor under gravity, is in the band from its first
    crossing on and must meet the wall before ``L`` falls below ``min b``; a convex ``L``, the ceiling, only
-   while inside a bounded interval).  Per cell the minimum of ``L`` over the time the flight spends over the
+   while inside a bounded interval).  A concave ``L`` that starts in the band rising and leaves it above
+   ``max b + tol`` before coming back is searched in two windows: the time between has no contact, since
+   ``L`` is above the band at both of its ends (checked by evaluating ``L`` there) and concave.  The windows
+   of both walls are searched in the order they start, each capped by the earliest contact found so far.
+   Per cell the minimum of ``L`` over the time the flight spends over the
    cell is at an end of that time for a concave ``L`` and at an end or at the vertex for a convex one; if it
    is above ``bmax_j + tol`` the cell has no contact.
 2. *Proxy stage.*  ``G = L − p_j − e_j − tol`` is a lower bound of ``f − tol``, and
@@ -32,14 +37,18 @@ bound it uses stays a bound:
 3. *Exact stage.*  The same steps on the exact f with ``f'' ≥ −(Q + ω² c_j)``, ``c_j ≥ max b''`` on the
    cell; the second-order finish uses ``f'' = −Q − ω² b''`` (the field adds no third derivative, so the
    Taylor remainder of the billiard kernel is unchanged).
+4. *Curving-away runs.*  Just after an impact on a wall that curves away (``c_j ≤ 0``) the gap is convex
+   when ``Q ≤ 0`` too (``f'' = −Q − ω² b'' ≥ 0``), and the search skips the run as the billiard's does; under
+   gravity on the floor (``Q > 0``) it does not (the parabola bends back towards the floor).
 
 So every time interval skipped is certified by a lower bound of f (box, proxy or exact parabola): the
 iterates never pass the first contact.  The guarantee is exactly the billiard kernel's, with the same
 declared approximations (contact tolerance ``tol``; cell bounds from dense sampling with a checked margin,
 not interval arithmetic; time intervals below rounding of t are not resolved).  A flight without rotation
 (ω = 0) meets the wall at the first root of a quadratic, solved in closed form.  With ``g = 0`` and
-``e = 1`` the search and the reflection are the billiard kernel's, operation for operation, except that
-the speed is not renormalised (the field kernel conserves energy by its arithmetic alone).
+``e = 1`` the search and the reflection are the billiard kernel's (the same code), except that the window of
+a flight comes from the quadratic's roots (the billiard's from one product with 1/v_η, so the two agree to
+rounding) and the speed is not renormalised (the field kernel conserves energy by its arithmetic alone).
 
 The impact
 ----------
@@ -69,8 +78,21 @@ bounded by the caller (status 0 when it is reached: "not settled").
 import math
 
 import numpy as np
-from numba import carray, njit, prange, types
-from numba.extending import intrinsic
+from numba import carray, njit, prange
+
+from ._search import (
+    INF,
+    PI,
+    TWO_PI,
+    _advance,
+    _data_pointer,
+    _earlier,
+    _impact,
+    _leaving_rate,
+    _reduce,
+    _search,
+    wall_b1,
+)
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.field
 
@@ -78,52 +100,7 @@ CACHE = True
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 
-def wall_b1(phi, c):
-    """Stand-in for the generated ``wall_b1(phi, c) -> (b, b')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
-
-
-def wall_b2(phi, c):
-    """Stand-in for the generated ``wall_b2(phi, c) -> (b, b', b'')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
-
-
 # ---- field kernel: the text from the line after this one to the end of the file is joined to the wall code ----
-
-TWO_PI = 2.0 * math.pi
-INV_TWO_PI = 1.0 / TWO_PI
-PI = math.pi
-INF = math.inf
-ROUND_T = 1e-15
-LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS = range(16)
-POS_TOL = 0.01
-MAX_ANGLE = 17592186044416.0
-CELL_BUDGET = 134217728
-
-
-@intrinsic
-def _data_pointer(typingctx, arr):
-    # as in _kernel: rebuild arrays as views without a reference count (no atomics per call)
-    def codegen(context, builder, signature, args):
-        return context.make_array(signature.args[0])(context, builder, args[0]).data
-    return types.CPointer(arr.dtype)(arr), codegen
-
-
-@njit(**OPTIONS)
-def _root_step(g0, g1, K):
-    # smallest τ > 0 with g0 + g1 τ − ½ K τ² = 0 (g0 ≥ 0), ∞ if none, or a lower bound of it (as in _kernel;
-    # K may be negative here: a convex parabola, whose smallest root is the same formula)
-    if g1 < 0.0 and K > 0.0 and 2.0 * K * g0 <= g1 * g1:
-        return g0 * (-g1) / (g1 * g1 + 0.5 * K * g0)
-    disc = g1 * g1 + 2.0 * K * g0
-    if disc < 0.0:
-        return INF
-    if g1 < 0.0:
-        return 2.0 * g0 / (-g1 + math.sqrt(disc))
-    if K > 0.0:
-        return (g1 + math.sqrt(disc)) / K
-    return INF
-
 
 @njit(**OPTIONS)
 def _roots(a, b, c):
@@ -187,15 +164,33 @@ def _window(A, B, Q, lo, hi, vt):
     return t_lo, t_hi
 
 
+@njit(**OPTIONS)
+def _windows(A, B, Q, lo, hi, vt):
+    # _window as up to two intervals [t1, u1), [t2, u2) (t2 = u2 = INF: one): a concave L (the floor under
+    # gravity) that starts in the band rising may leave it above hi and come back; the time above hi has no
+    # contact, and walking its cells one by one (the whole flight up and down) was most of the cost of a toss
+    t_lo, t_hi = _window(A, B, Q, lo, hi, vt)
+    if Q > 0.0 and A <= hi and B > 0.0 and vt != 0.0:
+        r1, r2 = _roots(A - hi, B, -0.5 * Q)
+        if not math.isnan(r1) and r1 > 0.0:
+            u1 = r1 * (1.0 + 1e-12) + 1e-300
+            t2 = r2 * (1.0 - 1e-12)
+            # L is concave: above hi at both ends of [u1, t2] means above hi on all of it (checked, not trusted
+            # to the roots, which lose digits when L barely rises above hi)
+            hq = 0.5 * Q
+            if u1 < t2 < t_hi and A + B * u1 - hq * u1 * u1 > hi and A + B * t2 - hq * t2 * t2 > hi:
+                return t_lo, u1, t2, t_hi
+    return t_lo, t_hi, INF, INF
+
+
 @njit(inline='always', **OPTIONS)
-def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup, wmin, wmax, tol):
+def _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, leaving, g1_leave, c, cells, lookup, tol):
     # first t in (0, tcap) where f(t) = A + B t − ½ Q t² − b(phi0 + vt t) ≤ tol, and b' there; (INF, 0) if
-    # none; negative codes as in _kernel (−1 no convergence, −2 non-finite wall, −3 cell budget, −4 angle)
-    t_lo, t_hi = _window(A, B, Q, wmin, wmax + tol, vt)
+    # none; negative codes as in _search (−1 no convergence, −2 non-finite wall, −3 cell budget, −4 angle).
+    # [t_lo, t_hi) is the window of the flight (_window), computed by the caller
     t_hi = min(t_hi, tcap)
     if not (t_lo < t_hi):
         return INF, 0.0
-    hq = 0.5 * Q
     if vt == 0.0:  # no rotation: f is a quadratic in t
         b, d1 = wall_b1(phi0, c)
         if not (abs(b) < INF and abs(d1) < INF):
@@ -204,7 +199,7 @@ def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup
             # on this wall at t = 0: the other root, 2B/Q (rising away and falling back), if any
             t = 2.0 * B / Q if (Q > 0.0 and B > 0.0) else INF
         else:
-            r1, r2 = _roots(A - b, B, -hq)
+            r1, r2 = _roots(A - b, B, -0.5 * Q)
             t = INF
             if not math.isnan(r1):
                 if r1 > 0.0:
@@ -214,163 +209,7 @@ def _first_hit(phi0, A, B, Q, vt, ivt, tcap, leaving, g1_leave, c, cells, lookup
         if t >= tcap:
             return INF, 0.0
         return t, d1
-    m = cells.shape[0]
-    nunif = lookup.shape[0]
-    phi = phi0 + vt * t_lo
-    off = TWO_PI * math.floor(phi * INV_TWO_PI)
-    x = phi - off
-    if x >= TWO_PI:
-        x -= TWO_PI
-        off += TWO_PI
-    elif x < 0.0:
-        x += TWO_PI
-        off -= TWO_PI
-    if not (0.0 <= x < TWO_PI):
-        return -4.0, 0.0
-    i = int(x * (nunif * INV_TWO_PI))
-    if i >= nunif:
-        i = nunif - 1
-    elif i < 0:
-        i = 0
-    j = lookup[i]
-    while j < m - 1 and cells[j, RIGHT] <= x:
-        j += 1
-    while j > 0 and cells[j, LEFT] > x:
-        j -= 1
-    if vt < 0.0 and x == cells[j, LEFT]:
-        j -= 1
-        if j < 0:
-            j = m - 1
-            off -= TWO_PI
-    vt2 = vt * vt
-    edge = RIGHT if vt > 0.0 else LEFT
-    start = off - phi0
-    t_in = t_lo
-    at_edge = False
-    walked = 0
-    # the vertex of a convex L (ceiling under gravity), where its minimum over a cell may lie
-    t_vertex = B / Q if Q < 0.0 else -1.0
-    while True:
-        walked += 1
-        if walked > CELL_BUDGET:
-            return -3.0, 0.0
-        t_out = (cells[j, edge] + start) * ivt
-        t_out = min(t_out, t_hi)
-        l_in = A + B * t_in - hq * t_in * t_in
-        l_out = A + B * t_out - hq * t_out * t_out
-        lmin = min(l_in, l_out)
-        if t_in < t_vertex < t_out:
-            lmin = min(lmin, A + B * t_vertex - hq * t_vertex * t_vertex)
-        if lmin <= cells[j, BMAX] + tol and t_out >= t_in:
-            t = t_in
-            clear = False
-            if leaving and t == 0.0:
-                if not math.isnan(g1_leave):
-                    g1 = g1_leave
-                else:
-                    b, d1 = wall_b1(phi0, c)
-                    g1 = B - vt * d1
-                t = _root_step(0.0, g1, Q + vt2 * cells[j, CMAX])
-                clear = not (t < t_out)
-            if not clear:
-                a = cells[j, LEFT] + start
-                e = cells[j, PERR]
-                Kp = Q + vt2 * cells[j, P2MAX]
-                Ka = vt2 * cells[j, P2ABS] + max(0.0, -Q)
-                c0 = cells[j, P0]
-                c1 = cells[j, P1]
-                c2 = cells[j, P2]
-                c3 = cells[j, P3]
-                c4 = cells[j, P4]
-                c5 = cells[j, P5]
-                c2d = 2.0 * c2
-                c3d = 3.0 * c3
-                c4d = 4.0 * c4
-                c5d = 5.0 * c5
-                for it in range(64):
-                    s = vt * t - a
-                    s2 = s * s
-                    p = (c0 + c1 * s) + s2 * ((c2 + c3 * s) + s2 * (c4 + c5 * s))
-                    G = A + B * t - hq * t * t - p - e - tol
-                    if G <= e:
-                        break
-                    dp = (c1 + c2d * s) + s2 * ((c3d + c4d * s) + s2 * c5d)
-                    G1 = B - Q * t - vt * dp
-                    tau = _root_step(G, G1, Kp)
-                    if not (t + tau < t_out):
-                        clear = True
-                        break
-                    t += tau
-                    if G + G1 * tau + 0.5 * Ka * tau * tau <= e:
-                        break
-            if not clear:
-                K = Q + vt2 * cells[j, CMAX]
-                D3 = abs(vt) * vt2 * cells[j, D3MAX]
-                for it in range(1000):
-                    b, d1, d2 = wall_b2(phi0 + vt * t, c)
-                    second = True
-                    if it == 0 and at_edge and t == t_in:
-                        slope = cells[j, SLOPE_FWD] if vt > 0.0 else cells[j, SLOPE_BWD]
-                        if not math.isnan(slope):
-                            d1 = slope
-                            second = False
-                    g0 = A + B * t - hq * t * t - b
-                    g1 = B - Q * t - vt * d1
-                    if not (abs(g0) < INF and abs(g1) < INF):
-                        return -2.0, 0.0
-                    if second and g1 < 0.0:
-                        dn = g0 / (-g1)
-                        g2 = -Q - vt2 * d2
-                        dh = dn + 0.5 * g2 * dn * dn / (-g1)
-                        rem = D3 * dh * dh * abs(dh) / 6.0
-                        res = abs(g0 + dh * (g1 + 0.5 * g2 * dh)) + rem
-                        slope_err = 0.5 * D3 * dh * dh / abs(vt)
-                        if (res <= POS_TOL * tol and rem <= 1e-17 * abs(g1) and slope_err <= 1e-17 * (1.0 + abs(d1))
-                                and t + dh < t_out):
-                            if g0 <= tol:
-                                return t + dh, d1 + vt * d2 * dh
-                            tau = _root_step(g0, g1, K)
-                            if (t + dh) - (t + tau) <= ROUND_T * (1.0 + t):
-                                return t + dh, d1 + vt * d2 * dh
-                    if g0 <= tol:
-                        if g1 < 0.0:
-                            tn = t + g0 / (-g1)
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) < abs(g0) or g0 < 0.0:
-                                return tn, dn
-                        return t, d1
-                    tau = _root_step(g0, g1, K)
-                    if not (t + tau < t_out):
-                        break
-                    if t + tau == t and g0 <= -g1 * 4.5e-16 * t:
-                        return t, d1
-                    if g1 < 0.0:
-                        tn = t + g0 / (-g1)
-                        if tn - (t + tau) <= ROUND_T * (1.0 + t) and tn < t_out:
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) <= tol:
-                                return tn, dn
-                    t += tau
-                else:
-                    return -1.0, 0.0
-        if t_out >= t_hi:
-            return INF, 0.0
-        if vt > 0.0:
-            j += 1
-            if j == m:
-                j = 0
-                off += TWO_PI
-                start = off - phi0
-        else:
-            j -= 1
-            if j < 0:
-                j = m - 1
-                off -= TWO_PI
-                start = off - phi0
-        t_in = t_out
-        at_edge = True
+    return _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, lookup, tol)
 
 
 @njit(**OPTIONS)
@@ -408,9 +247,7 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     c = carray(_data_pointer(c), c.shape)
     cells = carray(_data_pointer(cells), cells.shape)
     lookup = carray(_data_pointer(lookup), lookup.shape)
-    wraps = math.floor(theta / TWO_PI)
-    th = theta - wraps * TWO_PI
-    wraps += turns
+    th, wraps = _reduce(theta, turns)
     time = 0.0
     floor_hits = 0
     g1_leave = math.nan
@@ -419,70 +256,67 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     settle = g > 0.0 and valleys.shape[0] > 0
     for i in range(n):
         ivt = 1.0 / vt if vt != 0.0 else INF
-        # the wall whose band the flight reaches first is searched first; its time caps the other search
         tl = INF
         tu = INF
         dl = 0.0
         du = 0.0
-        lower_first = True
+        # the windows of both walls once (a quadratic's roots), up to two a wall: searched in the order they
+        # start, each capped by the earliest contact found so far (a window starting after it is not searched)
+        w0, w1, w2, w3 = _windows(eta - b0, ve, g, wmin, wmax + tol, vt)
+        w4 = INF
+        w5 = INF
+        w6 = INF
+        w7 = INF
         if ceiling:
-            lo_l, _hi_l = _window(eta - b0, ve, g, wmin, wmax + tol, vt)
-            lo_u, _hi_u = _window(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
-            lower_first = lo_l <= lo_u
-        for k in range(2 if ceiling else 1):
-            upper = (not lower_first) if k == 0 else lower_first
-            tcap = INF if k == 0 else (tl if lower_first else tu)
+            w4, w5, w6, w7 = _windows(H - b0 - eta, -ve, -g, wmin, wmax + tol, vt)
+        searched = 0  # bit k: window k (floor first, floor second, ceiling first, ceiling second) is done
+        for k in range(4):
+            # the window not yet searched that starts first (ties: the floor's, the first)
+            pick = -1
+            first = min(tl, tu)
+            if searched & 1 == 0 and w0 < first:
+                pick, first = 0, w0
+            if searched & 2 == 0 and w2 < first:
+                pick, first = 1, w2
+            if searched & 4 == 0 and w4 < first:
+                pick, first = 2, w4
+            if searched & 8 == 0 and w6 < first:
+                pick, first = 3, w6
+            if pick < 0:
+                break
+            searched |= 1 << pick
+            upper = pick >= 2
+            if pick == 0:
+                t_lo, t_hi = w0, w1
+            elif pick == 1:
+                t_lo, t_hi = w2, w3
+            elif pick == 2:
+                t_lo, t_hi = w4, w5
+            else:
+                t_lo, t_hi = w6, w7
             if upper:
                 phi0, A, B, Q, near = th + PI, H - b0 - eta, -ve, -g, leaving == 1
             else:
                 phi0, A, B, Q, near = th, eta - b0, ve, g, leaving == 0
-            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, tcap, near, g1_leave, c, cells, lookup, wmin, wmax, tol)
+            tk, dk = _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, min(tl, tu), near, g1_leave, c, cells, lookup,
+                                tol)
             if upper:
-                tu, du = tk, dk
-            else:
+                if tk < tu:
+                    tu, du = tk, dk
+            elif tk < tl:
                 tl, dl = tk, dk
-        if tl == -2.0 or tu == -2.0:
-            status = 8
+            if tk < 0.0:
+                break
+        t, side, s, code = _earlier(tl, dl, tu, du, vt)
+        if code != 0:
+            status = (0, 8, 10, 9, 7, 6)[code]
             break
-        if tl == -3.0 or tu == -3.0:
-            status = 10
-            break
-        if tl == -4.0 or tu == -4.0:
-            status = 9
-            break
-        if tl < 0.0 or tu < 0.0:
-            status = 7
-            break
-        if tu < tl:
-            t = tu
-            side = 1
-            s = -du
-        else:
-            t = tl
-            side = 0
-            s = dl
-        if t == INF:
-            status = 6
-            break
-        if not (abs(vt * t) < MAX_ANGLE):
-            status = 9
-            break
-        th += vt * t
+        th, wraps = _advance(th, wraps, vt * t)
         eta += ve * t - 0.5 * g * t * t
         ve -= g * t
         time += t
-        if th >= TWO_PI or th < 0.0:
-            kk = math.floor(th / TWO_PI)
-            th -= kk * TWO_PI
-            wraps += kk
-        # Newton's restitution on the normal velocity (billiard metric, n ∝ (−s, 1))
-        f = (1.0 + e) * (ve - s * vt) / (1.0 + s * s)
-        vt = vt + f * s
-        ve = ve - f
-        if side == 0:
-            g1_leave = ve - vt * s
-        else:
-            g1_leave = -ve + vt * s
+        vt, ve = _impact(vt, ve, s, e)  # Newton's restitution on the normal velocity
+        g1_leave = _leaving_rate(side, vt, ve, s)
         done = i + 1
         if record:
             out_time[i] = time

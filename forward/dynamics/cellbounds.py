@@ -5,7 +5,7 @@ the wall is smooth (a uniform grid of :data:`CELLS` cells, cut again at every ki
 this module computes an upper bound of b, an upper bound of b'', a bound of |b'''|, the quintic
 Hermite proxy of b with a bound of its error, and the kinks' one-sided slopes, all from dense
 sampling with a margin that is then checked on a finer shifted grid.  They are packed into one
-(m, 16) table (:func:`cell_table`), the layout the kernel's column constants name.
+(m, 20) table (:func:`cell_table`), the layout the kernel's column constants name.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from ..angles import TWO_PI
 from ..errors import InvalidWall
 from ..wall import Wall
 
-__all__ = ["CELLS", "SAMPLES", "cell_bounds", "cell_proxies", "cell_table"]
+__all__ = ["CELLS", "SAMPLES", "cell_bounds", "cell_proxies", "cell_table", "concave_runs"]
 
 CELLS = 128          # uniform cells per period (kinks add more)
 SAMPLES = 32         # samples per cell for the bounds
@@ -213,17 +213,19 @@ def cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAMP
 
 
 def cell_table(bounds) -> np.ndarray:
-    """The cell bounds as one (m, 16) table for the kernel (one row, one cache line or two, per cell).
+    """The cell bounds as one (m, 20) table for the kernel (one row, two or three cache lines, per cell).
 
     Columns: left and right edge, bmax, c (bound of b''), the kink slopes seen when
     entering through the left edge (moving forward) and through the right edge
     (moving backward; NaN where the edge is no kink), the quintic proxy c0..c5,
-    its error bound e, max p'', the bound of |b'''| and max |p''|.  One table instead of a dozen arrays keeps
-    the per-call bookkeeping of numba small.
+    its error bound e, max p'', the bound of |b'''|, max |p''|, and the *curving-away runs*
+    (:func:`concave_runs`): where the run of cells with ``c ≤ 0`` that starts at this cell ends going
+    forward and the cell after it, then the same going backward.  One table instead of a dozen arrays
+    keeps the per-call bookkeeping of numba small.
     """
     edges = bounds["edges"]
     m = edges.size - 1
-    table = np.empty((m, 16))
+    table = np.empty((m, 20))
     table[:, 0] = edges[:-1]
     table[:, 1] = edges[1:]
     table[:, 2] = bounds["bmax"]
@@ -235,4 +237,60 @@ def cell_table(bounds) -> np.ndarray:
     table[:, 13] = bounds["p2max"]
     table[:, 14] = bounds["d3max"]
     table[:, 15] = bounds["p2abs"]
+    table[:, 16:20] = concave_runs(edges, bounds["cmax"], bounds["slope_left"], bounds["slope_right"])
     return np.ascontiguousarray(table)
+
+
+def concave_runs(edges, cmax, slope_left, slope_right) -> np.ndarray:
+    """Per cell the ends of the run of cells, starting at it, on which the wall curves away (``c ≤ 0``).
+
+    Parameters
+    ----------
+    edges : ndarray (m + 1,)
+        The cell edges, 0 to 2π.
+    cmax : ndarray (m,)
+        The per-cell upper bounds of b''.
+    slope_left, slope_right : ndarray (m + 1,)
+        The one-sided slopes at the edges that are kinks, NaN elsewhere.
+
+    Returns
+    -------
+    ndarray (m, 4)
+        Per cell j: the far edge of its run going forward (an angle, 2π more where the run wraps past the
+        seam) and the index of the cell after the run; the far edge going backward (2π less where it
+        wraps) and the index of the cell before the run.
+
+    Notes
+    -----
+    A run is a maximal stretch of consecutive cells (around the period) whose bound of b'' is ≤ 0 and
+    whose inner edges are no kinks (a kink is a point mass of b'', possibly positive), at most m − 1 cells
+    long.  On it the gap of a flight that has just left the wall is convex, so the kernel skips the whole run
+    after a reflection from a point of it (see :mod:`._search`).  For a cell with ``c > 0`` the run is the
+    cell itself.
+    """
+    m = edges.size - 1
+    concave = np.asarray(cmax) <= 0.0
+    kink = ~(np.isnan(slope_left) & np.isnan(slope_right))  # edge i lies between cell i − 1 and cell i
+    kink[0] = kink[m] = kink[0] or kink[m]
+    # joined[k]: cell k and cell k + 1 (mod m) belong to one run
+    joined = concave & np.roll(concave, -1) & ~kink[1:]
+    out = np.empty((m, 4))
+    # the last (first) cell of the run through k, by one sweep over the doubled index range (linear time;
+    # a plain loop: m is a few hundred)
+    last = np.empty(2 * m, dtype=np.int64)
+    last[2 * m - 1] = 2 * m - 1
+    for k in range(2 * m - 2, -1, -1):
+        last[k] = last[k + 1] if joined[k % m] else k
+    first = np.empty(2 * m, dtype=np.int64)
+    first[0] = 0
+    for k in range(1, 2 * m):
+        first[k] = first[k - 1] if joined[(k - 1) % m] else k
+    for j in range(m):
+        end = min(int(last[j]), j + m - 2) if concave[j] else j
+        out[j, 0] = edges[end % m + 1] + TWO_PI * (end // m)
+        out[j, 1] = (end + 1) % m
+        k = j + m  # the same cell in the upper copy, so that a run may reach back past the seam
+        begin = max(int(first[k]), k - m + 2) if concave[j] else k
+        out[j, 2] = edges[begin % m] - TWO_PI * (1 - begin // m)
+        out[j, 3] = (begin - 1) % m
+    return out

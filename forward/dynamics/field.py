@@ -48,7 +48,6 @@ either side, ``sin θ < 0`` and ``> 0``) the valleys are named heads and tails (
 
 from __future__ import annotations
 
-import importlib.resources
 import math
 from dataclasses import dataclass, field
 
@@ -60,6 +59,7 @@ from ..errors import InvalidArgument, InvalidWall
 from ..validation import check_count, check_memory, is_integer
 from ..wall import Wall
 from .billiard import HEIGHT_MAX, HIT_TOL, Billiard
+from .kernel import source_after_marker
 
 __all__ = ["CHATTER_HEIGHT", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "FieldTable", "Flight", "Landscape",
            "compile_field_kernel", "field_run", "field_run_many", "landscape", "reference_run"]
@@ -84,15 +84,7 @@ FIELD_NOTES = {
 }
 
 
-def _field_text() -> str:
-    text = importlib.resources.files(__package__).joinpath("_field_kernel.py").read_text(encoding="utf-8")
-    _head, marker, kernel = text.partition(_MARKER)
-    if not marker:
-        raise RuntimeError("_field_kernel.py has lost its marker line; field.py cannot find the kernel's text")
-    return kernel
-
-
-FIELD_SOURCE = _field_text()
+FIELD_SOURCE = source_after_marker("_field_kernel.py", _MARKER)
 
 
 # ---------------------------------------------------------------------------------------------------- landscape
@@ -208,8 +200,12 @@ class FieldTable:
         Offset of the wall (``b0 + b`` is the support function), as in :class:`.billiard.Billiard`.
     H : float or None
         Distance of the ceiling (units of κ); ``None``: a floor only.
+    settle : bool
+        Whether an orbit ends once its level is below its valley's barrier (the outcome is then decided; the
+        default).  ``False`` for elastic orbits followed for their own sake (a wedge, where the single valley
+        would end every orbit at its first impact): the kernel gets no valley table and never settles.
     landscape : Landscape
-        The valleys of the floor (:func:`landscape`).
+        The valleys of the floor (:func:`landscape`); with ``settle=False``, without the kernel's valley table.
     """
 
     wall: Wall
@@ -217,6 +213,7 @@ class FieldTable:
     e: float = 1.0
     b0: float = 0.0
     H: float | None = None
+    settle: bool = True
     landscape: Landscape = field(init=False)
 
     def __post_init__(self):
@@ -246,7 +243,12 @@ class FieldTable:
         if self.g == 0.0 and self.H is None:
             raise InvalidArgument("a floor without a field and without a ceiling is met at most once: give `g` > 0 "
                                   "or a ceiling `H`")
-        object.__setattr__(self, "landscape", landscape(self.wall))
+        if not isinstance(self.settle, bool):
+            raise InvalidArgument(f"`settle` must be True or False, got {self.settle!r}")
+        land = landscape(self.wall)
+        if not self.settle:  # the kernel skips the settling test when it gets an empty valley table
+            land = Landscape(land.minima, land.maxima, land.barriers, land.names, np.empty((0, 3)))
+        object.__setattr__(self, "landscape", land)
 
     @classmethod
     def from_si(cls, wall: Wall, kappa: float, g: float = 9.80665, **kwargs) -> FieldTable:
@@ -335,12 +337,11 @@ class Flight:
 # ---------------------------------------------------------------------------------------------------- kernel
 class _FieldKernel:
     def __init__(self, wall: Wall):
-        from .kernel import HEADER, compiled
-        from .wallcode import load_module, wall_source
+        from .kernel import compiled, kernel_module
 
         base = compiled(_WallHolder(wall))  # the billiard's constants and cell bounds of this wall (kept per wall)
-        source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
-        self.module = load_module(HEADER + source + FIELD_SOURCE, "coinwall_field")
+        # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
+        self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
         self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
         self.sealed = set()
 

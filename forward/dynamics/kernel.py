@@ -1,9 +1,10 @@
 """The compiled kernel: its source joined to a wall's generated code, compiled once per wall, and run.
 
 The kernel itself is the real module :mod:`._kernel` (read it for the algorithm).  numba cannot call
-casadi, so each wall is written out as plain Python (:mod:`.wallcode`); the text of ``_kernel.py``
-below its marker line (:data:`KERNEL_SOURCE`) is appended to that code and the whole is loaded as a
-module from a file named after its hash (:func:`.wallcode.load_module`: verified bytes in a trusted
+casadi, so each wall is written out as plain Python (:mod:`.wallcode`); the text of ``_search.py``
+below its marker line (:data:`SEARCH_SOURCE`, the certified search the field kernel shares) and the text
+of ``_kernel.py`` below its marker line (:data:`KERNEL_SOURCE`) are appended to that code and the whole is
+loaded as a module from a file named after its hash (:func:`.wallcode.load_module`: verified bytes in a trusted
 folder, or compiled in memory when there is none), which lets numba's ``cache=True`` reuse the machine
 code in the next process.  Walls that differ only in parameter
 values share one source, hence one compiled kernel.
@@ -19,26 +20,67 @@ import numpy as np
 from ..wall import Wall
 from .cellbounds import cell_bounds, cell_table
 
-__all__ = ["HEADER", "KERNEL_SOURCE", "NOTES", "CompiledKernel", "compiled", "run", "run_many"]
+__all__ = ["HEADER", "KERNEL_SOURCE", "NOTES", "SEARCH_SOURCE", "CompiledKernel", "compiled", "kernel_module",
+           "run", "run_many", "source_after_marker"]
 
 _MARKER = "# ---- kernel: the text from the line after this one to the end of the file is joined to the wall code ----\n"  # noqa: E501 -- matched byte for byte in _kernel.py
+_SEARCH_MARKER = "# ---- search: the text from the line after this one to the end of the file is joined to the wall code ----\n"  # noqa: E501 -- matched byte for byte in _search.py
 
 
-def _kernel_text() -> str:
-    """The part of ``_kernel.py`` that is compiled: everything after the marker line."""
-    text = importlib.resources.files(__package__).joinpath("_kernel.py").read_text(encoding="utf-8")
-    _head, marker, kernel = text.partition(_MARKER)
-    if not marker:  # a guard for whoever edits _kernel.py: without the marker the join is undefined
-        raise RuntimeError("_kernel.py has lost its marker line; kernel.py cannot find the kernel's text")
+def source_after_marker(filename: str, marker: str) -> str:
+    """The part of the kernel source file ``filename`` (in this package) that is compiled: all after ``marker``.
+
+    Parameters
+    ----------
+    filename : str
+        ``"_kernel.py"``, ``"_search.py"`` or ``"_field_kernel.py"``.
+    marker : str
+        The marker line, matched byte for byte.
+
+    Returns
+    -------
+    str
+        The text after the marker line.
+    """
+    text = importlib.resources.files(__package__).joinpath(filename).read_text(encoding="utf-8")
+    _head, found, kernel = text.partition(marker)
+    if not found:  # a guard for whoever edits the file: without the marker the join is undefined
+        raise RuntimeError(f"{filename} has lost its marker line; the kernel's text cannot be found")
     return kernel
 
 
-KERNEL_SOURCE = _kernel_text()
+KERNEL_SOURCE = source_after_marker("_kernel.py", _MARKER)
+SEARCH_SOURCE = source_after_marker("_search.py", _SEARCH_MARKER)
 # the imports and options the kernel's text expects (_kernel.py has the same lines above its marker);
 # CACHE is set by wallcode.load_module before the text runs (False: compiled in memory, nothing on disk)
 HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, prange, types\n"
           "from numba.extending import intrinsic\n\n"
           "OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}\n\n")
+
+
+def kernel_module(wall: Wall, kernel_source: str, prefix: str):
+    """Load (or compile) the module of one kernel for ``wall``: header, wall code, the search, the kernel.
+
+    Parameters
+    ----------
+    wall : Wall
+        The wall whose generated code (:func:`.wallcode.wall_source`) is placed first.
+    kernel_source : str
+        The kernel's own text (:data:`KERNEL_SOURCE` or the field kernel's).
+    prefix : str
+        The module name's prefix (:func:`.wallcode.load_module`).
+
+    Returns
+    -------
+    module, ndarray
+        The loaded module and the wall's constants.
+    """
+    from .wallcode import load_module, wall_source
+
+    source, constants = wall_source(wall, "@njit(**OPTIONS)\n")
+    return load_module(HEADER + source + SEARCH_SOURCE + kernel_source, prefix), constants
+
+
 # why an orbit stopped early, by the kernel's status code (0: all collisions computed)
 NOTES = {1: "free flight: the particle moves parallel to the walls in an open channel and never collides again",
          2: "the kernel's root search did not converge (a near-tangent graze?)",
@@ -61,15 +103,12 @@ class CompiledKernel:
         The wall's constants (the array ``c`` of the generated code).
     bounds : dict
         :func:`.cellbounds.cell_bounds` of the wall.
-    cells : ndarray (m, 16)
+    cells : ndarray (m, 20)
         :func:`.cellbounds.cell_table` of the bounds.
     """
 
     def __init__(self, wall: Wall):
-        from .wallcode import load_module, wall_source
-
-        source, constants = wall_source(wall, "@njit(**OPTIONS)\n")
-        self.module = load_module(HEADER + source + KERNEL_SOURCE, "coinwall_billiard")
+        self.module, constants = kernel_module(wall, KERNEL_SOURCE, "coinwall_billiard")
         self.constants = np.ascontiguousarray(constants, dtype=float)
         self.bounds = cell_bounds(wall)
         self.cells = cell_table(self.bounds)

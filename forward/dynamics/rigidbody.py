@@ -1,4 +1,4 @@
-"""Direct simulation of a rigid body bouncing between two flat walls (no billiard code).
+"""Direct simulation of a rigid body bouncing between two flat walls (no billiard code), or on a floor in gravity.
 
 This is the *other side* of the paper's theorem (sections II A–B): a planar
 rigid body of mass ``m`` and radius of gyration ``κ`` moves freely (no
@@ -13,12 +13,18 @@ restitution 1 along the wall normal.  ``tests/forward/dynamics/test_rigidbody.py
 the billiard of :mod:`.billiard`; ``docs/equivalence.md`` derives why
 they must agree.
 
+The toss that lands: the same body in a field ``g`` (physical length/s², along −y), with a floor only
+(``H=None``) or floor and ceiling, and Newton's restitution ``e`` on the normal velocity of the contact point
+(``v_c⁺·n = −e v_c⁻·n``).  ``tests/test_toss_checks.py`` holds it to the field billiard of :mod:`.field`
+impact by impact (``η = y/κ``, so the billiard's field is ``g/κ``).
+
 State and coordinates
 ---------------------
 ``y``      height of the centre of mass above the floor (physical length),
 ``psi``    lab orientation ψ of the body axis, counter-clockwise from the lab
            +x axis (radians, unwrapped),
 ``ydot``   dy/dt, ``omega`` = dψ/dt (counter-clockwise angular velocity).
+Between impacts ``y(t) = y + ẏ t − ½ g t²`` and ``ψ(t) = ψ + ω t``.
 The horizontal motion of the centre of mass is uniform and decouples (the
 walls are frictionless), so it is not tracked.  Body-frame coordinates have
 the centre of mass at the origin and the body axis along +x.
@@ -36,10 +42,10 @@ Finding the collision (why it cannot be missed)
 The body's lowest point is the minimum over *pieces* (a vertex of a polygon,
 or the whole smooth ellipse) of a smooth function ``Y_k(ψ)``, the lab height
 of the piece's extreme point relative to the centre of mass; the gap of piece
-``k`` to the floor is ``g_k(t) = y + ẏt + Y_k(ψ + ωt)`` (to the ceiling,
-``Hκ − y − ẏt − Y_k(ψ + ωt)``).  Each piece has a bound ``|Y_k''| ≤ A_k``
+``k`` to the floor is ``g_k(t) = y + ẏt − ½gt² + Y_k(ψ + ωt)`` (to the ceiling,
+``Hκ − y − ẏt + ½gt² − Y_k(ψ + ωt)``).  Each piece has a bound ``|Y_k''| ≤ A_k``
 (a vertex: ``|p_k|``; an ellipse: ``max(a,b)²/min(a,b) + |centre|``), hence
-``|g_k''| ≤ M_k = ω² A_k``.  From a state with all gaps positive, the downward
+``|g_k''| ≤ M_k = ω² A_k + g``.  From a state with all gaps positive, the downward
 parabola ``g + g′s − M s²/2`` is a lower bound on ``g_k(t+s)``; no piece can
 touch before the first positive root of its parabola, so stepping by the
 smallest of those roots never steps over a contact.  When the limiting piece
@@ -116,36 +122,57 @@ class RigidBody:
         gives the uniform-density value).
     mass : float
         Mass; it cancels from the trajectory but enters the impulses and the energy.
+    g : float
+        Field along −y (physical length/s², ≥ 0; 0: none).  ``H=None`` (a floor only) needs ``g > 0``.
+    e : float
+        Newton's coefficient of restitution of the contact point's normal velocity, in (0, 1].
     """
 
     shape: object
-    H: float
+    H: float | None
     kappa: float = 1.0
     mass: float = 1.0
+    g: float = 0.0
+    e: float = 1.0
 
     def __post_init__(self):
         if not isinstance(self.shape, (PolygonShape, EllipseShape)):
             raise InvalidArgument(f"`shape` must be a PolygonShape or EllipseShape, got {type(self.shape).__name__}")
-        for name in ("H", "kappa", "mass"):
+        for name in ("kappa", "mass") + (("H",) if self.H is not None else ()):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        for name in ("g", "e"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if not 0.0 <= self.g <= 1e12:
+            raise InvalidArgument(f"`g` must be a field between 0 and 1e12, got {self.g!r}")
+        if not 0.0 < self.e <= 1.0:
+            raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1], got {self.e!r}")
+        if self.H is None and self.g == 0.0:
+            raise InvalidArgument("a floor without a field and without a ceiling is met at most once: give `g` > 0 "
+                                  "or a ceiling `H`")
 
     @property
     def ceiling(self) -> float:
-        """Physical height of the ceiling, ``H·κ``."""
-        return self.H * self.kappa
+        """Physical height of the ceiling, ``H·κ`` (``inf`` without one)."""
+        return math.inf if self.H is None else self.H * self.kappa
 
     def gaps(self, y: float, psi: float):
         """Floor and ceiling gaps (physical lengths) at one configuration: ``(floor, ceiling)``."""
         low, _, high, _ = self.shape.pieces(psi)
         return float(y + np.min(low)), float(self.ceiling - y - np.max(high))
 
-    def energy(self, ydot, omega):
-        """Kinetic energy of the vertical and rotational motion, ``½m ẏ² + ½m κ² ω²``."""
-        return 0.5 * self.mass * (np.asarray(ydot) ** 2 + self.kappa**2 * np.asarray(omega) ** 2)
+    def energy(self, ydot, omega, y=0.0):
+        """Energy of the vertical and rotational motion, ``½m ẏ² + ½m κ² ω² + m g y``."""
+        return 0.5 * self.mass * (np.asarray(ydot) ** 2 + self.kappa**2 * np.asarray(omega) ** 2) \
+            + self.mass * self.g * np.asarray(y)
 
     @safe_repr
     def __repr__(self) -> str:
-        return f"RigidBody({self.shape!r}, H={self.H:.6g}, kappa={self.kappa:.6g}, mass={self.mass:.6g})"
+        top = "floor only" if self.H is None else f"H={self.H:.6g}"
+        field = f", g={self.g:.6g}, e={self.e:.6g}" if (self.g or self.e != 1.0) else ""
+        return f"RigidBody({self.shape!r}, {top}, kappa={self.kappa:.6g}, mass={self.mass:.6g}{field})"
 
 
 @dataclass(frozen=True, repr=False)
@@ -205,8 +232,8 @@ class RigidBodyTrajectory:
 
     @property
     def energy(self) -> np.ndarray:
-        """Energy after each collision, ``½m ẏ² + ½m κ² ω²``."""
-        return self.body.energy(self.ydot, self.omega)
+        """Energy after each collision, ``½m ẏ² + ½m κ² ω² + m g y``."""
+        return self.body.energy(self.ydot, self.omega, self.y)
 
     def __len__(self) -> int:
         return len(self.time)
@@ -221,8 +248,10 @@ class RigidBodyTrajectory:
 
 
 def _all_gaps(body, y, psi, ydot, omega):
-    """Gaps and their time derivatives for every piece of both walls (floor pieces first)."""
+    """Gaps and their time derivatives for every piece of both walls (floor pieces first; no ceiling: floor only)."""
     low, low_slope, high, high_slope = body.shape.pieces(psi)
+    if body.H is None:
+        return y + low, ydot + omega * low_slope
     g = np.concatenate([y + low, body.ceiling - y - high])
     dg = np.concatenate([ydot + omega * low_slope, -ydot - omega * high_slope])
     return g, dg
@@ -257,7 +286,7 @@ def _safe_steps(g, dg, bound):
 
 
 def _next_collision(body, y0, psi0, ydot, omega, tol):
-    """Time, piece index and side of the first contact of the free flight from ``(y0, psi0)``.
+    """Time, piece index and side of the first contact of the flight from ``(y0, psi0)`` (in the field g).
 
     Returns ``(t, piece, message)``; ``t`` is None when no contact can ever happen
     or the search stalled (``message`` says which).
@@ -265,11 +294,16 @@ def _next_collision(body, y0, psi0, ydot, omega, tol):
     from scipy.optimize import brentq
 
     shape = body.shape
+    field = body.g
     bounds_single = shape.curvature_bounds
-    bound = np.concatenate([bounds_single, bounds_single]) * omega * omega
+    bound = np.concatenate([bounds_single] * (1 if body.H is None else 2)) * omega * omega + field
+
+    def at(s):
+        return _all_gaps(body, y0 + ydot * s - 0.5 * field * s * s, psi0 + omega * s, ydot - field * s, omega)
+
     t = 0.0
     for _ in range(_MAX_STEPS):
-        g, dg = _all_gaps(body, y0 + ydot * t, psi0 + omega * t, ydot, omega)
+        g, dg = at(t)
         steps = _safe_steps(g, dg, bound)
         k = int(np.argmin(steps))
         if not math.isfinite(steps[k]):
@@ -285,15 +319,14 @@ def _next_collision(body, y0, psi0, ydot, omega, tol):
                     return t, k, ""
 
                 def gap(s, k=k, t=t):
-                    gg, _ = _all_gaps(body, y0 + ydot * (t + s), psi0 + omega * (t + s), ydot, omega)
-                    return float(gg[k])
+                    return float(at(t + s)[0][k])
 
                 end = gap(width)
                 if end < 0.0:
                     s = brentq(gap, 0.0, width, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
                     # Newton polish on the smooth piece: the bracket is monotone, so it stays inside
                     for _ in range(2):
-                        gg, dd = _all_gaps(body, y0 + ydot * (t + s), psi0 + omega * (t + s), ydot, omega)
+                        gg, dd = at(t + s)
                         if dd[k] < 0.0:
                             s_new = s - gg[k] / dd[k]
                             if 0.0 <= s_new <= width:
@@ -309,15 +342,17 @@ def _next_collision(body, y0, psi0, ydot, omega, tol):
 def simulate_rigid_body(body: RigidBody, state, collisions: int) -> RigidBodyTrajectory:
     """Simulate ``collisions`` wall collisions of ``body`` from ``state = (y, ψ, ẏ, ω)``.
 
-    Free flight (no gravity) between collisions; at a collision with contact
+    Flight in the field ``body.g`` (free flight when it is 0) between collisions; at a collision with contact
     point ``r`` (lab frame, relative to the centre of mass) and wall normal
     ``n = ±ŷ`` the impulse ``J n`` with
 
-        ``J = −2 (v_c·n) / (1/m + (r × n)²/(m κ²))``,  ``v_c = v + ω ẑ × r``,
+        ``J = −(1 + e) (v_c·n) / (1/m + (r × n)²/(m κ²))``,  ``v_c = v + ω ẑ × r``,
 
     changes ``ẏ`` by ``J n_y / m`` and ``ω`` by ``J (r × n)/(m κ²)`` (paper
-    eq. 2/13; ``r × n = r_x n_y`` because ``n`` is vertical).  This conserves
-    ``½m ẏ² + ½m κ² ω²`` and reverses the normal velocity of the contact point.
+    eq. 2/13 for e = 1; ``r × n = r_x n_y`` because ``n`` is vertical).  The contact point leaves with
+    ``−e`` times its normal velocity; for e = 1 this conserves ``½m ẏ² + ½m κ² ω² + m g y``.  There is no
+    settling test here: a body with e < 1 on a floor bounces ever lower (the chattering limit) until the
+    collision search stalls and ``message`` says so.
 
     Parameters
     ----------
@@ -339,14 +374,14 @@ def simulate_rigid_body(body: RigidBody, state, collisions: int) -> RigidBodyTra
     if start.size != 4 or not np.all(np.isfinite(start)):
         raise InvalidArgument(f"`state` must be 4 finite numbers (y, psi, ydot, omega), got {state!r}")
     y, psi, ydot, omega = (float(v) for v in start)
-    scale = body.shape.radius + body.ceiling
+    scale = body.shape.radius + (body.ceiling if body.H is not None else abs(y))
     tol = 1e-9 * scale
     floor_gap, ceiling_gap = body.gaps(y, psi)
     if min(floor_gap, ceiling_gap) < -tol:
         raise InvalidArgument(
             f"`state` puts the body through a wall (floor gap {floor_gap:.3g}, ceiling gap {ceiling_gap:.3g}); "
             f"it must lie between y = 0 and y = H·κ = {body.ceiling:.6g}")
-    if ydot == 0.0 and omega == 0.0:
+    if ydot == 0.0 and omega == 0.0 and body.g == 0.0:
         raise InvalidArgument("`state` has zero velocity (ydot = omega = 0): the body never reaches a wall")
 
     shape, m, k2 = body.shape, body.mass, body.kappa**2
@@ -360,14 +395,14 @@ def simulate_rigid_body(body: RigidBody, state, collisions: int) -> RigidBodyTra
         if dt is None:
             break
         clock += dt
-        y, psi = y + ydot * dt, psi + omega * dt
+        y, psi, ydot = y + ydot * dt - 0.5 * body.g * dt * dt, psi + omega * dt, ydot - body.g * dt
         side = 0 if piece < n_pieces else 1
         q = shape.contact_point(piece % n_pieces, psi, side)
         c, s = math.cos(psi), math.sin(psi)
         lever = c * q[0] - s * q[1]  # lab x of the contact point: r × n = lever · n_y
         normal = 1.0 if side == 0 else -1.0
         approach = normal * (ydot + omega * lever)  # v_c · n
-        impulse = -2.0 * approach / (1.0 / m + lever * lever / (m * k2))
+        impulse = -(1.0 + body.e) * approach / (1.0 / m + lever * lever / (m * k2))
         ydot += impulse * normal / m
         omega += impulse * normal * lever / (m * k2)
         gaps = body.gaps(y, psi)

@@ -150,8 +150,13 @@ def _load(path):
                                  "e.g. \"0\" then \"SECTION\")")
         from ezdxf.lldxf.validator import dxf_info
 
-        # the header names the encoding of DXF R2004 and older; it is ASCII, so read it as UTF-8 first
-        encoding = dxf_info(io.StringIO(data.decode("utf-8", errors="ignore"))).encoding or "utf-8"
+        # line ends: CRLF (as Windows CAD programs write) and lone CR are read as LF, which ezdxf's text reader needs
+        data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+        # the header names the encoding of DXF R2004 and older; it is ASCII, so read it as UTF-8 first.  From R2007
+        # (AC1021) on, the standard fixes the text encoding to UTF-8 whatever $DWGCODEPAGE says (ezdxf's dxf_info
+        # reports the code page there, which would turn a non-ASCII layer name into mojibake)
+        info = dxf_info(io.StringIO(data.decode("utf-8", errors="ignore")))
+        encoding = "utf-8" if (info.version or "") >= "AC1021" else (info.encoding or "utf-8")
         return ezdxf.read(io.StringIO(data.decode(encoding, errors="surrogateescape")))
     except InvalidOutline:
         raise

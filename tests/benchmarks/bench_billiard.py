@@ -1,19 +1,28 @@
-"""Benchmark of the billiard kernel against a simple conservative-advancement stepper.
+"""Benchmark of the billiard kernel: against today's kernel and against a simple conservative-advancement stepper.
 
-Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count]
+Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count] [--smoke]
 
-The baseline is written for this benchmark and compiled with numba like the kernel, with
+The headline is the kernel against *today's* kernel: ``_kernel_baseline.py`` next to this file is a verbatim
+copy of ``forward/dynamics/_kernel.py`` as it was before the kernel was reworked (one file, its own search),
+compiled here the same way against the same wall and cell table (its table has 16 columns, the new one 20: it
+reads only the first 16).  Both run the same orbit in the same process, one thread, alternately for R rounds;
+the time is CPU time (``time.process_time``: a slow phase of the shared machine that takes the CPU away is not
+counted) and the result the median per round (ns per collision) and the median of the per-round ratios.
+
+The second comparison is against a stepper written for this benchmark and compiled with numba like the kernel, with
 the same exactness goal: it advances by the *global* Lipschitz bound
 ``g/(|v_η| + |v_θ| max|b'|)`` until the gap is below the same tolerance, then takes the
 same Newton step on the exact wall; the first step away from a wall uses the global bound
 on |b''| (smooth walls only).  Both run single-threaded on the same orbit start in the same
 process; compile time is excluded (one warm-up run each).  For the headline number the
 two are timed alternately for several rounds (kernel best of 3, then baseline once, per
-round), so a slow phase of the shared machine hits both; the other lines are best of 3.
+round), so a slow phase of the shared machine hits both; the other lines are best of 3.  These
+lines (the stepper, H, Fourier walls) time ``simulate`` and the stepper in CPU time as well.
 """
 
 import argparse
 import math
+import pathlib
 import sys
 import time
 
@@ -21,9 +30,12 @@ import numpy as np
 
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import Billiard, random_states, simulate
+from coinwall.forward.dynamics.kernel import _MARKER, HEADER
 from coinwall.forward.dynamics.kernel import compiled as _compiled
 from coinwall.forward.dynamics.reference import sample_bounds as _sample_bounds
-from coinwall.forward.dynamics.wallcode import load_module, wall_source
+from coinwall.forward.dynamics.wallcode import load_module, seal, wall_source
+
+HERE = pathlib.Path(__file__).resolve().parent
 
 BASELINE = '''
 TWO_PI = 2.0 * math.pi
@@ -99,14 +111,63 @@ def _baseline_module(wall):
     return load_module(header + source + BASELINE, "coinwall_bench_baseline"), constants
 
 
+def today_module(wall):
+    """Today's kernel (``_kernel_baseline.py``, verbatim) joined to ``wall``'s code, loaded like the kernel."""
+    text = (HERE / "_kernel_baseline.py").read_text(encoding="utf-8")
+    _head, found, body = text.partition(_MARKER)
+    if not found:
+        raise RuntimeError("_kernel_baseline.py has lost its marker line")
+    source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
+    return load_module(HEADER + source + body, "coinwall_bench_today")
+
+
+def _cpu_run(module, state, collisions, args):
+    # one orbit through a kernel module's _run; CPU seconds and the six output columns
+    out = [np.empty(collisions) for _ in range(5)] + [np.empty(collisions, dtype=np.int8)]
+    last = np.empty(2)
+    start = time.process_time()
+    done, status = module._run(state, 0, -1, collisions, *args, *out, last)
+    seconds = time.process_time() - start
+    if done != collisions:  # a rate over an orbit that stopped early would be meaningless
+        raise RuntimeError(f"kernel stopped after {done} of {collisions} collisions (status {status})")
+    return seconds, out
+
+
+def versus_today(table, collisions, rounds=7, seed=1):
+    """The kernel against today's kernel: same orbit, same process, alternately; CPU time.
+
+    Returns a dict: median ns per collision of each, the median of the per-round ratios (new / today), all
+    ratios, and whether the two computed the same collisions bit for bit.
+    """
+    comp = _compiled(table)
+    today = today_module(table.wall)
+    state = np.ascontiguousarray(random_states(table, 1, seed)[0])
+    args = comp.args(table)
+    old_args = args[:3] + (np.ascontiguousarray(comp.cells[:, :16]),) + args[4:]
+    for module, a in ((today, old_args), (comp.module, args)):  # compile or load, then record the cache files
+        _cpu_run(module, state, 10, a)
+        seal(module)
+    ns_old, ns_new, ratios = [], [], []
+    same = True
+    for _ in range(rounds):
+        s_old, out_old = _cpu_run(today, state, collisions, old_args)
+        s_new, out_new = _cpu_run(comp.module, state, collisions, args)
+        ns_old.append(s_old / collisions * 1e9)
+        ns_new.append(s_new / collisions * 1e9)
+        ratios.append(s_new / s_old)
+        same = same and all(np.array_equal(a, b) for a, b in zip(out_old, out_new))
+    return {"today_ns": float(np.median(ns_old)), "new_ns": float(np.median(ns_new)),
+            "ratio": float(np.median(ratios)), "ratios": ratios, "same": same}
+
+
 def rate_kernel(table, collisions, seed=1):
     state = random_states(table, 1, seed)[0]
     simulate(table, state, 10)  # compile / load
     best = math.inf
     for _ in range(3):
-        start = time.perf_counter()
+        start = time.process_time()
         traj = simulate(table, state, collisions)
-        best = min(best, time.perf_counter() - start)
+        best = min(best, time.process_time() - start)
     if len(traj) != collisions:  # a rate over an orbit that stopped early would be meaningless
         raise RuntimeError(f"kernel stopped after {len(traj)} of {collisions} collisions: {traj.note}")
     return collisions / best, traj.time[-1] / collisions
@@ -119,7 +180,7 @@ def count_work(table, collisions=20_000, seed=1):
     with counters added at fixed lines, so the counts are those of the compiled kernel's
     algorithm (not its timing).
     """
-    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE
+    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE, SEARCH_SOURCE
 
     source, constants = wall_source(table.wall)
     counts = {"cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}
@@ -128,13 +189,13 @@ def count_work(table, collisions=20_000, seed=1):
                "            counts['box_failed'] += 1\n"),
               ("                    s = vt * t - a\n",
                "                    s = vt * t - a\n                    counts['proxy_steps'] += 1\n")]
-    kernel = KERNEL_SOURCE
+    kernel = SEARCH_SOURCE + KERNEL_SOURCE
     for anchor, replacement in probes:
         if kernel.count(anchor) != 1:
             raise RuntimeError("count_work: the kernel source changed; update the probes")
         kernel = kernel.replace(anchor, replacement)
     namespace = {"math": math, "np": np, "njit": lambda *a, **k: (lambda f: f), "prange": range,
-                 "OPTIONS": {}, "counts": counts,
+                 "OPTIONS": {}, "CACHE": False, "counts": counts,
                  # plain Python has no reference counts to avoid: the arrays themselves serve as views
                  "carray": lambda array, shape: array, "intrinsic": lambda f: (lambda array: array), "types": None}
     exec(source, namespace)  # our own generated source
@@ -153,7 +214,8 @@ def count_work(table, collisions=20_000, seed=1):
     comp = _compiled(table)
     state = random_states(table, 1, seed)[0]
     out = [np.empty(collisions) for _ in range(5)] + [np.empty(collisions, dtype=np.int8)]
-    done, _ = namespace["_run"](state, -1, collisions, *comp.args(table), *out)
+    last = np.empty(2)
+    done, _ = namespace["_run"](state, 0, -1, collisions, *comp.args(table), *out, last)
     return {k: v / done for k, v in counts.items()}
 
 
@@ -164,9 +226,9 @@ def rate_baseline(table, collisions, seed=1, repeats=3):
     module.baseline(state, -1, 10, table.H, table.b0, constants, lip, curv, table.tol)
     seconds = math.inf
     for _ in range(repeats):  # best of 3, like the kernel
-        start = time.perf_counter()
+        start = time.process_time()
         total = module.baseline(state, -1, collisions, table.H, table.b0, constants, lip, curv, table.tol)
-        seconds = min(seconds, time.perf_counter() - start)
+        seconds = min(seconds, time.process_time() - start)
     return collisions / seconds, total / collisions
 
 
@@ -193,26 +255,38 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--collisions", type=int, default=2_000_000)
     parser.add_argument("--count", action="store_true", help="also count the kernel's work per collision")
-    parser.add_argument("--rounds", type=int, default=5, help="interleaved kernel/baseline rounds (default 5)")
+    parser.add_argument("--rounds", type=int, default=7, help="interleaved rounds of each comparison (default 7)")
+    parser.add_argument("--smoke", action="store_true",
+                        help="a run of a few seconds through every part of the benchmark (numbers meaningless)")
     args = parser.parse_args(argv)
     import numba
 
+    from coinwall.cases.ellipse import ellipse_wall
+
     numba.set_num_threads(1)
-    n = args.collisions
-    coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99})
+    n, rounds = (20_000, 1) if args.smoke else (args.collisions, args.rounds)
+    coin = ellipse_wall(99.0)
     table = Billiard(coin, 3.0)
-    kernel, base, ratio, rates, mft, mft_base = interleaved(table, n, args.rounds)
-    print(f"coin eps=99, H=3 (1.5 D), single thread, {args.rounds} interleaved rounds: "
+    print(f"kernel against today's kernel (same orbit, same process, {rounds} alternating rounds, CPU time, "
+          f"{n} collisions a run, one thread):")
+    for name, wall, H in (("case:coin (eps = 99), H = 3", coin, 3.0), ("ellipse eps = 0.55, H = 3", ellipse_wall(0.55),
+                                                                        3.0)):
+        r = versus_today(Billiard(wall, H), n // 2, rounds)
+        print(f"  {name}: today {r['today_ns']:.0f} ns/collision, now {r['new_ns']:.0f} ns/collision, ratio "
+              f"{r['ratio']:.3f} (median of {', '.join(f'{x:.3f}' for x in r['ratios'])}); same collisions bit "
+              f"for bit: {r['same']}")
+    kernel, base, ratio, rates, mft, mft_base = interleaved(table, n, rounds)
+    print(f"coin eps=99, H=3 (1.5 D), single thread, {rounds} interleaved rounds: "
           f"kernel best {kernel / 1e6:.2f} M coll/s (rounds: {', '.join(f'{r / 1e6:.2f}' for r in rates)}), "
-          f"baseline best {base / 1e6:.3f} M coll/s, ratio {kernel / base:.1f}x best/best, "
+          f"baseline stepper best {base / 1e6:.3f} M coll/s, ratio {kernel / base:.1f}x best/best, "
           f"{ratio:.1f}x median per round (mean free time {mft:.4f} / {mft_base:.4f})")
     print("cost against H (coin, eps=99):")
-    for H in (2.2, 3.0, 6.0, 12.0):
+    for H in ((2.2, 12.0) if args.smoke else (2.2, 3.0, 6.0, 12.0)):
         r, mft = rate_kernel(Billiard(coin, H), n // 2)
         print(f"  H={H:5.1f}: {r / 1e6:.2f} M coll/s, mean free time {mft:.3f}, {1e9 / r:.0f} ns/collision")
     print("cost against wall complexity (Fourier walls, H = 3):")
     rng = np.random.default_rng(0)
-    for harmonics in (5, 20, 80):
+    for harmonics in ((5,) if args.smoke else (5, 20, 80)):
         k = np.arange(1, harmonics + 1)
         amp = 0.3 / k**2  # a smooth, convex-enough wall: b'' stays moderate
         wall = Wall.from_fourier(1.0, amp * rng.uniform(-1, 1, harmonics), amp * rng.uniform(-1, 1, harmonics))
@@ -220,9 +294,10 @@ def main(argv=None):
         print(f"  {harmonics:3d} harmonics: {r / 1e6:.2f} M coll/s, {1e9 / r:.0f} ns/collision")
     bd = _compiled(table).bounds
     print(f"(cells per period: {bd['edges'].size - 1})")
-    if args.count:
-        work = count_work(table)
-        print("work per collision (coin, H = 3; 20000 collisions run as plain Python): "
+    if args.count or args.smoke:
+        count = 500 if args.smoke else 20_000
+        work = count_work(table, count)
+        print(f"work per collision (coin, H = 3; {count} collisions run as plain Python): "
               + ", ".join(f"{k} {v:.2f}" for k, v in work.items()))
     return 0
 

@@ -60,6 +60,18 @@ function showError(data, fallback) {
   if (box.id === "wall-error") $("wall").classList.add("invalid");
 }
 
+// the number in an <input type="number">: null when empty, undefined (with the error shown in `box`) when the
+// browser could not read what was typed ("1_0", "1,5": its value is then "", which must not mean "no value")
+function numberInput(id, label, box, required = true) {
+  const el = $(id);
+  const empty = el.value.trim() === "";
+  if ((el.validity && el.validity.badInput) || (required && empty)) {
+    showError({error: `${label} must be a decimal number such as 2.5 or 1e-3`}, box);
+    return undefined;
+  }
+  return empty ? null : Number(el.value);
+}
+
 function clearError(...ids) {
   for (const id of ids) $(id).textContent = "";
   if (ids.includes("wall-error")) $("wall").classList.remove("invalid");
@@ -456,8 +468,9 @@ function updateCli() {
 
 async function download(format) {
   clearError("download-error");
-  const kappa = $("kappa").value.trim();
-  const payload = Object.assign(wallSpec(), {b0: state.b0, format, kappa: kappa === "" ? null : Number(kappa),
+  const kappa = numberInput("kappa", "κ", "download-error", false);
+  if (kappa === undefined) return;
+  const payload = Object.assign(wallSpec(), {b0: state.b0, format, kappa,
     units: $("units").value || null, allow_unrealizable: $("allow-unrealizable").checked});
   const data = await call("export", "/api/export", payload);
   if (data.stale) return;
@@ -535,7 +548,9 @@ let tableTimer = null;
 function refreshTable() {
   clearTimeout(tableTimer);
   tableTimer = setTimeout(async () => {
-    const data = await call("table", "/api/table", Object.assign(wallSpec(), {b0: state.b0, H: Number($("H").value)}));
+    const H = numberInput("H", "H", "billiard-error");
+    if (H === undefined) return;
+    const data = await call("table", "/api/table", Object.assign(wallSpec(), {b0: state.b0, H}));
     if (data.stale) return;
     if (data.error) { showError(data, "billiard-error"); return; }
     clearError("billiard-error");
@@ -584,11 +599,14 @@ async function tableClicked(event) {
   const theta = TABLE.x0 + (q.x - TABLE.left) / TABLE.width * (TABLE.x1 - TABLE.x0);
   const eta = TABLE.y1 - (q.y - TABLE.top) / TABLE.height * (TABLE.y1 - TABLE.y0);
   const deg = Math.PI / 180;
+  const H = numberInput("H", "H", "billiard-error"), rays = numberInput("rays", "rays", "billiard-error");
+  const direction = numberInput("direction", "direction", "billiard-error");
+  const spread = numberInput("spread", "spread", "billiard-error");
+  if ([H, rays, direction, spread].includes(undefined)) return;
   stopBeam();
   $("billiard-status").textContent = "computing the beam (the first beam of a new wall compiles the billiard kernel: ~10 s) …";
-  const data = await call("beam", "/api/beam", Object.assign(wallSpec(), {b0: state.b0, H: Number($("H").value),
-    theta, eta, rays: Number($("rays").value), direction: Number($("direction").value) * deg,
-    spread: Number($("spread").value) * deg, collisions: 40, section_collisions: 4000}));
+  const data = await call("beam", "/api/beam", Object.assign(wallSpec(), {b0: state.b0, H,
+    theta, eta, rays, direction: direction * deg, spread: spread * deg, collisions: 40, section_collisions: 4000}));
   if (data.stale) return;
   if (data.error) { showError(data, "billiard-error"); $("billiard-status").textContent = ""; return; }
   clearError("billiard-error");

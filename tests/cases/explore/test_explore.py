@@ -248,6 +248,34 @@ def test_odd_requests_are_4xx_json_never_a_bug(client, route, content, field):
         assert answer.json()["field"] == field
 
 
+# one grammar: what the command line refuses, the server refuses -- numbers are JSON numbers (Python's float()
+# would read "3_0" as 30, "３" as 3, true as 1), parameter lists have no empty item, expressions are one line
+_LINE = {"expression": "1 + 0.1*cos(2*t)"}
+
+
+@pytest.mark.parametrize(("route", "request_json", "field", "needle"), [
+    ("/api/table", dict(_LINE, b0=0, H="3_0"), "H", "`H` must be a number, got '3_0'"),
+    ("/api/table", dict(_LINE, b0=0, H="\uff13"), "H", "`H` must be a number"),
+    ("/api/table", dict(_LINE, b0=0, H=True), "H", "`H` must be a number, got True"),
+    ("/api/table", dict(_LINE, b0="0x1", H=3), "b0", "`b0` must be a number"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta="1_0", eta=1.5), "beam", "`theta` must be a number"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta=0.1, eta=1.5, direction="1e999"), "beam", "`direction` must be"),
+    ("/api/beam", dict(_LINE, b0=0, H=3, theta=0.1, eta=1.5, spread="nan"), "beam", "`spread` must be a number"),
+    ("/api/export", dict(_LINE, b0=0, format="svg", kappa="1_0", units="mm"), "kappa", "`kappa` must be a number"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": "eps=0.1,,"}, "params", "empty item"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": ",eps=0.1"}, "params", "empty item"),
+    ("/api/wall", {"expression": "1 + eps*cos(t)", "params": "eps=0.1;"}, "params", "plain decimal number"),
+    ("/api/wall", {"expression": "1 + 0.1*cos(t) # + 0.2*cos(3*t)"}, "wall", "no comments"),
+    ("/api/wall", {"expression": "1 + 0.1*cos(t,)"}, "wall", "empty argument"),
+    ("/api/wall", {"expression": "(1 + 0.1\n*cos(t))"}, "wall", "one line"),
+])
+def test_the_server_reads_the_command_lines_grammar(client, route, request_json, field, needle):
+    answer = client.post(route, json=request_json)
+    assert answer.status_code == 400, answer.text
+    assert answer.json()["field"] == field and needle in answer.json()["error"]
+
+
+
 def test_oversize_upload_is_a_json_413_read_no_further(client, monkeypatch):
     answer = client.post("/api/upload?name=w.csv", content=b"0" * (explore_app.MAX_UPLOAD_BYTES + 1))
     assert answer.status_code == 413 and answer.json() == {"error": "the file is larger than 16 MiB", "field": "upload"}
@@ -379,3 +407,40 @@ def test_busy_port_is_a_message():
         taken.listen()
         with pytest.raises(InvalidArgument, match="choose another"):
             check_port("127.0.0.1", taken.getsockname()[1])
+
+
+# ------------------------------------------------------------------------------------ fuzzing the server
+# every route, a valid request with one or two fields replaced by a hostile value: the answer is 2xx or a 4xx
+# JSON naming what was wrong -- never 422 ("a bug"), a 5xx, or a dropped connection
+_HOSTILE_VALUES = [None, True, False, "", " ", "1_0", "\uff11", "0x10", "1e999", "nan", "-inf", "1,5", "abc", [], [1],
+                   {}, {"a": 1}, 0, -1, 1e308, -1e308, 1e-320, 10 ** 30, 3.5, "1 + cos(", "1+0.1*cos(t) # c",
+                   "(1+\n0.1*cos(t))", "\x00", "x" * 5000, "eps=1,,", "case:coin", "../../etc/passwd"]
+_VALID = {
+    "/api/wall": dict(_LINE),
+    "/api/body": dict(_LINE, b0=0),
+    "/api/realize": dict(_LINE, b0=0),
+    "/api/table": dict(_LINE, b0=0, H=3),
+    "/api/export": dict(_LINE, b0=0, format="svg"),
+    "/api/beam": dict(_LINE, b0=0, H=3, theta=0.1, eta=1.5, rays=3, collisions=3, section_collisions=10),
+}
+_KEYS = ["expression", "params", "b0", "H", "theta", "eta", "rays", "collisions", "section_collisions", "direction",
+         "spread", "kappa", "units", "format", "case", "upload", "allow_unrealizable"]
+
+
+def test_fuzzed_requests_are_answered_never_a_bug(client):
+    import random
+
+    rng = random.Random(22)
+    statuses = {}
+    for _ in range(120):
+        route = rng.choice(sorted(_VALID))
+        request_json = dict(_VALID[route])
+        for key in rng.sample(_KEYS, rng.choice([1, 1, 2])):
+            request_json[key] = rng.choice(_HOSTILE_VALUES)
+        answer = client.post(route, json=request_json)
+        statuses[answer.status_code] = statuses.get(answer.status_code, 0) + 1
+        assert answer.status_code in (200, 400, 404, 409, 413), (route, request_json, answer.text[:300])
+        if answer.status_code != 200 or answer.headers["content-type"].startswith("application/json"):
+            text = json.dumps(answer.json())
+            assert "internal error" not in text and "bug" not in text, (route, request_json, text[:300])
+    assert statuses.get(400, 0) > 30 and statuses.get(200, 0) > 10, statuses  # the fuzz reached both kinds

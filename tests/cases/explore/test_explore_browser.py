@@ -202,6 +202,31 @@ def test_download_is_a_valid_svg(browser, downloads):
     assert _errors(browser) == []
 
 
+def test_a_kappa_the_browser_cannot_read_is_an_error_not_a_drawing_without_scale(browser, downloads):
+    # a number the browser cannot read ("1e", "1,5" in some locales): its value is "" (as if nothing were typed),
+    # which used to download the body at no scale; the page says what is wrong and downloads nothing
+    (downloads / "body.svg").unlink(missing_ok=True)
+    _set_b0(browser, -0.3)
+    _wait(lambda: _text(browser, "regime") == "convex", "the convex body")
+    box = browser.find_element(By.ID, "kappa")
+    unreadable = []
+    for text in ("1,5", "1e", "1..5", "--1"):  # what a browser cannot read varies; Chromium keeps "1e" as typed
+        box.clear()
+        box.send_keys(text)
+        if browser.execute_script("return arguments[0].validity.badInput", box):
+            unreadable.append(text)
+            break
+    assert unreadable, "the browser read every malformed number"
+    browser.find_element(By.ID, "download-svg").click()
+    message = _wait(lambda: _text(browser, "download-error"), "the message")
+    assert "κ must be a decimal number" in message
+    assert not (downloads / "body.svg").exists()
+    box.clear()
+    browser.find_element(By.ID, "download-svg").click()  # an empty box is "no scale", as before
+    _wait(lambda: (downloads / "body.svg").exists(), "the download")
+    assert _text(browser, "download-error") == ""
+
+
 def test_typing_a_wall_after_the_start_page_needs_no_parameter(browser, server):
     # the page opens with eps = 1 for the Appendix wall; a wall without eps must simply work (b + b'' = 1 − 0.9 cos 2θ)
     browser.get(server[0])

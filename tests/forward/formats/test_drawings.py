@@ -9,6 +9,7 @@ and DXF specifications: 1 in = 25.4 mm, 1 px = 1/96 in, 1 pt = 1/72 in), never b
 
 from __future__ import annotations
 
+import io
 import math
 import random
 
@@ -329,3 +330,46 @@ def test_cut_svg_is_one_path(tmp_path, capsys):
     prescribed = 1 + 0.1 * np.cos(3 * THETA)
     assert np.max(np.abs(reading.outline.support(THETA) - prescribed)) < 1e-7
     assert math.isclose(float(root.get("width")[:-2]), float(root.get("viewBox").split()[2]))
+
+
+# --------------------------------------------------------------- DXF files as CAD programs write them
+def _circle_dxf(path, radius, n, layer, line_end=b"\n"):
+    """A closed n-gon inscribed in a circle of ``radius``, one LWPOLYLINE on ``layer``, saved as DXF R2010."""
+    import ezdxf
+
+    doc = ezdxf.new("R2010")  # from R2007 on, a DXF's text is UTF-8 by the standard, whatever $DWGCODEPAGE says
+    doc.layers.add(layer)
+    phi = 2 * np.pi * np.arange(n) / n
+    doc.modelspace().add_lwpolyline(np.column_stack([radius * np.cos(phi), radius * np.sin(phi)]).tolist(),
+                                    close=True, dxfattribs={"layer": layer})
+    stream = io.StringIO()
+    doc.write(stream)
+    data = stream.getvalue().encode("utf-8").replace(b"\r\n", b"\n")
+    with open(path, "wb") as handle:
+        handle.write(data.replace(b"\n", line_end))
+
+
+@pytest.mark.parametrize("line_end", [b"\n", b"\r\n"], ids=["LF", "CRLF"])
+def test_dxf_with_crlf_lines_and_a_non_ascii_layer_name(tmp_path, line_end):
+    # Windows CAD programs write CRLF line ends; ezdxf reads them, and so must coinwall.  The layer name is
+    # UTF-8 in an R2010 file (read as cp1252 it became 'Schicht_Ã¤Ã¶Ã¼' and --layer found nothing)
+    path = str(tmp_path / "circle.dxf")
+    _circle_dxf(path, 20.0, 400, "Schicht_äöü", line_end)
+    reading = read_outline(path, layer="Schicht_äöü")
+    # the 400-gon's support function: r cos(distance of θ to the nearest vertex direction), vertices at 2πk/400
+    nearest = np.abs((THETA + np.pi / 400) % (2 * np.pi / 400) - np.pi / 400)
+    assert np.max(np.abs(reading.outline.support(THETA) - 20.0 * np.cos(nearest))) < 1e-9
+
+
+def test_drawn_circle_certified_interval_covers_the_circle(tmp_path):
+    # a drawn circle of r = 20 (a 20,000-gon) used to report b_c = -19.8012 ± 4.6e-07; the circle's b_c is
+    # -r exactly (b = r, b'' = 0): the interval coinwall certifies from the drawing's wall must hold it
+    from coinwall.forward.formats.wallfile import load_wall_file
+    from coinwall.inverse import critical_offset
+
+    drawing, wall_csv = str(tmp_path / "circle.dxf"), str(tmp_path / "wall.csv")
+    _circle_dxf(drawing, 20.0, 20_000, "outline")
+    assert main(["wall", drawing, "-o", wall_csv]) == 0
+    result = critical_offset(load_wall_file(wall_csv))
+    assert result.lower <= -20.0 <= result.upper
+    assert result.upper - result.lower < 2e-3 * 20  # and says something: the drawing's flattening is 20·(1−cos(π/n))

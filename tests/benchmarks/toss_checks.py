@@ -1,0 +1,98 @@
+"""The toss that lands, the long runs behind docs/toss.md: the wedge limit, fairness against bounces and e, the
+uncertainty exponent as e → 1; figures in the house style and the numbers printed (pasted into docs/toss.md).
+
+Run:  python tests/benchmarks/toss_checks.py [--figures docs/figures] [--smoke]
+
+``--smoke`` runs every part with tiny sizes (a few seconds; no figures unless --figures is given).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.fairness import fairness, plot_fairness
+from coinwall.forward.dynamics.field import FieldTable
+from coinwall.forward.dynamics.uncertainty import plot_uncertainty, uncertainty_exponent
+from coinwall.forward.dynamics.wedge import plot_wedge, wedge_lyapunov
+from coinwall.forward.formats.figure import figure_bytes
+
+COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+
+
+def write(ax, folder, name):
+    if folder:
+        path = os.path.join(folder, name)
+        with open(path, "wb") as handle:
+            handle.write(figure_bytes(ax.figure, path))
+        print(f"wrote {path}")
+
+
+def wedge(args):
+    start = time.perf_counter()
+    orbits, impacts = (2, 500) if args.smoke else (8, 20_000)
+    angles = (45, 60) if args.smoke else (45, 50, 55, 60, 65, 70, 75, 80, 85)
+    results = [wedge_lyapunov(a, orbits=orbits, impacts=impacts, method="map") for a in angles]
+    few = (45, 60) if args.smoke else (45, 60, 75)
+    results += [wedge_lyapunov(a, orbits=orbits, impacts=impacts // 4, method="kernel") for a in few]
+    results += [wedge_lyapunov(a, orbits=orbits, impacts=impacts // 4, method="dumbbell", level=1e-2) for a in few]
+    print("half-angle  method     lambda/impact  stderr   orbits x impacts  threshold 3logN/N")
+    for r in results:
+        print(f"{r.half_angle:8.0f}   {r.method:9s}  {r.exponent:12.4f}  {r.stderr:7.4f}  "
+              f"{r.exponents.size} x {r.impacts:<8d}    {r.threshold:.2e}")
+    print(f"wedge: {time.perf_counter() - start:.1f} s")
+    write(plot_wedge(results), args.figures, "toss-wedge.png")
+
+
+def fair(args):
+    start = time.perf_counter()
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    samples, bounces = (2000, 5) if args.smoke else (args.samples, 30)
+    es = (0.6, 0.9) if args.smoke else (0.3, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95)
+    results = []
+    for e in es:
+        r = fairness(FieldTable(coin, g=1.0, e=e), (2.0, 5.0), (0.05, 0.2), 1.2, bounces=bounces, samples=samples,
+                     seed=1)
+        results.append(r)
+        print(f"e = {e:4.2f}: bias n=1 {r.bias[0]:+.4f} ± {r.stderr[0]:.4f}; n={bounces} {r.bias[-1]:+.4f} ± "
+              f"{r.stderr[-1]:.4f}; undecided {r.undecided[-1]:.3f}; settled {r.settled[-1]:.3f}; fair to 0.01 "
+              f"from {r.fair_after(0.01)}, to 0.001 from {r.fair_after(0.001)}")
+    print(f"fairness: {time.perf_counter() - start:.1f} s ({samples} tosses per e)")
+    write(plot_fairness(results), args.figures, "toss-fairness.png")
+
+
+def goy(args):
+    start = time.perf_counter()
+    coin = Wall.from_expression(COIN, {"eps": 99.0})
+    samples = 500 if args.smoke else 20_000
+    eps = 10.0 ** -np.arange(2, 7)
+    thin = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}).scaled(1e-4), g=1.0, e=0.5)
+    results = [uncertainty_exponent(thin, (0.0, 3.0), (0.0, 8.0), 3e-5, epsilons=eps[:3], samples=samples,
+                                    catch=True)]
+    for e in ((0.6,) if args.smoke else (0.3, 0.6, 0.8, 0.9)):
+        results.append(uncertainty_exponent(FieldTable(coin, g=1.0, e=e), (0.0, 3.0), (0.0, 8.0), 1.2,
+                                            epsilons=eps, samples=samples))
+    for r in results:
+        print(f"{r!r}  f = {np.array2string(r.fractions, precision=4)}")
+    print(f"uncertainty: {time.perf_counter() - start:.1f} s")
+    write(plot_uncertainty(results), args.figures, "toss-uncertainty.png")
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--figures", default=None, help="folder for the figures (default: none written)")
+    parser.add_argument("--samples", type=int, default=200_000, help="tosses per e for the fairness curve")
+    parser.add_argument("--only", choices=["wedge", "fairness", "uncertainty"], default=None)
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes: exercise every code path in seconds")
+    args = parser.parse_args()
+    for name, part in (("wedge", wedge), ("fairness", fair), ("uncertainty", goy)):
+        if args.only in (None, name):
+            part(args)
+
+
+if __name__ == "__main__":
+    main()
