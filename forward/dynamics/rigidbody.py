@@ -15,8 +15,8 @@ they must agree.
 
 The toss that lands: the same body in a field ``g`` (physical length/s², along −y), with a floor only
 (``H=None``) or floor and ceiling, and Newton's restitution ``e`` on the normal velocity of the contact point
-(``v_c⁺·n = −e v_c⁻·n``).  ``tests/test_toss_checks.py`` holds it to the field billiard of :mod:`.field`
-impact by impact (``η = y/κ``, so the billiard's field is ``g/κ``).
+(``v_c⁺·n = −e v_c⁻·n``).  ``tests/forward/dynamics/test_toss_checks.py`` holds it to the field billiard of
+:mod:`.field` impact by impact (``η = y/κ``, so the billiard's field is ``g/κ``).
 
 State and coordinates
 ---------------------
