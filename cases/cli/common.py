@@ -53,17 +53,19 @@ class LibraryChoices(Sequence):
         The module that defines the table, e.g. ``"coinwall.cases.scan.quantities"``.
     table : str
         The table's name in it (its keys are the choices, in its order).
+    first : tuple of str, optional
+        Choices of the command line's own, offered before the table's (e.g. ``("auto",)``).
     """
 
-    def __init__(self, module: str, table: str):
-        self.module, self.table = module, table
+    def __init__(self, module: str, table: str, first: tuple = ()):
+        self.module, self.table, self.first = module, table, tuple(first)
         self._names = None
 
     def _load(self) -> tuple:
         if self._names is None:
             import importlib
 
-            self._names = tuple(getattr(importlib.import_module(self.module), self.table))
+            self._names = self.first + tuple(getattr(importlib.import_module(self.module), self.table))
         return self._names
 
     def __getitem__(self, index):
