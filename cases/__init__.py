@@ -1,8 +1,6 @@
 """coinwall cases: named walls and bodies of the paper and beyond, with reference values and provenance."""
 
-from .catalog import Case, Reference, all_cases, get_case
-from .ellipse import ELLIPSE_WALL, EXAMPLE, ellipse_critical_offset, ellipse_outline, ellipse_wall
-from .stick import STICK_WALL, stick_outline, stick_wall
+from coinwall._lazy import attach_stub
 
-__all__ = ["Case", "Reference", "all_cases", "get_case", "ELLIPSE_WALL", "EXAMPLE", "ellipse_critical_offset",
-           "ellipse_outline", "ellipse_wall", "STICK_WALL", "stick_outline", "stick_wall"]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

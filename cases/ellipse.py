@@ -24,13 +24,11 @@ import math
 import numpy as np
 
 from coinwall.forward import Outline, Wall
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL
 
 from .catalog import Case, Reference
 
 __all__ = ["ELLIPSE_WALL", "ellipse_wall", "ellipse_critical_offset", "ellipse_outline", "EXAMPLE", "CASES"]
-
-ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
-
 
 def ellipse_wall(eps: float) -> Wall:
     """The paper's eq. 18 wall (κ = 1) for eccentricity parameter ``eps``."""

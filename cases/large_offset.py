@@ -5,7 +5,7 @@ For ``b0 ≫ |b|`` the body is nearly a circle and ``R(α) ≈ b0 + b(α)`` with
 ``h = b0 + b``, ``R = sqrt(h² + h'²)`` at ``α = φ + atan(h'/h)``, so
 ``R(α) − (b0 + b(α)) = −b'(α)²/(2 b0) + O(b0⁻²)`` (expand ``R`` to second order
 and shift the argument by ``atan(h'/h) ≈ b'/b0``; derived in
-``tests/test_known_answers.py::test_large_offset_expansion``).  The error falls
+``tests/inverse/test_known_answers.py::test_large_offset_expansion``).  The error falls
 like 1/b0, as the paper's "sufficiently large b0" implies.
 """
 

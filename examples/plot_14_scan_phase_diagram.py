@@ -2,10 +2,10 @@
 A parameter scan: the chaotic fraction over (ε, H)
 ==================================================
 
-:func:`coinwall.forward.scan.scan` computes one quantity on every cell of a grid of wall parameters × H,
+:func:`coinwall.cases.scan.scan` computes one quantity on every cell of a grid of wall parameters × H,
 one seeded task per cell on a local dask.distributed cluster, written cell by cell into a resumable
 xarray/Zarr store (here in a temporary folder). This is a small 4 × 4 grid with 20 orbits × 300 collisions
-per cell, computed when the page is built; :func:`coinwall.forward.scan.figures.plot_scan` draws the phase
+per cell, computed when the page is built; :func:`coinwall.cases.scan.figures.plot_scan` draws the phase
 diagram with the paper's KAM curve :math:`\\varepsilon = 1/H + 17/H^2` and the closed-form ε*(H), ε**(H)
 (:doc:`/scan` shows the 16 × 13 map). Needs the ``scan`` extra (``pip install -e ".[scan]"``).
 """
@@ -15,8 +15,8 @@ import tempfile
 
 import matplotlib.pyplot as plt
 
-from coinwall.forward.scan import TableSpec, scan
-from coinwall.forward.scan.figures import plot_scan
+from coinwall.cases.scan import TableSpec, scan
+from coinwall.cases.scan.figures import plot_scan
 
 store = os.path.join(tempfile.mkdtemp(), "phase.zarr")
 result = scan(

@@ -1,11 +1,12 @@
-"""How results show themselves: a ``__repr__`` that never raises, and numbers printed as what they are."""
+"""How results show themselves: a ``__repr__`` that never raises, numbers printed as what they are, numbers
+for JSON (no NaN or infinity, which JSON does not have) and messages on one line."""
 
 from __future__ import annotations
 
 import functools
 import math
 
-__all__ = ["safe_repr", "format_number"]
+__all__ = ["safe_repr", "format_number", "json_number", "json_numbers", "one_line"]
 
 
 def safe_repr(method):
@@ -35,3 +36,32 @@ def format_number(value, tolerance: float = 0.0, digits: int = 6) -> str:
         return "0"
     text = f"{value:.{digits}g}"
     return "0" if text in ("-0", "0") else text
+
+
+def json_number(value, digits: int | None = None):
+    """``value`` as a JSON number: a float, or None for None, NaN and ±inf (JSON has no such numbers).
+
+    Parameters
+    ----------
+    value : float, int, numpy scalar or None
+    digits : int, optional
+        Round to this many decimal places (a page that shows numbers needs no more).
+    """
+    if value is None:
+        return None
+    value = float(value)
+    if not math.isfinite(value):
+        return None
+    return value if digits is None else round(value, digits)
+
+
+def json_numbers(values, digits: int | None = None) -> list:
+    """:func:`json_number` of each of ``values`` (a sequence or 1-d array), as a list."""
+    return [json_number(v, digits) for v in values]
+
+
+def one_line(text, limit: int = 400) -> str:
+    """``text`` (or an exception's message) on one line, shortened to ``limit`` characters with "…"
+    (an exception's message can be a page)."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"

@@ -33,7 +33,7 @@ any midpoint is refused at once, with the extent of the non-finite set found by 
 finite and non-finite angles.
 
 Legitimate steep walls (a stick, ``sqrt(1 + 1e-6 - cos t)``, a high harmonic) are resolved at a
-width well above :data:`MIN_WIDTH` and pass; tests/test_hardening_numerics.py holds the detector to
+width well above :data:`MIN_WIDTH` and pass; tests/inverse/test_hardening_numerics.py holds the detector to
 both kinds.
 """
 

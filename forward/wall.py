@@ -1,6 +1,6 @@
 """The wall function b(θ): the object the forward and the inverse side share.
 
-Convention (pinned by tests/test_conventions.py with a triangle, which has no symmetry axis):
+Convention (pinned by tests/inverse/test_conventions.py with a triangle, which has no symmetry axis):
 ``b0 + b(θ)`` is the support function ``h`` of the body evaluated at the
 body-frame polar angle ``θ``, measured counter-clockwise from the body axis.
 Physically, θ is the angle measured *clockwise* from the outward normal of the
@@ -473,7 +473,7 @@ class Wall:
             jump = right - left
             if abs(jump) > 1e-8 * self._scale:
                 # kink angles keep 13 decimals, as the solvers' grids and the polar branches were tuned
-                # with (the polar solver's edge ends misorder on unrounded angles: tests/test_cases.py)
+                # with (the polar solver's edge ends misorder on unrounded angles: tests/cases/test_cases.py)
                 kinks.append(Kink(round(angle, 13), jump, left, right, c_left, c_right))
             elif abs(c_right - c_left) > 1e-6 * self._scale:
                 breaks.append(angle)

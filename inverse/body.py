@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.display import safe_repr
+from coinwall.forward.display import json_number, safe_repr
 
 __all__ = ["Body"]
 
@@ -171,31 +171,24 @@ class Body:
 
     def to_dict(self) -> dict:
         """JSON-ready summary (without the outline)."""
-
-        def num(v):
-            if v is None:
-                return None
-            v = float(v)
-            return v if math.isfinite(v) else None
-
         return {
             "wall": self.wall.description,
             "params": dict(self.wall.params),
             "b0": self.b0,
-            "b_c": num(self.b_c),
+            "b_c": json_number(self.b_c),
             "b_c_infinite": bool(math.isinf(self.b_c)),
-            "b_c_tolerance": num(self.b_c_tolerance),
+            "b_c_tolerance": json_number(self.b_c_tolerance),
             "critical_angles": list(self.critical_angles),
             "regime": self.regime,
             "method": self.method,
             "regimes": list(self.regimes or (self.regime,)),
             "regime_decided": self.regime_decided,
-            "b_c_lower": num(self.b_c_lower),
-            "b_c_upper": num(self.b_c_upper),
+            "b_c_lower": json_number(self.b_c_lower),
+            "b_c_upper": json_number(self.b_c_upper),
             "points": int(self.x.size),
-            "max_wall_error": num(self.max_wall_error),
-            "cross_check": num(self.cross_check),
-            "polar_residual": num(self.polar_residual),
+            "max_wall_error": json_number(self.max_wall_error),
+            "cross_check": json_number(self.cross_check),
+            "polar_residual": json_number(self.polar_residual),
             "convex": self.convex,
             "valid": self.valid,
             "com_inside": self.com_inside,
@@ -205,7 +198,7 @@ class Body:
             "folds": [f.to_dict() for f in self.folds],
             "kinks": [{"angle": k.angle, "jump": k.jump} for k in self.wall.kinks],
             "notes": list(self.notes),
-            "accuracy": num(self.accuracy),
+            "accuracy": json_number(self.accuracy),
             "warnings": list(self.warnings),
             "seconds": self.seconds,
         }

@@ -58,6 +58,8 @@ from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.massprops import outline_moments
 
+from .tolerances import REALIZABLE_TOLERANCE
+
 __all__ = ["Realizability", "SelfConsistency", "realizability", "kappa_max", "self_consistent_offset"]
 
 
@@ -183,11 +185,9 @@ def realizability(body, tol: float = 1e-6) -> Realizability:
     else:
         props = outline_moments(body.outline)
         kappa_u, centroid = props.kappa, props.centre
-    # κ_max is measured on points of the outline, a few 1e-8 below the exact value at the default
-    # resolution: κ_max = 1 within 1e-6 is reachable (mass at the far ends)
     kmax, _ = kappa_max(body.outline)
     offset = float(math.hypot(*centroid))
-    realizable = bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)
+    realizable = bool(math.isfinite(kmax) and kmax >= 1.0 - REALIZABLE_TOLERANCE)
     uniform = bool(abs(kappa_u - 1) <= tol and offset <= tol)
     return Realizability(float(body.b0), float(kappa_u), tuple(float(c) for c in centroid), offset, float(kmax),
                          realizable, uniform, float(tol))

@@ -26,7 +26,10 @@ from coinwall.forward.outline import Outline, support_function
 
 from .body import Body
 from .corners import Corner
-from .discrete import data_critical_offset, discrete_support, halfspace_polygon, machine_rounding, support_polygon
+from .critical import _cyclic_runs, data_critical_offset
+from .discrete import discrete_support, halfspace_polygon, machine_rounding, support_polygon
+from .smooth import body_warnings, outline_support, shape_check, solve_smooth
+from .tolerances import WALL_ACCURACY
 
 __all__ = ["MAX_GEOMETRY_SAMPLES", "interpolant_agrees", "solve_samples"]
 
@@ -88,8 +91,6 @@ def interpolant_agrees(wall, support, bound=None) -> bool:
 def _closure(outline, theta, h, windows, convex=False):
     """Largest wall error on the samples: ``|h_body − h_i|`` outside the cut windows, and inside them
     only how far the body's wall *exceeds* the samples (a cut lowers the wall, never raises it)."""
-    from .solve import outline_support
-
     body_wall = outline_support(outline, theta, convex=convex)
     inside = np.zeros(theta.size, bool)
     for lo, hi in windows:
@@ -103,8 +104,6 @@ def _corners_where_allowed(polygon, theta, b, w, b0):
     """``polygon`` with its corner flags kept only on vertices whose window meets a run of samples where zero
     curvature is within the data's tolerance (``ρ_i + b0 ≤ tol_i``), or that cut the data (a deficit: Case
     III); of several flagged vertices in one run, the one with the widest window stands for the run."""
-    from .critical import _cyclic_runs
-
     support = discrete_support(theta, b, w)
     zero = support.rho + b0 - support.rho_tolerance <= 0
     # a deficit within the lines' own rounding (a line standing off a vertex that two other rounded lines make)
@@ -159,8 +158,6 @@ def _polygon_support(polygon, theta):
 
 def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float) -> Body:
     """The body of a sampled wall at offset ``b0`` (see the module docstring)."""
-    from .solve import WALL_ACCURACY, body_warnings, shape_check, solve_smooth
-
     all_theta, all_b = wall.samples
     all_w = wall.sample_rounding if wall.sample_rounding is not None else machine_rounding(all_b)
     all_h = b0 + all_b

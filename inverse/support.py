@@ -31,7 +31,7 @@ __all__ = [
 #: Largest ``|b0|`` in units of the wall's scale ``max(1, max|b|)``.  Every value of ``h = b0 + b`` is
 #: rounded by ``|b0|·eps/2`` (eps = 2.2e-16) and the construction and its check amplify that about
 #: 16-fold; beyond ``1e8·scale`` that rounding alone (16·2.2e-16·1e8 ≈ 3.6e-7·scale) approaches the
-#: accuracy ``1e-6·scale`` every body is checked to (inverse.solve.WALL_ACCURACY), so the wall ``b``
+#: accuracy ``1e-6·scale`` every body is checked to (inverse.smooth.WALL_ACCURACY), so the wall ``b``
 #: would be drowned in the rounding of the offset and no body could be the answer.  (Far below it, at
 #: 1024 points, the discretisation error ``1.3e-12·b0`` already earns a warning above b0 ≈ 1e6: more
 #: points help there, nothing helps beyond the bound.)

@@ -1,7 +1,7 @@
 """Shared parts of the command-line fuzz tests: a worker process that runs ``coinwall`` commands, and the
 hostile inputs they are given.
 
-Used by ``tests/test_fuzz_cli.py`` (the default run, bounded) and ``tests/benchmarks/fuzz_cli.py`` (a
+Used by ``tests/cases/cli/test_fuzz_cli.py`` (the default run, bounded) and ``tests/benchmarks/fuzz_cli.py`` (a
 larger run outside it, whose counts are recorded in docs/cli.md ("Fuzz tests")).
 
 Why a worker process: a command that crashes the interpreter (a segmentation fault in compiled code) or

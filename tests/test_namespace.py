@@ -87,6 +87,9 @@ def test_wheel_has_exactly_one_top_level_name(tmp_path):
     for folder in ("forward", "inverse", "cases"):
         for init in (ROOT / folder).rglob("__init__.py"):
             assert f"coinwall/{init.relative_to(ROOT).as_posix()}" in names, init
+            # and its stub, which the lazy __init__ reads when the package is imported
+            assert f"coinwall/{init.relative_to(ROOT).with_suffix('.pyi').as_posix()}" in names, init
+    assert "coinwall/__init__.pyi" in names
 
 
 def test_wall_is_immutable():

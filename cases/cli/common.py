@@ -8,9 +8,10 @@ import math
 import os
 import re
 import sys
+from collections.abc import Sequence
 
 __all__ = [
-    "ANGLE_TOLERANCE",
+    "LibraryChoices",
     "add_command",
     "check_body_finite",
     "check_positive_count",
@@ -34,10 +35,47 @@ __all__ = [
 _INTEGER = re.compile(r"[+-]?[0-9]+")
 from coinwall.forward.validation import DECIMAL as _DECIMAL  # noqa: E402 (the one number grammar)
 
-#: How far from the true angle ``critical_offset`` may report the minimum of b + b'': its docstring
-#: says ~1e-8 rad (the minimum is flat, so Brent's search stops within about sqrt(machine epsilon)
-#: of it; 1.12e-8 for the ellipse wall at θ = 0).  Ten times that is what a reader should read as 0.
-ANGLE_TOLERANCE = 1e-7
+#: How far from the true angle ``critical_offset`` may report the minimum of b + b'' (read as 0)
+from coinwall.inverse.tolerances import ANGLE_TOLERANCE  # noqa: E402
+
+
+class LibraryChoices(Sequence):
+    """The names of a table of the library (``QUANTITIES``, ``METHODS``), read on first use.
+
+    argparse checks a value against ``choices`` and lists them in a usage error, but ``coinwall --help``
+    builds every subcommand's parser and reads none of them: the table's module (and numpy, which it
+    imports) is loaded only when a command that has the option runs or shows its own help.  Give the
+    argument a ``metavar``: argparse would otherwise list the choices while the parser is built.
+
+    Parameters
+    ----------
+    module : str
+        The module that defines the table, e.g. ``"coinwall.cases.scan.quantities"``.
+    table : str
+        The table's name in it (its keys are the choices, in its order).
+    first : tuple of str, optional
+        Choices of the command line's own, offered before the table's (e.g. ``("auto",)``).
+    """
+
+    def __init__(self, module: str, table: str, first: tuple = ()):
+        self.module, self.table, self.first = module, table, tuple(first)
+        self._names = None
+
+    def _load(self) -> tuple:
+        if self._names is None:
+            import importlib
+
+            self._names = self.first + tuple(getattr(importlib.import_module(self.module), self.table))
+        return self._names
+
+    def __getitem__(self, index):
+        return self._load()[index]
+
+    def __len__(self) -> int:
+        return len(self._load())
+
+    def __contains__(self, value) -> bool:
+        return value in self._load()
 
 
 def add_command(subparsers, name, *, help, description, example):

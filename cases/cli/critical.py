@@ -5,8 +5,9 @@ from __future__ import annotations
 import json
 import math
 
+from coinwall.inverse.tolerances import OFFSET_TOLERANCE
+
 from .common import add_command, format_angles, wall_arguments
-from .solve import OFFSET_TOLERANCE
 
 __all__ = ["register"]
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import math
 
+from coinwall.inverse.tolerances import REALIZABLE_TOLERANCE
+
 from .common import add_command, describe_written, number
 
 __all__ = ["register"]
@@ -71,7 +73,8 @@ def run(args):
                   cut=args.cut)
     body = _stored_body(args.body)
     kappa_uniform, kmax = _physical(body.outline)
-    if args.kappa is not None and not (math.isfinite(kmax) and kmax >= 1.0 - 1e-6) and not args.allow_unrealizable:
+    realizable = bool(math.isfinite(kmax) and kmax >= 1.0 - REALIZABLE_TOLERANCE)
+    if args.kappa is not None and not realizable and not args.allow_unrealizable:
         raise InvalidArgument(
             f"`kappa`: no mass distribution inside this body gives it κ = 1 (κ_max = {kmax:.4g} κ), so a part cut "
             "at this size would not have this wall; solve it again with --b0 self-consistent, or pass "
@@ -85,7 +88,7 @@ def run(args):
     if args.json:
         print(json.dumps({"outputs": result.paths, "reports": result.reports, "kappa_uniform": kappa_uniform,
                           "kappa_max": kmax if math.isfinite(kmax) else None,
-                          "realizable": bool(math.isfinite(kmax) and kmax >= 1.0 - 1e-6)}, indent=1, allow_nan=False))
+                          "realizable": realizable}, indent=1, allow_nan=False))
         return 0
     scale = f"kappa = {args.kappa:g} {args.units}" if args.kappa else "units of kappa (no physical scale)"
     print(f"body       {args.body} (b0 = {body.b0:g}, regime {body.regime}); {scale}")

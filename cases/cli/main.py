@@ -39,6 +39,8 @@ import sys
 # text; numba's own switch for that is this variable (set before numba is imported; a user's value is kept).
 os.environ.setdefault("NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING", "1")
 
+from coinwall.forward.display import one_line  # noqa: E402 - after the variable above (display imports no numba)
+
 __all__ = ["EX_INTERRUPTED", "EX_SOFTWARE", "flag_message", "main"]
 
 #: exit status for a bug in coinwall (sysexits.h: "an internal software error has been detected")
@@ -50,7 +52,7 @@ EX_INTERRUPTED = 130
 def _quiet_scan_worker() -> None:
     """In a worker process of ``coinwall scan``'s local cluster (spawned by multiprocessing, which runs this
     module first): ignore SIGINT, so that Ctrl-C stops the driver alone, which closes the cluster, instead
-    of every worker printing a traceback (coinwall.forward.scan.driver.WORKER_ENVIRONMENT)."""
+    of every worker printing a traceback (coinwall.cases.scan.driver.WORKER_ENVIRONMENT)."""
     # (multiprocessing.parent_process() is set only after this module ran; spawn_main has been imported by then)
     if os.environ.get("COINWALL_SCAN_WORKER") == "1" and "multiprocessing.spawn" in sys.modules:
         import signal
@@ -77,14 +79,8 @@ def _debug() -> bool:
     return os.environ.get("COINWALL_DEBUG", "").strip() not in ("", "0")
 
 
-def _one_line(text: str, limit: int = 400) -> str:
-    """``text`` on one line, shortened to ``limit`` characters (an exception message can be a page)."""
-    text = " ".join(str(text).split())
-    return text if len(text) <= limit else text[:limit - 1] + "…"
-
-
 def _error(message: str) -> None:
-    print(f"coinwall: error: {_one_line(message, 1000)}", file=sys.stderr)
+    print(f"coinwall: error: {one_line(message, 1000)}", file=sys.stderr)
 
 
 def _note_warnings(caught) -> None:
@@ -94,7 +90,7 @@ def _note_warnings(caught) -> None:
         return
     counts = {}
     for w in caught:
-        text = f"{w.category.__name__}: {_one_line(w.message, 120)}"
+        text = f"{w.category.__name__}: {one_line(w.message, 120)}"
         counts[text] = counts.get(text, 0) + 1
     shown = [text + (f" (x{n})" if n > 1 else "") for text, n in counts.items()]
     more = f"; and {len(shown) - 2} other kind(s)" if len(shown) > 2 else ""
@@ -124,7 +120,7 @@ def _guarded(argv) -> int:
     try:
         return _run(argv)
     except MemoryError as exc:
-        detail = f" ({_one_line(exc, 200)})" if str(exc) else ""
+        detail = f" ({one_line(exc, 200)})" if str(exc) else ""
         _error(f"not enough memory for this request{detail}; ask for less (fewer points, samples or collisions)")
         return 2
     except RecursionError:
@@ -139,7 +135,7 @@ def _guarded(argv) -> int:
         _error(f"cannot read or write{where}: {exc.strerror or exc}")
         return 2
     except Exception as exc:  # noqa: BLE001 - the last line of defence: a bug, reported in one line
-        print(f"coinwall: internal error: {type(exc).__name__}: {_one_line(exc)} -- this is a bug in coinwall; "
+        print(f"coinwall: internal error: {type(exc).__name__}: {one_line(exc)} -- this is a bug in coinwall; "
               "please report it, with the command and the traceback that COINWALL_DEBUG=1 prints", file=sys.stderr)
         return EX_SOFTWARE
 

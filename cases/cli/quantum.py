@@ -6,13 +6,18 @@ import json
 import math
 import os
 
-from .common import add_command, check_positive_count, count, number, progress_bar, wall_arguments, written_lines
+from .common import (
+    LibraryChoices,
+    add_command,
+    check_positive_count,
+    count,
+    number,
+    progress_bar,
+    wall_arguments,
+    written_lines,
+)
 
-__all__ = ["METHOD_NAMES", "register"]
-
-#: the keys of coinwall.forward.quantum.METHODS, written out so that ``coinwall --help`` imports no numpy
-#: (tests/test_quantum.py holds them equal)
-METHOD_NAMES = ("fem", "spectral")
+__all__ = ["register"]
 
 DESCRIPTION = """\
 The lowest levels of the quantum body between the walls (docs/quantum.md).
@@ -42,7 +47,8 @@ def register(subparsers):
                         help="distance between the walls (units of κ); several, comma-separated, make a doublet scan")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--levels", type=count, required=True, help="number of levels (the lowest)")
-    parser.add_argument("--method", choices=("auto",) + METHOD_NAMES, default="auto",
+    parser.add_argument("--method", choices=LibraryChoices("coinwall.forward.quantum.spectrum", "METHODS", ("auto",)),
+                        metavar="METHOD", default="auto",
                         help="solver: auto (default: spectral for a smooth wall on an open strip, up to 12,000 "
                              "modes, else fem of degree 4), fem (Lagrange elements on a mesh that follows the walls) "
                              "or spectral (Fourier × Legendre modes, smooth walls only, exponentially convergent; no "

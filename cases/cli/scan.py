@@ -7,7 +7,7 @@ import os
 import shlex
 import sys
 
-from .common import add_command, check_seed, count, number, progress_bar, written_lines
+from .common import LibraryChoices, add_command, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -32,8 +32,6 @@ coinwall scan chaotic-fraction "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=0.5
 coinwall scan tau "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 2.1:3:7 --bounces 100000 -o tau.zarr --figure tau.png
 coinwall scan toss "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --param restitution=0.3:0.9:7 --H 1.2:6:9 -o toss.zarr --figure toss.png"""
 
-#: the quantities of coinwall.forward.scan.QUANTITIES (written out: --help must not import numpy; a test compares)
-QUANTITY_NAMES = ("chaotic-fraction", "lyapunov", "tau", "splitting", "toss")
 #: quantity options: flag dest -> library option name (each applies to some quantities; others are refused)
 _OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order",
             "tosses", "g", "v0", "omega0", "spread", "impacts")
@@ -43,7 +41,8 @@ def register(subparsers):
     """Add the ``scan`` subcommand."""
     scan = add_command(subparsers, "scan", help="a quantity on a grid of (parameter, H) on dask.distributed, "
                        "resumable, into a Zarr store", description=DESCRIPTION, example=EXAMPLE)
-    scan.add_argument("quantity", choices=QUANTITY_NAMES, metavar="QUANTITY", help=", ".join(QUANTITY_NAMES))
+    scan.add_argument("quantity", choices=LibraryChoices("coinwall.cases.scan.quantities", "QUANTITIES"),
+                      metavar="QUANTITY", help="%(choices)s")
     scan.add_argument("wall", help="wall b(θ): an expression in t, case:NAME, or a .csv/.json wall file "
                                    "(only an expression's parameters can be scanned)")
     scan.add_argument("--param", action="append", default=[], metavar="NAME=VALUES",
@@ -92,8 +91,8 @@ def register(subparsers):
 
 def _table(args):
     """The TableSpec and the scanned axes' texts from WALL and --param."""
+    from coinwall.cases.scan import TableSpec
     from coinwall.forward.errors import InvalidArgument, InvalidParameter
-    from coinwall.forward.scan import TableSpec
 
     from .common import load_wall, parse_params, wall_options
 
@@ -143,9 +142,9 @@ def _command(args) -> str:
 
 
 def _cmd_scan(args):
+    from coinwall.cases.scan import scan
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
-    from coinwall.forward.scan import scan
 
     check_seed(args.seed)
     check_paths(args.figure, FIGURE_FORMATS)
@@ -175,7 +174,7 @@ def _cmd_scan(args):
             bar.close()
     files = {}
     if args.figure:
-        from coinwall.forward.scan.figures import plot_scan
+        from coinwall.cases.scan.figures import plot_scan
 
         dataset = result.dataset()
         for path in args.figure:

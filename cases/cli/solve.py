@@ -5,19 +5,18 @@ from __future__ import annotations
 import json
 import math
 
+# the tolerances solve_body itself works to; a number below its own tolerance prints as 0
+from coinwall.inverse.tolerances import (
+    AREA_TOLERANCE,
+    DEFAULT_POINTS,
+    DEFICIT_TOLERANCE,
+    DIRECTION_TOLERANCE,
+    OFFSET_TOLERANCE,
+)
+
 from .common import add_command, count, describe_written, format_angles, number, wall_arguments
 
-__all__ = ["AREA_TOLERANCE", "DEFICIT_TOLERANCE", "DIRECTION_TOLERANCE", "OFFSET_TOLERANCE", "register"]
-
-# The tolerances solve_body itself works to; a number below its own tolerance prints as 0.
-#: regime_of: b0 within 1e-9·max(1, wall scale) of b_c is the critical case
-OFFSET_TOLERANCE = 1e-9
-#: solve_body: an area below 1e-12·scale² (scale = max(1, largest R)) is a segment, zero area
-AREA_TOLERANCE = 1e-12
-#: solve_body: a corner deficit above 1e-10·(wall scale) is a deficit; below it the corner touches the wall
-DEFICIT_TOLERANCE = 1e-10
-#: solve_body: angular windows narrower than 1e-9 rad are not corners; directions are resolved to that
-DIRECTION_TOLERANCE = 1e-9
+__all__ = ["register"]
 
 _CASES = {"convex": "Case I: convex body",
           "critical": "Case II: critical, convex, infinite curvature at the critical angles",
@@ -39,8 +38,6 @@ coinwall solve "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=1 --b0 -0.6 -o body
 
 def register(subparsers):
     """Add the ``solve`` subcommand."""
-    from coinwall.inverse.solve import DEFAULT_POINTS
-
     parser = add_command(subparsers, "solve", help="wall function + offset b0 -> body outline (the inverse problem)",
                          description=_DESCRIPTION, example=_EXAMPLE)
     wall_arguments(parser, optional=True)

@@ -5,6 +5,7 @@ JavaScript and SVG shipped in the package (no CDN: it works offline).  Nothing h
 ``import coinwall``: the web framework is an optional extra (``pip install -e ".[explore]"``).
 """
 
-from .server import DEFAULT_HOST, DEFAULT_PORT, serve
+from coinwall._lazy import attach_stub
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "serve"]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

@@ -22,6 +22,8 @@ import tempfile
 
 import numpy as np
 
+from coinwall.forward.display import json_number
+
 __all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
            "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "crash", "export",
            "field", "free_names", "get_wall", "number", "realize", "table", "upload", "wall_info"]
@@ -83,11 +85,6 @@ def number(spec: dict, key: str, default=_MISSING) -> float:
     if not math.isfinite(value):
         raise InvalidArgument(f"`{key}` must be finite, got {value}")
     return value
-
-
-def _num(value):
-    value = float(value)
-    return round(value, 12) if math.isfinite(value) else None
 
 
 def _list(values, digits=_DIGITS):
@@ -253,8 +250,8 @@ def cases(request: dict) -> dict:
 def _bc_text(wall, result) -> str:
     """b_c at its precision: the digits down to its tolerance (`coinwall critical`'s rule), so the coin's
     b_c = −1/100 prints as -0.01, not -0.0099999999999999."""
-    from coinwall.cases.cli.solve import OFFSET_TOLERANCE
     from coinwall.forward.display import format_number
+    from coinwall.inverse.tolerances import OFFSET_TOLERANCE
 
     if not math.isfinite(result.b_c):
         return "inf"
@@ -311,10 +308,10 @@ def wall_info(spec: dict) -> dict:
     high = max(start, bc) + 0.5 * size
     widths = 2 * start + values + np.roll(values, -values.size // 2)
     H = _round(1.5 * float(widths.max()))
-    out = {"description": wall.description, "b_c": _num(result.b_c), "b_c_text": _bc_text(wall, result),
-           "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": _num(result.b_c_tolerance),
-           "b_c_lower": _num(result.lower) if result.lower is not None else None,
-           "b_c_upper": _num(result.upper) if result.upper is not None else None,
+    out = {"description": wall.description, "b_c": json_number(result.b_c, 12), "b_c_text": _bc_text(wall, result),
+           "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": json_number(result.b_c_tolerance, 12),
+           "b_c_lower": json_number(result.lower, 12) if result.lower is not None else None,
+           "b_c_upper": json_number(result.upper, 12) if result.upper is not None else None,
            "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
            "range": [low, high], "b0": start, "H": H, "sampled": wall.samples is not None, "params": None}
     if not spec.get("case") and not spec.get("upload"):
@@ -353,9 +350,10 @@ def body(spec: dict) -> dict:
         corners.append({"x": x, "y": y, "direction": c.direction, "half_width": c.half_width,
                         "distance": c.distance, "max_deficit": c.max_deficit, "window": list(c.window)})
     extent = float(np.max(np.hypot(solved.x, solved.y)))
-    return {"b0": solved.b0, "b_c": _num(solved.b_c), "regime": solved.regime, "points": int(solved.x.size),
+    return {"b0": solved.b0, "b_c": json_number(solved.b_c, 12), "regime": solved.regime, "points": int(solved.x.size),
             "path": _path(solved.outline), "extent": extent, "corners": corners,
-            "area": solved.area, "perimeter": solved.perimeter, "max_wall_error": _num(solved.max_wall_error),
+            "area": solved.area, "perimeter": solved.perimeter,
+            "max_wall_error": json_number(solved.max_wall_error, 12),
             "warnings": list(solved.warnings), "notes": list(solved.notes),
             "theta": _list(theta, 5), "wall": _list(solved.b0 + b), "own_wall": _list(solved.outline.support(theta)),
             "rho": _list(solved.b0 + b + b2), "solve_ms": 1e3 * solved.seconds,
@@ -368,8 +366,9 @@ def realize(spec: dict) -> dict:
 
     _, solved = _solve(spec)
     r = realizability(solved)
-    return {"b0": solved.b0, "kappa_uniform": _num(r.kappa_uniform), "kappa_max": _num(r.kappa_max),
-            "centroid_offset": _num(r.centroid_offset), "realizable": r.realizable,
+    return {"b0": solved.b0, "kappa_uniform": json_number(r.kappa_uniform, 12),
+            "kappa_max": json_number(r.kappa_max, 12),
+            "centroid_offset": json_number(r.centroid_offset, 12), "realizable": r.realizable,
             "uniform_consistent": r.uniform_consistent}
 
 

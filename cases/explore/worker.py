@@ -25,6 +25,8 @@ import multiprocessing
 import re
 import threading
 
+from coinwall.forward.display import one_line
+
 __all__ = ["JobError", "Superseded", "Worker", "page_words"]
 
 
@@ -60,8 +62,8 @@ def page_words(text: str) -> str:
 
 
 def _one_line(text, limit=600) -> str:
-    text = page_words(" ".join(str(text).split()))
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    """A message for the page: :func:`~coinwall.forward.display.one_line` of it in the page's words."""
+    return one_line(page_words(" ".join(str(text).split())), limit)
 
 
 def _child(conn) -> None:

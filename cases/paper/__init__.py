@@ -1,7 +1,6 @@
 """The paper's claims, recomputed: the registry, the report and its figures (``coinwall verify``)."""
 
-from .claims import CLAIMS, REGISTRY, Claim
-from .report import Report, Row
-from .verify import run_verify
+from coinwall._lazy import attach_stub
 
-__all__ = ["CLAIMS", "REGISTRY", "Claim", "Report", "Row", "run_verify"]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

@@ -162,7 +162,7 @@ _CLAIMS = (
           "max |Δv_rigid − Δv_specular| = {general_error:.1e} (ellipse ε = {ellipse_eps}, asymmetric egg)",
           "Rigid-body impulse computed from the contact point in the lab frame (lever arm, I = Mκ²) "
           "versus specular reflection at the wall b(θ) with exact b'(θ). Asymmetric body: upper wall "
-          "H − b(θ + π), see tests/test_conventions.py."),
+          "H − b(θ + π), see tests/inverse/test_conventions.py."),
     # ------------------------------------------------------------------ section IV: the ellipse
     Claim("eq18", "Ellipse wall b(θ) (eq. 18) from its body (eq. 15)", "eq. 15, 18",
           "b = sqrt((1 + ε cos²θ)/(1 + ε))", checks.ellipse_wall_from_body, {"eps_values": _EPS},

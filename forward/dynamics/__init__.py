@@ -1,52 +1,7 @@
 """The motion: the billiard and its compiled kernel, the rigid body it is equivalent to, and the
 analyses of the motion (Poincaré sections, Lyapunov exponents, P(n), the KAM boundary)."""
 
-from .billiard import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
-from .correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
-from .kam import KamBoundary, kam_boundary, paper_boundary
-from .lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
-from .orbitstats import OrbitStatistics, orbit_statistics
-from .poincare import PoincareSection, incidence_angle, poincare_section
-from .rigidbody import (
-    EllipseShape,
-    PolygonShape,
-    RigidBody,
-    RigidBodyTrajectory,
-    billiard_to_body,
-    body_to_billiard,
-    simulate_rigid_body,
-)
+from coinwall._lazy import attach_stub
 
-__all__ = [
-    "Billiard",
-    "ChaoticFraction",
-    "Correlation",
-    "EllipseShape",
-    "KamBoundary",
-    "LyapunovResult",
-    "OrbitStatistics",
-    "PoincareSection",
-    "PolygonShape",
-    "RigidBody",
-    "RigidBodyTrajectory",
-    "TauLaw",
-    "Trajectory",
-    "billiard_to_body",
-    "body_to_billiard",
-    "chaotic_fraction",
-    "compile_kernel",
-    "correlation",
-    "ensemble",
-    "fit_tau_law",
-    "heads",
-    "incidence_angle",
-    "kam_boundary",
-    "lyapunov",
-    "lyapunov_many",
-    "orbit_statistics",
-    "paper_boundary",
-    "poincare_section",
-    "random_states",
-    "simulate",
-    "simulate_rigid_body",
-]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

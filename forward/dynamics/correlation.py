@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
+from ..display import json_number, safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_choice, check_count, check_memory, is_integer
 from .billiard import Billiard, ensemble, random_states, simulate
@@ -161,15 +161,13 @@ class Correlation:
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (non-finite numbers become None)."""
-        def num(x):
-            return float(x) if x is not None and math.isfinite(x) else None
-
         return {"H": self.table.H, "b0": self.table.b0, "count": self.count, "bounces": self.bounces,
                 "orbits": self.orbits, "max_lag": self.max_lag, "seed": self.seed,
                 "P": [float(p) for p in self.P], "P_stderr": [float(p) for p in self.P_stderr],
-                "heads_fraction": num(self.heads_fraction), "heads_stderr": num(self.heads_stderr),
-                "tau": num(self.tau), "tau_stderr": num(self.tau_stderr), "tau_infinite": self.tau == math.inf,
-                "amplitude": num(self.amplitude), "n_needed": self.n_needed, "n_needed_fit": num(self.n_needed_fit),
+                "heads_fraction": json_number(self.heads_fraction), "heads_stderr": json_number(self.heads_stderr),
+                "tau": json_number(self.tau), "tau_stderr": json_number(self.tau_stderr),
+                "tau_infinite": self.tau == math.inf, "amplitude": json_number(self.amplitude),
+                "n_needed": self.n_needed, "n_needed_fit": json_number(self.n_needed_fit),
                 "threshold": THRESHOLD, "notes": list(self.notes)}
 
     def decay_band(self):

@@ -28,24 +28,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
+from ..display import json_numbers, safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count
 from ..wall import Wall
 from .billiard import Billiard
+from .islands import ELLIPSE_WALL, paper_boundary
 from .lyapunov import chaotic_fraction
 
-__all__ = ["ELLIPSE_WALL", "KamBoundary", "kam_boundary", "paper_boundary"]
+__all__ = ["KamBoundary", "kam_boundary"]
 
-ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 KAM_WORK_MAX = 1e10   # collision-equivalents one kam_boundary call may take (about an hour; see kam_boundary)
 _ROUND_COST = 2000    # one renormalisation round's Python overhead, in collisions (~0.7 ms at 3e6 collisions/s)
-
-
-def paper_boundary(H):
-    """The paper's eq. (20): ``ε ≈ 1/H + 17/H²``."""
-    H = np.asarray(H, dtype=float)
-    return 1.0 / H + 17.0 / H**2
 
 
 @dataclass(frozen=True, repr=False)
@@ -81,11 +75,9 @@ class KamBoundary:
     history: tuple
 
     def to_dict(self) -> dict:
-        def num(v):
-            return [float(x) if math.isfinite(x) else None for x in v]
-
-        return {"H": num(self.H), "eps": num(self.eps), "eps_low": num(self.eps_low), "eps_high": num(self.eps_high),
-                "paper": num(self.paper), "orbits": self.orbits, "collisions": self.collisions,
+        return {"H": json_numbers(self.H), "eps": json_numbers(self.eps), "eps_low": json_numbers(self.eps_low),
+                "eps_high": json_numbers(self.eps_high),
+                "paper": json_numbers(self.paper), "orbits": self.orbits, "collisions": self.collisions,
                 "regular_max": self.regular_max,
                 "criterion": f"regular fraction < {self.regular_max:g} among {self.orbits} Liouville-random orbits, "
                              f"orbit regular if lambda/collision <= 3 log(N)/N over N = {self.collisions}",

@@ -1,9 +1,9 @@
 """Largest Lyapunov exponent of billiard orbits, and the chaotic fraction of phase space.
 
-Method (Benettin's two-orbit renormalisation, using only the public kernel API).
+Method (Benettin's two-orbit renormalisation).
 A reference orbit and a companion started a distance ``d0`` away in the 4-d
-state space (θ, η, v_θ, v_η) are followed with
-:func:`~coinwall.forward.dynamics.billiard.ensemble`.  Every ``every`` collisions of the
+state space (θ, η, v_θ, v_η) are followed by the compiled ensemble kernel
+(the one :func:`~coinwall.forward.dynamics.billiard.ensemble` runs).  Every ``every`` collisions of the
 reference orbit the two are compared *at the same time* t*, chosen in the
 middle of the reference's next free flight (so neither orbit is at a wall and
 the states are smooth functions of the start; the companion's state at t* is
@@ -26,6 +26,14 @@ when ``λ_collision > threshold`` with the stated default
 ``threshold = 3·log(N)/N`` for N collisions per orbit (three times the
 largest finite-time value a regular orbit with linear separation growth
 reaches — linear growth ``d ∝ n`` gives ``log(N)/N``).
+
+Bookkeeping in arrays.  All orbits and their companions go through the kernel together, one call per
+renormalisation round on preallocated arrays, and the states at t* are found on whole arrays: a loop
+over the orbits in Python cost about 8 times the kernel's own time (docs/performance.md).  The start
+states are checked once, as :func:`~coinwall.forward.dynamics.billiard.ensemble` checks them; the
+states between rounds lie in the middle of a free flight, inside the strip by construction, and need no
+check.  Both walls are evaluated in one call where a companion is placed: a casadi call costs about
+0.4 ms whatever its length, as much as the kernel spends on 100 orbits.
 """
 
 from __future__ import annotations
@@ -36,10 +44,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..angles import TWO_PI
-from ..display import safe_repr
+from ..display import json_number, json_numbers, safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count, check_memory
-from .billiard import Billiard, ensemble, random_states
+from .billiard import Billiard, random_states
 
 __all__ = [
     "ChaoticFraction",
@@ -54,11 +62,6 @@ __all__ = [
 def default_threshold(collisions: int) -> float:
     """Chaos threshold per collision ``3·log(N)/N`` for N collisions (module docstring)."""
     return 3.0 * math.log(collisions) / collisions
-
-
-def _numbers(values) -> list:
-    """Floats for JSON: nan and ±inf become None."""
-    return [float(v) if math.isfinite(v) else None for v in np.asarray(values, dtype=float).ravel()]
 
 
 @dataclass(frozen=True, repr=False)
@@ -95,8 +98,8 @@ class LyapunovResult:
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (lists of floats; non-finite numbers become None)."""
-        return {"per_collision": _numbers(self.per_collision), "per_time": _numbers(self.per_time),
-                "collisions": [int(n) for n in self.collisions], "time": _numbers(self.time),
+        return {"per_collision": json_numbers(self.per_collision), "per_time": json_numbers(self.per_time),
+                "collisions": [int(n) for n in self.collisions], "time": json_numbers(self.time),
                 "starts": np.asarray(self.starts, dtype=float).tolist(), "every": self.every, "d0": self.d0,
                 "notes": list(self.notes)}
 
@@ -110,23 +113,26 @@ class LyapunovResult:
                 f"range {np.nanmin(self.per_collision):.4g}..{np.nanmax(self.per_collision):.4g})")
 
 
-def _state_at(traj_time, theta, eta, vt, ve, start, t):
-    """State of an orbit at time t from its collision list (free flight after the last collision before t)."""
-    k = int(np.searchsorted(traj_time, t, side="right")) - 1
-    if k < 0:
-        p = start
-        dt = t
-    else:
-        p = np.array([theta[k], eta[k], vt[k], ve[k]])
-        dt = t - traj_time[k]
-    return np.array([p[0] + p[2] * dt, p[1] + p[3] * dt, p[2], p[3]])
+def _reduce(states):
+    """θ reduced to [0, 2π) and its whole turns, as ``billiard._check_states`` does before the kernel."""
+    turns = np.floor(states[:, 0] / TWO_PI)
+    reduced = states[:, 0] - turns * TWO_PI
+    over, under = reduced >= TWO_PI, reduced < 0.0
+    reduced[over], turns[over] = reduced[over] - TWO_PI, turns[over] + 1
+    reduced[under], turns[under] = reduced[under] + TWO_PI, turns[under] - 1
+    return reduced, turns.astype(np.int64)
 
 
 def _nudge(table, base, delta, d0):
-    """``base + d0·delta`` (unit ``delta``), or ``base − d0·delta`` when the former leaves the strip."""
+    """``base + d0·delta`` (unit ``delta``), or ``base − d0·delta`` where the former leaves the strip."""
     out = base + d0 * delta
     margin = 100 * table.tol
-    bad = (out[:, 1] <= table.lower(out[:, 0]) + margin) | (out[:, 1] >= table.upper(out[:, 0]) - margin)
+    # both walls in one evaluation (module docstring); the values are those of table.lower/upper:
+    # b0 + b(θ) and H − b0 − b(θ + π)
+    m = out.shape[0]
+    b = table.wall(np.concatenate([out[:, 0], np.asarray(out[:, 0], dtype=float) + math.pi]))
+    lower, upper = table.b0 + b[:m], table.H - table.b0 - b[m:]
+    bad = (out[:, 1] <= lower + margin) | (out[:, 1] >= upper - margin)
     out[bad] = base[bad] - d0 * delta[bad]
     return out
 
@@ -151,7 +157,9 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     seed : int
         Seed of the random initial separation direction.
     workers : int, optional
-        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
+        numba threads for the kernel (default: numba's default, all cores); 1 in a scan, where the
+        parallelism is one process per core.  Each orbit is followed by the same sequential code, so the
+        result does not depend on it.
     transient : int
         Renormalisation intervals run first and not counted, while the
         random initial separation turns into the most unstable direction
@@ -161,69 +169,115 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     Returns
     -------
     LyapunovResult
-        ``collisions`` and ``time`` count only the intervals after the transient.
+        ``collisions`` and ``time`` count only the intervals after the transient; ``notes`` name the
+        orbits that stopped early and why (their exponents are NaN).
     """
+    import numba
+
+    from .billiard import _check_states, _check_table
+    from .kernel import NOTES, compiled
+
+    _check_table(table)
     transient = check_count("transient", transient, minimum=0)
     collisions = check_count("collisions", collisions)
     every = check_count("every", every)
     if not (isinstance(d0, (int, float)) and math.isfinite(d0) and 0 < d0 < 1e-3):
         raise InvalidArgument(f"`d0` must be a number in (0, 1e-3), got {d0!r}")
-    ref = np.array(states, dtype=float).reshape(-1, 4)
-    if ref.shape[0] == 0:
-        raise InvalidArgument("`states` must hold at least one state")
-    ref[:, 2:] /= np.hypot(ref[:, 2], ref[:, 3])[:, None]
+    if workers is not None:
+        workers = check_count("workers", workers)
+    try:
+        ref = np.array(states, dtype=float).reshape(-1, 4)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"`states` must be numbers of shape (m, 4) [theta, eta, v_theta, v_eta], got "
+                              f"shape {np.shape(states)}") from None
     m = ref.shape[0]
+    if m == 0:
+        raise InvalidArgument("`states` must hold at least one state")
+    n = every + 2  # the companion gets two extra collisions so that its collision list always covers t*
     check_memory(f"{m} orbits ((every + 2) collisions of 41 bytes for each orbit and its companion, and 300 bytes "
-                 f"of bookkeeping per orbit)", m * (2.0 * 41 * (every + 2) + 300.0))
+                 f"of bookkeeping per orbit)", m * (2.0 * 41 * n + 300.0))
+    starts = ref.copy()
+    ref[:, 2:] /= np.hypot(ref[:, 2], ref[:, 3])[:, None]
     rng = np.random.default_rng(seed)
     direction = rng.normal(size=(m, 4))
     direction /= np.linalg.norm(direction, axis=1)[:, None]
     comp = _nudge(table, ref, direction, d0)
-    log_sum = np.zeros(m)
-    time = np.zeros(m)
-    used = np.zeros(m, dtype=np.int64)
+    # the start states (and their companions) are checked as ensemble() checks them: inside the strip, moving
+    # into it from a wall; a start on a wall leaves that wall
+    checked = _check_states(table, np.vstack([ref, comp]), "states")
+    kernel = compiled(table)
+    args = kernel.args(table)
+    log_sum, time, used = np.zeros(m), np.zeros(m), np.zeros(m, dtype=np.int64)
     alive = np.ones(m, dtype=bool)
     notes = []
+    # the kernel's output arrays, reused every round (2m rows: the references, then their companions)
+    out = [np.empty((2 * m, n)) for _ in range(5)] + [np.empty((2 * m, n), dtype=np.int8)]
+    done, status, last = np.zeros(2 * m, dtype=np.int64), np.zeros(2 * m, dtype=np.int64), np.empty((2 * m, 2))
+    columns = np.arange(n)
     rounds = -(-collisions // every)
-    for step in range(rounds + int(transient)):
-        counted = step >= transient
-        idx = np.flatnonzero(alive)
-        if idx.size == 0:
-            break
-        # the companion gets two extra collisions so that its collision list always covers t*
-        trajs = ensemble(table, np.vstack([ref[idx], comp[idx]]), every + 2, workers=workers)
-        xs, deltas, rows = [], [], []
-        for j, i in enumerate(idx):
-            r, c = trajs[j], trajs[j + idx.size]
-            if len(r) < every + 1 or len(c) < every + 1:
-                alive[i] = False
-                notes.append(f"orbit {i}: {r.note or c.note or 'stopped early'}")
-                continue
-            t_star = 0.5 * (r.time[every - 1] + r.time[every])
-            x = _state_at(r.time, r.theta, r.eta, r.v_theta, r.v_eta, r.start, t_star)
-            y = _state_at(c.time, c.theta, c.eta, c.v_theta, c.v_eta, c.start, t_star)
+    previous = numba.get_num_threads()
+    try:
+        if workers is not None:
+            numba.set_num_threads(min(workers, numba.config.NUMBA_NUM_THREADS))
+        for step in range(rounds + transient):
+            idx = np.flatnonzero(alive)
+            if idx.size == 0:
+                break
+            k = idx.size
+            both = np.vstack([ref[idx], comp[idx]])
+            if step == 0:
+                unit, speed, leaving, turns = checked
+            else:  # mid-flight states: on neither wall
+                speed = np.hypot(both[:, 2], both[:, 3])  # the companion's is not exactly 1: time scales with it
+                unit = both.copy()
+                unit[:, 0], turns = _reduce(both)
+                unit[:, 2:] /= speed[:, None]
+                leaving = np.full(2 * k, -1, dtype=np.int64)
+            rows = [o[:2 * k] for o in out]
+            kernel.call("_run_many", unit, turns, leaving, n, *args, *rows, done[:2 * k], status[:2 * k],
+                        last[:2 * k])
+            t_all, th_all, eta_all, vt_all, ve_all = (rows[c] for c in range(5))
+            t_all = t_all / speed[:, None]
+            vt_all, ve_all = vt_all * speed[:, None], ve_all * speed[:, None]
+            ok = (done[:k] >= every + 1) & (done[k:2 * k] >= every + 1)
+            for j in np.flatnonzero(~ok):
+                why = NOTES.get(int(status[j]), "") or NOTES.get(int(status[k + j]), "") or "stopped early"
+                notes.append(f"orbit {idx[j]}: {why}")
+            alive[idx[~ok]] = False
+            t_star = 0.5 * (t_all[:k, every - 1] + t_all[:k, every])
+            t_star2 = np.concatenate([t_star, t_star])
+            # the last collision before t* of each orbit (searchsorted side="right" − 1, on valid columns only)
+            valid = columns[None, :] < done[:2 * k, None]
+            last_k = np.count_nonzero(valid & (t_all <= t_star2[:, None]), axis=1) - 1
+            rows_i = np.arange(2 * k)
+            safe = np.maximum(last_k, 0)
+            # before its first collision an orbit is still in its first flight, from its start state
+            p = np.where((last_k >= 0)[:, None],
+                         np.column_stack([th_all[rows_i, safe], eta_all[rows_i, safe], vt_all[rows_i, safe],
+                                          ve_all[rows_i, safe]]), both)
+            dt = np.where(last_k >= 0, t_star2 - t_all[rows_i, safe], t_star2)
+            at = np.column_stack([p[:, 0] + p[:, 2] * dt, p[:, 1] + p[:, 3] * dt, p[:, 2], p[:, 3]])
+            x, y = at[:k], at[k:]
             delta = y - x
-            d = float(np.linalg.norm(delta))
-            if not d > 0.0:  # identical orbits (cannot happen unless d0 underflows): restart the direction
-                delta, d = direction[i], d0
-            if counted:
-                log_sum[i] += math.log(d / d0)
-                time[i] += t_star
-                used[i] += every
+            d = np.linalg.norm(delta, axis=1)
+            same = ~(d > 0.0)  # identical orbits (cannot happen unless d0 underflows): restart the direction
+            delta[same], d[same] = direction[idx[same]], d0
+            good = idx[ok]
+            if step >= transient:
+                log_sum[good] += np.log(d[ok] / d0)
+                time[good] += t_star[ok]
+                used[good] += every
             # carry θ reduced mod 2π (never the unwrapped angle, whose precision falls as it grows); the
             # companion is rebuilt from x below, so both keep the same turns and the separation is unchanged
-            x[0] -= TWO_PI * math.floor(x[0] / TWO_PI)
-            ref[i] = x
-            xs.append(x)
-            deltas.append(delta / d)
-            rows.append(i)
-        if rows:
-            comp[rows] = _nudge(table, np.array(xs), np.array(deltas), d0)
+            x[:, 0] -= TWO_PI * np.floor(x[:, 0] / TWO_PI)
+            ref[good] = x[ok]
+            comp[good] = _nudge(table, x[ok], delta[ok] / d[ok, None], d0)
+    finally:
+        numba.set_num_threads(previous)
     per_collision = np.where(alive, log_sum / np.maximum(used, 1), np.nan)
     per_time = np.where(alive, log_sum / np.where(time > 0, time, 1.0), np.nan)
     return LyapunovResult(per_collision=per_collision, per_time=per_time, collisions=used, time=time,
-                          starts=np.array(states, dtype=float).reshape(-1, 4), every=every, d0=float(d0),
-                          notes=tuple(notes))
+                          starts=starts, every=every, d0=float(d0), notes=tuple(notes))
 
 
 def lyapunov(table: Billiard, state, collisions: int = 2000, every: int = 10, d0: float = 1e-9, seed=0,
@@ -271,7 +325,7 @@ class ChaoticFraction:
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the per-orbit exponents under ``"exponents"``)."""
         return {"fraction": self.fraction, "stderr": self.stderr, "regular": self.regular, "orbits": self.orbits,
-                "regular_fraction": _numbers([self.regular_fraction])[0], "threshold": self.threshold,
+                "regular_fraction": json_number(self.regular_fraction), "threshold": self.threshold,
                 "collisions": self.collisions, "exponents": self.exponents.to_dict()}
 
     @safe_repr

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
+from ..display import json_number, safe_repr
 from ..validation import check_count
 from .billiard import Billiard, simulate
 
@@ -74,12 +74,10 @@ class OrbitStatistics:
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (nan becomes None)."""
-        def num(x):
-            return float(x) if math.isfinite(x) else None
-
         return {"H": self.table.H, "b0": self.table.b0, "method": self.method, "collisions": self.collisions,
-                "mean_free_time": num(self.mean_free_time), "santalo_mean_free_time": self.santalo_mean_free_time,
-                "bottom_fraction": num(self.bottom_fraction), "start": [float(x) for x in self.start],
+                "mean_free_time": json_number(self.mean_free_time),
+                "santalo_mean_free_time": self.santalo_mean_free_time,
+                "bottom_fraction": json_number(self.bottom_fraction), "start": [float(x) for x in self.start],
                 "final_state": [float(x) for x in self.final_state], "gap_min": self.table.gap_min,
                 "gap_max": self.table.gap_max, "note": self.note}
 

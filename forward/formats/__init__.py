@@ -6,19 +6,7 @@ outlines; ``load`` turns what they read into an :class:`Outline` (``load_outline
 writes files all or nothing and ``figure`` renders figures as PNG, SVG or PDF.
 """
 
-from ..support import wall_functions
-from .load import OUTLINE_FORMATS, load_outline, outline_from_polar
-from .output import check_paths, write_all
-from .wallfile import WALL_FORMATS, load_wall, load_wall_file
+from coinwall._lazy import attach_stub
 
-__all__ = [
-           "OUTLINE_FORMATS",
-           "WALL_FORMATS",
-           "check_paths",
-           "load_outline",
-           "load_wall",
-           "load_wall_file",
-           "outline_from_polar",
-           "wall_functions",
-           "write_all",
-]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

@@ -7,27 +7,7 @@ E = ħ²λ/(2Mκ²)).  One module per step: :mod:`.strip` (the domain), :mod:`.m
 :mod:`.statistics`, :mod:`.tunnelling`, :mod:`.figures`.  scikit-fem is imported only when a mesh is made.
 """
 
-from .spectrum import METHODS, Spectrum, default_cells, quantum_spectrum
-from .statistics import SpacingStatistics, level_statistics
-from .strip import Strip, make_strip
-from .tunnelling import Splitting, doublet_splitting, splitting_of, tunnelling_time, wkb_action
-from .weyl import WeylCheck, weyl_check, weyl_count
+from coinwall._lazy import attach_stub
 
-__all__ = [
-           "METHODS",
-           "SpacingStatistics",
-           "Spectrum",
-           "Splitting",
-           "Strip",
-           "WeylCheck",
-           "default_cells",
-           "doublet_splitting",
-           "level_statistics",
-           "make_strip",
-           "quantum_spectrum",
-           "splitting_of",
-           "tunnelling_time",
-           "weyl_check",
-           "weyl_count",
-           "wkb_action",
-]
+# the public names and the modules that define them are in __init__.pyi; each is imported on first use
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

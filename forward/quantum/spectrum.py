@@ -118,8 +118,8 @@ def default_cells(strip: Strip, levels: int, order: int = 2) -> int:
     """Rows across the strip for relative errors of about 1e-4 at the ``levels``-th level.
 
     Weyl's law with its boundary term puts the ``levels``-th level near λ ≈ 1.5·4π·levels/A.  On flat
-    walls (exact values; tests/test_quantum.py) the largest relative error of degree p with cells of side h
-    is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3), 3.4e-7 at 1.24 (P4);
+    walls (exact values; tests/forward/quantum/test_quantum.py) the largest relative error of degree p with
+    cells of side h is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3), 3.4e-7 at 1.24 (P4);
     h√λ = 0.5, 1.4, 2.5 for p = 2, 3, 4 gives ~1e-4.
     """
     lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2

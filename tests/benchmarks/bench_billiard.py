@@ -1,6 +1,6 @@
 """Benchmark of the billiard kernel: against today's kernel and against a simple conservative-advancement stepper.
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count] [--smoke]
+Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count] [--smoke]
 
 The headline is the kernel against *today's* kernel: ``_kernel_baseline.py`` next to this file is a verbatim
 copy of ``forward/dynamics/_kernel.py`` as it was before the kernel was reworked (one file, its own search),

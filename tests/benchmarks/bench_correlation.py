@@ -1,6 +1,6 @@
 """Benchmark: the time to P(n) ± 0.002 for n ≤ 40 at H = 1.2 D, ε = 99 coin (issue 5).
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_correlation.py [--quick] [--orbits 100] [--seeds 10] [--repeat 3]
+Run:  python tests/benchmarks/bench_correlation.py [--quick] [--orbits 100] [--seeds 10] [--repeat 3]
 
 The table.  The paper's coin wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` with ε = 99 (an expression
 wall), diameter D = b(0) + b(π) = 2 (units of κ), H = 1.2 D = 2.4; n counts bottom collisions

@@ -1,6 +1,6 @@
 """Benchmark and figures of the quantum coin (issue 13; docs/quantum.md, docs/performance.md).
 
-Run:  OMP_NUM_THREADS=1 PYTHONPATH=. python tests/benchmarks/bench_quantum.py [--part NAME ...] [--quick]
+Run:  OMP_NUM_THREADS=1 python tests/benchmarks/bench_quantum.py [--part NAME ...] [--quick]
 
 Parts (all by default):
 

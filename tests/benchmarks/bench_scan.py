@@ -1,12 +1,13 @@
 """Benchmark of ``coinwall scan`` (issue 15): per-cell overhead against kernel time, and 1 → 2 local workers.
 
-Run:  python tests/benchmarks/bench_scan.py [--quick] [--json bench_scan.json]
+Run:  python tests/benchmarks/bench_scan.py [--quick | --smoke] [--json bench_scan.json]
 
 Parts (each prints its numbers; nothing is asserted, this is a measurement):
 
-1. Per-cell cost of one chaotic-fraction cell (ellipse wall, ε = 3, H = 3, 100 orbits): the library's
-   ``chaotic_fraction`` (Python loop over orbits in every renormalisation round) against the scan's cell
-   (:func:`coinwall.forward.scan.benettin.lyapunov_batch`, arrays), and the time spent inside the compiled
+1. Per-cell cost of one chaotic-fraction cell (ellipse wall, ε = 3, H = 3, 100 orbits): Benettin's method
+   with a Python loop over orbits in every renormalisation round (tests/benettin_loop.py, the library's
+   implementation until it moved into arrays) against
+   :func:`coinwall.forward.dynamics.lyapunov.lyapunov_many` (arrays), and the time spent inside the compiled
    ensemble kernel (``_run_many``, timed by wrapping ``CompiledKernel.call``).  Overhead = cell − kernel.
 2. GIL: the same cells on one worker process with 2 threads against 2 processes of 1 thread (the kernel is
    compiled without ``nogil``; if it held the GIL, 2 threads would take as long as 1).
@@ -27,13 +28,15 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
+sys.path.insert(0, os.path.join(ROOT, "tests"))  # the per-orbit loop, tests/benettin_loop.py
 
+from benettin_loop import lyapunov_loop  # noqa: E402
+
+from coinwall.cases.scan import TableSpec, check_options, compute_cell, scan
 from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL
 from coinwall.forward.dynamics.kernel import CompiledKernel
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction
-from coinwall.forward.scan import TableSpec, check_options, compute_cell, scan
-from coinwall.forward.scan.benettin import lyapunov_batch
+from coinwall.forward.dynamics.lyapunov import lyapunov_many
 from coinwall.forward.wall import Wall
 
 
@@ -75,17 +78,19 @@ def best(function, repeat):
 def part_overhead(orbits, collisions, repeat):
     table = Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": 3.0}), 3.0)
     states = random_states(table, orbits, 0)
-    lyapunov_batch(table, states[:2], 20)
-    chaotic_fraction(table, 2, 20, workers=1)  # compile/load both paths first
-    library = best(lambda: chaotic_fraction(table, orbits, collisions, seed=0, workers=1), repeat)
-    batch = best(lambda: lyapunov_batch(table, random_states(table, orbits, 0), collisions, seed=0), repeat)
+    lyapunov_many(table, states[:2], 20, workers=1)
+    lyapunov_loop(table, states[:2], 20, workers=1)  # compile/load both paths first
+    library = best(lambda: lyapunov_loop(table, random_states(table, orbits, 0), collisions, seed=0, workers=1),
+                   repeat)
+    batch = best(lambda: lyapunov_many(table, random_states(table, orbits, 0), collisions, seed=0, workers=1),
+                 repeat)
     with KernelClock() as clock:
-        lyapunov_batch(table, states, collisions, seed=0)
+        lyapunov_many(table, states, collisions, seed=0, workers=1)
     row = {"orbits": orbits, "collisions": collisions, "library_s": library, "cell_s": batch,
            "kernel_s": clock.seconds, "overhead_s": batch - clock.seconds,
            "library_overhead_s": library - clock.seconds}
-    log(f"cell {orbits} orbits x {collisions} collisions: library chaotic_fraction {library:.3f} s, scan cell "
-        f"{batch:.3f} s, kernel {clock.seconds:.3f} s -> overhead {batch - clock.seconds:.3f} s (library "
+    log(f"cell {orbits} orbits x {collisions} collisions: per-orbit loop {library:.3f} s, lyapunov_many "
+        f"{batch:.3f} s, kernel {clock.seconds:.3f} s -> overhead {batch - clock.seconds:.3f} s (loop "
         f"{library - clock.seconds:.3f} s)")
     return row
 

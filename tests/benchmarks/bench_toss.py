@@ -1,6 +1,6 @@
 """Benchmark of the field kernel per collision against the field-free billiard kernel, and against today's.
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_toss.py [--collisions N] [--rounds R] [--smoke]
+Run:  python tests/benchmarks/bench_toss.py [--collisions N] [--rounds R] [--smoke]
 
 Same wall (case:coin, the ellipse ε = 99), same strip (H = 3), one thread, compile time excluded (one warm-up
 run each).  The compiled ``_run`` of each kernel is called directly (no Trajectory or Flight is built), the

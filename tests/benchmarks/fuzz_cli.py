@@ -1,6 +1,6 @@
 """The larger command-line fuzz run, outside the default test run.
 
-Draws random inputs from the same tables as ``tests/test_fuzz_cli.py`` (bad numbers for every numeric
+Draws random inputs from the same tables as ``tests/cases/cli/test_fuzz_cli.py`` (bad numbers for every numeric
 flag, bad and odd walls, random expression text, hostile files, valid files broken in one place) and
 checks each against the same contract (``tests/cli_fuzz.py``).  Prints, per category, the inputs tried
 and those handled cleanly, and lists every failure; the counts of the last run are in

@@ -1,13 +1,13 @@
 """How much the measured KAM boundary ε_c(H) of the elliptic billiard depends on its criterion (issue 5).
 
-Run:  PYTHONPATH=. python tests/benchmarks/kam_sensitivity.py [--quick] [--H 2,3]
+Run:  python tests/benchmarks/kam_sensitivity.py [--quick] [--H 2,3]
           [--figure docs/figures/kam_islands_H2.png] [--json kam_sensitivity.json]
           [--parts 0,1,2,3] [--probe 30,100]
 
 Full run: ~6 min per H value on 2 shared cores (default H = 2,3: 656 s wall, 930 s CPU); ``--quick`` (smaller samples,
 coarser bisection) ~1 min per H, for checking that the script runs, not for numbers.
 
-The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.kam.ELLIPSE_WALL``).
+The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.islands.ELLIPSE_WALL``).
 The criterion of :func:`coinwall.forward.dynamics.kam.kam_boundary`: ``orbits`` Liouville-random orbits, each classified
 regular when its Lyapunov exponent per collision over N = ``collisions`` collisions is ≤ 3 ln N / N
 (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`); fully chaotic when the regular fraction is < ``regular_max``.
@@ -28,7 +28,7 @@ Parts (each prints a markdown table):
 
    Both hit the walls at normal incidence, so the optical-resonator rule applies: with g = 1 − L/R
    the orbit is linearly stable iff 0 < g² < 1, and otherwise its exponent per collision is
-   arccosh|g| (the defocusing case arccosh(1 + L/R) is tested in tests/test_analysis.py).
+   arccosh|g| (the defocusing case arccosh(1 + L/R) is tested in tests/forward/dynamics/test_analysis.py).
    ε*(H): the vertical orbit turns unstable (L = 2R, g = −1; the tilted pair is born, pitchfork).
    ε**(H): the tilted orbit's contact point reaches the wall's inflection point (b'' = 0, R = ∞,
    g = 1) and it turns unstable.  In between, a linearly stable periodic orbit is generically
@@ -76,7 +76,8 @@ if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
 from coinwall.forward.dynamics.billiard import Billiard, simulate  # noqa: E402
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL, kam_boundary, paper_boundary  # noqa: E402
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL, paper_boundary  # noqa: E402
+from coinwall.forward.dynamics.kam import kam_boundary  # noqa: E402
 from coinwall.forward.dynamics.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many  # noqa: E402
 from coinwall.forward.dynamics.poincare import poincare_section  # noqa: E402
 from coinwall.forward.wall import Wall  # noqa: E402

@@ -1,6 +1,6 @@
 """Reproduce the paper's coin claims (section III): bounces needed at H = 1.1 D and 1.2 D, and τ ∝ 1/(H − D).
 
-Run:  PYTHONPATH=. /work/venv/bin/python tests/benchmarks/reproduce_coin.py [--bounces 1000000]
+Run:  python tests/benchmarks/reproduce_coin.py [--bounces 1000000]
 
 Variants (the paper does not say which κ it used):
 

@@ -1,7 +1,7 @@
 """The toss that lands, the long runs behind docs/toss.md: the wedge limit, fairness against bounces and e, the
 uncertainty exponent as e → 1; figures in the house style and the numbers printed (pasted into docs/toss.md).
 
-Run:  PYTHONPATH=. python tests/benchmarks/toss_checks.py [--figures docs/figures] [--smoke]
+Run:  python tests/benchmarks/toss_checks.py [--figures docs/figures] [--smoke]
 
 ``--smoke`` runs every part with tiny sizes (a few seconds; no figures unless --figures is given).
 """

@@ -41,7 +41,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InvalidArgument
+from coinwall.forward.errors import InvalidArgument
 
 __all__ = ["STATUS_DONE", "STATUS_REFUSED", "STATUS_TODO", "CellWriter", "Verified", "cell_checksum", "create_store",
            "open_store"]
@@ -77,7 +77,7 @@ def create_store(path: str, axes, variables: dict, seeds: np.ndarray, attrs: dic
     import dask.array as da
     import xarray as xr
 
-    from ..formats.output import marked_name
+    from coinwall.forward.formats.output import marked_name
 
     dims = tuple(a.name for a in axes)
     shape = tuple(len(a) for a in axes)

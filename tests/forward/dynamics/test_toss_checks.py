@@ -252,9 +252,9 @@ def test_toss_scan_cells_are_heads_fraction(tmp_path):
     pytest.importorskip("distributed")
     xr = pytest.importorskip("xarray")
     pytest.importorskip("zarr")
+    from coinwall.cases.scan import TableSpec, scan
+    from coinwall.cases.scan.grid import cell_seed
     from coinwall.forward.dynamics.toss import heads_fraction
-    from coinwall.forward.scan import TableSpec, scan
-    from coinwall.forward.scan.grid import cell_seed
 
     spec = TableSpec(COIN, (("eps", 99.0),))
     store = str(tmp_path / "toss.zarr")
@@ -290,7 +290,7 @@ def test_bad_toss_inputs_are_refused(tmp_path):
         with pytest.raises(InvalidArgument, match=match):
             call()
     pytest.importorskip("distributed")
-    from coinwall.forward.scan import TableSpec, scan
+    from coinwall.cases.scan import TableSpec, scan
 
     with pytest.raises(InvalidArgument, match="toss quantity"):
         scan("chaotic-fraction", TableSpec(COIN, (("eps", 99.0),)), {"restitution": "0.5,0.7", "H": "3"},

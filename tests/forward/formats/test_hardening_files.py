@@ -1,7 +1,7 @@
 """Hostile and careless input files: each is refused with one line, exit status 2, no traceback, no output.
 
 The files are the reproducers of issues 12 ("Input files") and 16 ("invalid but accepted"), made by
-:func:`make_hostile` (``python tests/test_hardening_files.py /tmp/hostile`` writes them to a folder to
+:func:`make_hostile` (``python tests/forward/formats/test_hardening_files.py /tmp/hostile`` writes them to a folder to
 try by hand).  Large inputs (a path of 10⁶ segments, 2·10⁵ DXF circles) must be refused up front by a
 count, so the test stays fast; the memory of the largest accepted inputs is measured in
 ``tests/benchmarks`` and the notes, not here.

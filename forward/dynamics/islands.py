@@ -1,7 +1,7 @@
 """Closed-form stability limits of the two period-2 orbits of the paper's ellipse wall (docs/dynamics.md,
 "The islands come from two period-2 orbits"): the curves drawn on a chaotic-fraction phase diagram.
 
-Wall ``b(θ) = sqrt((1 + ε cos²θ)/(1 + ε))`` (:data:`coinwall.forward.dynamics.kam.ELLIPSE_WALL`), units of κ.
+Wall ``b(θ) = sqrt((1 + ε cos²θ)/(1 + ε))`` (:data:`ELLIPSE_WALL`), units of κ.
 With s = b², ``b' = s'/(2b)`` and ``b'' = (s''/2 − b'²)/b``, ``s' = −ε sin 2θ/(1+ε)``, ``s'' = −2ε cos 2θ/(1+ε)``.
 
 * ε*(H): the vertical orbit θ = π/2 bounces between two focusing mirrors of radius R = √(1+ε)/ε a distance
@@ -20,7 +20,10 @@ import math
 
 import numpy as np
 
-__all__ = ["eps_star", "eps_star_star", "paper_boundary"]
+__all__ = ["ELLIPSE_WALL", "eps_star", "eps_star_star", "paper_boundary"]
+
+#: the paper's ellipse wall (eq. 18, κ = 1): the support function of the ellipse with semi-axes 1 and 1/sqrt(1 + ε)
+ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
 
 def paper_boundary(H):

@@ -7,8 +7,7 @@ returns a dict of floats.  The same arguments give the same numbers on any worke
 
 ============================ ===================================================================================
 ``chaotic-fraction``         share of ``orbits`` Liouville-random orbits with λ/collision > 3 ln N/N over N =
-                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`, with the
-                             bookkeeping in arrays: :func:`.benettin.lyapunov_batch`, identical numbers)
+                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`'s numbers)
 ``lyapunov``                 mean, spread and median of λ over ``orbits`` orbits, per collision and per unit time
 ``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.correlation.correlation`)
 ``splitting``                the lowest heads–tails doublet's splitting
@@ -27,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InvalidArgument
-from ..validation import check_choice, check_count, check_memory, check_positive
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.validation import check_choice, check_count, check_memory, check_positive
 
 __all__ = ["MAX_CELL_WORK", "QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
 
@@ -55,16 +54,17 @@ class Quantity:
 
 
 def _exponents(table, orbits, collisions, every, seed):
-    from ..dynamics.billiard import random_states
-    from .benettin import lyapunov_batch
+    from coinwall.forward.dynamics.billiard import random_states
+    from coinwall.forward.dynamics.lyapunov import lyapunov_many
 
     # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
     states = random_states(table, orbits, seed)
-    return lyapunov_batch(table, states, collisions, every, seed=seed, threads=1)
+    result = lyapunov_many(table, states, collisions, every, seed=seed, workers=1)
+    return result.per_collision, result.per_time, result.collisions
 
 
 def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
-    from ..dynamics.lyapunov import default_threshold
+    from coinwall.forward.dynamics.lyapunov import default_threshold
 
     per_collision, _, _ = _exponents(table, orbits, collisions, every, seed)
     lam = per_collision[np.isfinite(per_collision)]
@@ -93,7 +93,7 @@ def _lyapunov(table, seed, orbits, collisions, every):
 
 
 def _tau(table, seed, bounces, max_lag, orbits, count):
-    from ..dynamics.correlation import correlation
+    from coinwall.forward.dynamics.correlation import correlation
 
     result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1)
     return {"tau": result.tau, "tau_stderr": result.tau_stderr, "P1": float(result.P[1]),
@@ -101,7 +101,7 @@ def _tau(table, seed, bounces, max_lag, orbits, count):
 
 
 def _splitting(table, seed, pair, cells, order):
-    from ..quantum import doublet_splitting
+    from coinwall.forward.quantum import doublet_splitting
 
     s = doublet_splitting(table.wall, table.H, table.b0, pair=pair, cells=cells, order=order)
     return {"splitting": s.direct, "splitting_flux": s.flux, "direct_trusted": float(s.direct_trusted),
@@ -110,7 +110,7 @@ def _splitting(table, seed, pair, cells, order):
 
 
 def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
-    from ..dynamics.toss import UNDECIDED, _outcomes, launch_states
+    from coinwall.forward.dynamics.toss import UNDECIDED, _outcomes, launch_states
 
     table = table_spec.field_table_at(values, g)
     kappa = 1.0 if table_spec.kappa is None else float(table_spec.kappa)
@@ -275,7 +275,7 @@ def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, o
         refuses this cell's input (a table that does not open at this (ε, H), H below the diameter for a
         splitting): a finding about that cell, not a failure of the scan.
     """
-    from ..errors import CoinwallError
+    from coinwall.forward.errors import CoinwallError
 
     try:
         if quantity in _OWN_TABLE:

@@ -9,7 +9,8 @@ from shapely.geometry import Polygon
 from coinwall.forward import Wall
 from coinwall.forward.wallvector import ArrayProgram
 from coinwall.inverse.convexity import simple_convex
-from coinwall.inverse.solve import shape_check, solve_body
+from coinwall.inverse.smooth import shape_check
+from coinwall.inverse.solve import solve_body
 
 # every function of the expression grammar, min/max (kinks), powers, quotients
 EXPRESSIONS = [

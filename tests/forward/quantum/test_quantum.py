@@ -324,6 +324,11 @@ def test_cli_bad_tables_one_line_exit_2(monkeypatch, capsys, argv, message):
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1
 
 
-def test_cli_method_names_match_the_registry():
-    quantum = importlib.import_module("coinwall.cases.cli.quantum")
-    assert tuple(sorted(METHODS)) == quantum.METHOD_NAMES
+def test_cli_method_choices_are_the_registry():
+    """--method offers "auto" (the default: the solver chosen for the strip) and the library's METHODS, read
+    from the library when the command runs."""
+    from coinwall.cases.cli.parser import build_parser
+
+    action = next(a for a in build_parser().commands["quantum"]._actions if a.dest == "method")
+    assert list(action.choices) == ["auto", *METHODS] and action.default == "auto"
+    assert "spectral" in action.choices and "magic" not in action.choices

@@ -155,7 +155,7 @@ NAMES = ["chaotic_fraction", "chaotic_fraction_stderr", "regular_orbits", "orbit
 
 
 def _scan(path, **kwargs):
-    from coinwall.forward.scan import TableSpec, scan
+    from coinwall.cases.scan import TableSpec, scan
 
     return scan("chaotic-fraction", TableSpec(ELLIPSE), GRID, output=str(path), options=OPTIONS, seed=3,
                 scheduler="synchronous", **kwargs)
@@ -277,7 +277,7 @@ def test_workers_are_bounded_by_the_machine(monkeypatch):
     """`--workers 300` on 2 cores reached 9.9 GB: the local cluster gets what cores and memory hold, with a note."""
     import distributed
 
-    from coinwall.forward.scan import driver
+    from coinwall.cases.scan import driver
 
     made = {}
 

@@ -29,9 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import CoinwallError, InvalidArgument
-from ..validation import check_count, check_memory
+from coinwall.forward.display import safe_repr
+from coinwall.forward.errors import CoinwallError, InvalidArgument
+from coinwall.forward.validation import check_count, check_memory
+
 from .grid import cell_seed, cells, parse_axis
 from .quantities import QUANTITIES, check_options, compute_cell
 from .store import STATUS_REFUSED, STATUS_TODO, CellWriter, create_store, open_store
@@ -139,7 +140,7 @@ def _require():
 def worker_limit() -> tuple:
     """``(workers, why)``: how many local worker processes this machine can hold, one per core and
     :data:`WORKER_BYTES` each within :data:`~coinwall.forward.validation.MEMORY_FRACTION` of the available memory."""
-    from ..validation import MEMORY_FRACTION, available_memory
+    from coinwall.forward.validation import MEMORY_FRACTION, available_memory
 
     try:
         cores = len(os.sched_getaffinity(0))

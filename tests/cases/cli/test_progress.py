@@ -19,7 +19,7 @@ import pytest
 if not hasattr(os, "openpty") or sys.platform.startswith("win"):
     pytest.skip("needs a POSIX pseudo-terminal (os.openpty)", allow_module_level=True)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 BAR = re.compile(r"\d+%\|")  # tqdm's "  0%|", " 50%|", "100%|"
 

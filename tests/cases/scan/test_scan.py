@@ -16,22 +16,22 @@ pytest.importorskip("distributed")
 pytest.importorskip("xarray")
 pytest.importorskip("zarr")
 
-from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.kam import ELLIPSE_WALL
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
-from coinwall.forward.errors import InvalidArgument
-from coinwall.forward.scan import (
+from benettin_loop import lyapunov_loop
+
+from coinwall.cases.scan import (
     QUANTITIES,
     TableSpec,
     cell_seed,
     check_options,
     compute_cell,
-    lyapunov_batch,
     parse_axis,
     scan,
 )
-from coinwall.forward.scan.islands import eps_star, eps_star_star
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import Billiard, random_states
+from coinwall.forward.dynamics.islands import ELLIPSE_WALL, eps_star, eps_star_star
+from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
+from coinwall.forward.errors import InvalidArgument
 
 TABLE = TableSpec(ELLIPSE_WALL)
 GRID = {"eps": "1:20:3log", "H": "0.4,2,3"}   # H = 0.4 < 2/√(1+ε) for ε ≤ 20: the strip is closed, refused cells
@@ -102,15 +102,30 @@ def test_check_options():
 
 
 # ---------------------------------------------------------------------------------------------------- cells
-def test_lyapunov_batch_reproduces_lyapunov_many():
-    """The array bookkeeping is the same method with the same arithmetic: identical exponents (to the bit)."""
+def test_lyapunov_many_reproduces_the_per_orbit_loop():
+    """The array bookkeeping is the same method with the same arithmetic as a loop over the orbits on the
+    public API (tests/benettin_loop.py): identical exponents, times and counts (to the bit)."""
     table = Billiard(Wall.from_expression(ELLIPSE_WALL, {"eps": 3.0}), 3.0)
     states = random_states(table, 12, 5)
-    ref = lyapunov_many(table, states, 200, seed=5, workers=1)
-    per_collision, per_time, used = lyapunov_batch(table, states, 200, seed=5)
-    assert np.array_equal(per_collision, ref.per_collision)
-    assert np.array_equal(per_time, ref.per_time)
-    assert np.array_equal(used, ref.collisions)
+    result = lyapunov_many(table, states, 200, seed=5, workers=1)
+    per_collision, per_time, used, time, notes = lyapunov_loop(table, states, 200, seed=5, workers=1)
+    assert np.array_equal(result.per_collision, per_collision)
+    assert np.array_equal(result.per_time, per_time)
+    assert np.array_equal(result.collisions, used)
+    assert np.array_equal(result.time, time)
+    assert result.notes == notes == ()
+
+
+def test_lyapunov_many_notes_orbits_that_stop_as_the_loop_does():
+    """A stick (flat walls) in an open channel: orbits that fly parallel to the walls stop early; the notes
+    name them and why, as the per-orbit loop's do, and their exponents are NaN."""
+    table = Billiard(Wall.from_expression("1 + 0*t"), 3.0)
+    states = np.array([[0.1, 1.5, 1.0, 0.3], [0.2, 1.5, 1.0, 0.0], [0.3, 1.4, 0.2, 1.0]])
+    result = lyapunov_many(table, states, 40, seed=1, workers=1)
+    per_collision, _, used, _, notes = lyapunov_loop(table, states, 40, seed=1, workers=1)
+    assert result.notes == notes and len(notes) >= 1 and notes[0].startswith("orbit 1: free flight")
+    assert np.array_equal(np.isnan(result.per_collision), np.isnan(per_collision))
+    assert np.isnan(result.per_collision[1]) and np.array_equal(result.collisions, used)
 
 
 def test_chaotic_fraction_cell_equals_library():
@@ -260,10 +275,12 @@ def cli():
     return main
 
 
-def test_cli_quantity_names_match_library():
-    from coinwall.cases.cli.scan import QUANTITY_NAMES
+def test_cli_quantity_choices_are_the_library_table():
+    """QUANTITY offers the library's QUANTITIES, read from the library when the command runs."""
+    from coinwall.cases.cli.parser import build_parser
 
-    assert QUANTITY_NAMES == tuple(QUANTITIES)
+    action = next(a for a in build_parser().commands["scan"]._actions if a.dest == "quantity")
+    assert list(action.choices) == list(QUANTITIES) and "tau" in action.choices and "magic" not in action.choices
 
 
 def test_cli_scan_json_figure_and_refusals(cli, tmp_path, capsys):
@@ -305,7 +322,7 @@ def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
     import distributed
     from distributed import KilledWorker
 
-    from coinwall.forward.scan import driver
+    from coinwall.cases.scan import driver
 
     class DyingFuture:
         def result(self):
@@ -328,8 +345,8 @@ def test_workers_that_keep_dying_stop_the_scan_in_one_line(monkeypatch):
                                           ({"collisions": 10 ** 9}, r"collisions, more than the 1e\+10")])
 def test_cells_too_large_are_refused_before_any_work(options, text):
     """Found by tests/benchmarks/fuzz_cli.py: `--orbits 1e19` used to start the cluster and refuse every cell."""
+    from coinwall.cases.scan.quantities import check_options
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.scan.quantities import check_options
 
     with pytest.raises(InvalidArgument, match=text):
         check_options("chaotic-fraction", options)

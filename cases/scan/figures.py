@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InvalidArgument
-from ..formats.style import plain_log_axis, styled
-from .islands import eps_star, eps_star_star, paper_boundary
+from coinwall.forward.dynamics.islands import eps_star, eps_star_star, paper_boundary
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.formats.style import plain_log_axis, styled
 
 __all__ = ["plot_line", "plot_phase_diagram", "plot_scan"]
 
@@ -88,8 +88,8 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     curves : bool
         Draw 1/H + 17/H², ε*(H) and ε**(H) (only for the ellipse wall scanned over ``eps``).
     """
-    from ..dynamics.kam import ELLIPSE_WALL
-    from ..formats.figure import axes_or_new
+    from coinwall.forward.dynamics.islands import ELLIPSE_WALL
+    from coinwall.forward.formats.figure import axes_or_new
 
     variable = variable or _main_variable(dataset)
     dims = dataset[variable].dims
@@ -131,7 +131,7 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
 @styled
 def plot_line(dataset, variable=None, ax=None):
     """``variable`` against H with error bars from ``<variable>_stderr`` (one line per other coordinate)."""
-    from ..formats.figure import axes_or_new
+    from coinwall.forward.formats.figure import axes_or_new
 
     variable = variable or _main_variable(dataset)
     ax, own = axes_or_new(ax, (6, 4))

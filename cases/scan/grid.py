@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InvalidArgument
-from ..validation import check_count
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.validation import check_count
 
 __all__ = ["AXIS_POINTS_MAX", "Axis", "cell_seed", "cells", "parse_axis"]
 

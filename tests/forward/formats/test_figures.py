@@ -245,7 +245,7 @@ def test_quantum_cli_figure_and_splittings_name_the_wall(spectrum):
 # ------------------------------------------------------------------------------------------------ scans
 def _store(eps_values, H_values):
     xr = pytest.importorskip("xarray")
-    from coinwall.forward.dynamics.kam import ELLIPSE_WALL
+    from coinwall.forward.dynamics.islands import ELLIPSE_WALL
 
     shape = (len(eps_values), len(H_values))
     values = np.linspace(0.1, 0.9, shape[0] * shape[1]).reshape(shape)
@@ -260,7 +260,7 @@ def _store(eps_values, H_values):
 
 
 def test_scan_figures_name_the_wall_and_cells():
-    from coinwall.forward.scan.figures import plot_scan
+    from coinwall.cases.scan.figures import plot_scan
 
     ax = plot_scan(_store([0.5, 1.0, 2.0, 4.0, 8.0], [2.0, 3.0, 4.0]))
     fig = ax.figure

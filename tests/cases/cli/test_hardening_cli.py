@@ -113,7 +113,7 @@ def test_count_flags_take_whole_numbers_in_exponent_notation(text, value, capsys
 
 
 def test_a_double_dash_attached_as_a_value(capsys):
-    """`--H=--`: Python 3.11's argparse gave the option an empty list (found by tests/test_fuzz_cli.py)."""
+    """`--H=--`: Python 3.11's argparse gave the option an empty list (found by tests/cases/cli/test_fuzz_cli.py)."""
     with pytest.raises(SystemExit) as exc:
         main(["simulate", "case:coin", "--collisions", "10", "--H=--"])
     assert exc.value.code == 2

@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..errors import InvalidArgument
-from ..wall import Wall
+from coinwall.forward.errors import InvalidArgument
+from coinwall.forward.wall import Wall
 
 __all__ = ["TOSS_AXES", "TableSpec"]
 
@@ -78,7 +78,7 @@ class TableSpec:
 
     def table_at(self, values: dict, H: float):
         """The :class:`~coinwall.forward.dynamics.billiard.Billiard` of a cell (H in the wall's length unit)."""
-        from ..dynamics.billiard import Billiard
+        from coinwall.forward.dynamics.billiard import Billiard
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         return Billiard(self.wall_at(values), float(H) / kappa, float(self.b0) / kappa)
@@ -86,7 +86,7 @@ class TableSpec:
     def field_table_at(self, values: dict, g: float):
         """The :class:`~coinwall.forward.dynamics.field.FieldTable` of a toss cell: a floor only, the field ``g``
         (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; 1 if neither)."""
-        from ..dynamics.field import FieldTable
+        from coinwall.forward.dynamics.field import FieldTable
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         restitution = {**dict(self.params), **values}.get("restitution", 1.0)

@@ -1,0 +1,9 @@
+"""Public names of this package: the table that its ``__init__.py`` loads lazily (SPEC 1).
+
+Each name is imported from the module named here on first use; editors and type checkers read the
+same lines (go-to-definition).
+"""
+
+from .main import main
+
+__all__ = ["main"]

@@ -1,0 +1,11 @@
+"""Public names of this package: the table that its ``__init__.py`` loads lazily (SPEC 1).
+
+Each name is imported from the module named here on first use; editors and type checkers read the
+same lines (go-to-definition).
+"""
+
+from .claims import CLAIMS, REGISTRY, Claim
+from .report import Report, Row
+from .verify import run_verify
+
+__all__ = ["CLAIMS", "Claim", "REGISTRY", "Report", "Row", "run_verify"]

@@ -1,0 +1,43 @@
+"""Public names of this package: the table that its ``__init__.py`` loads lazily (SPEC 1).
+
+Each name is imported from the module named here on first use; editors and type checkers read the
+same lines (go-to-definition).
+"""
+
+from .billiard import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
+from .bounced import BounceStudy, same_side_by_bounce
+from .caught import PsiFit, dhm_same_side, fit_psi, simulate_caught
+from .correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
+from .correlation3d import side_correlation
+from .fairness import Fairness, fairness, fairness_curve
+from .field import FieldTable, Flight, field_run, field_run_many
+from .islands import paper_boundary
+from .kam import KamBoundary, kam_boundary
+from .lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
+from .orbitstats import OrbitStatistics, orbit_statistics
+from .poincare import PoincareSection, incidence_angle, poincare_section
+from .rigid3d import Rigid3D, Trajectory3D, simulate_3d
+from .rigidbody import (
+    EllipseShape,
+    PolygonShape,
+    RigidBody,
+    RigidBodyTrajectory,
+    billiard_to_body,
+    body_to_billiard,
+    simulate_rigid_body,
+)
+from .top import TopFlight, TopTable, top_run
+from .toss import BasinMap, basin_map, heads_fraction
+from .uncertainty import Uncertainty, uncertainty_exponent
+from .wedge import WedgeLyapunov, wedge_lyapunov
+
+__all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlation", "EllipseShape", "Fairness",
+           "FieldTable", "Flight", "KamBoundary", "LyapunovResult", "OrbitStatistics", "PoincareSection",
+           "PolygonShape", "PsiFit", "Rigid3D", "RigidBody", "RigidBodyTrajectory", "TauLaw", "TopFlight", "TopTable",
+           "Trajectory", "Trajectory3D", "Uncertainty", "WedgeLyapunov", "basin_map", "billiard_to_body",
+           "body_to_billiard", "chaotic_fraction", "compile_kernel", "correlation", "dhm_same_side", "ensemble",
+           "fairness", "fairness_curve", "field_run", "field_run_many", "fit_psi", "fit_tau_law", "heads",
+           "heads_fraction", "incidence_angle", "kam_boundary", "lyapunov", "lyapunov_many", "orbit_statistics",
+           "paper_boundary", "poincare_section", "random_states", "same_side_by_bounce", "side_correlation",
+           "simulate", "simulate_3d", "simulate_caught", "simulate_rigid_body", "top_run", "uncertainty_exponent",
+           "wedge_lyapunov"]

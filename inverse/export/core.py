@@ -1,0 +1,182 @@
+"""Exporters of solved bodies, chosen by file extension.
+
+``EXPORTERS`` maps each extension to its module.  Every exporter module defines ``EXTENSION`` and
+``write(body, stream, options=None)``: it writes the bytes of the file to the binary ``stream``,
+following the :class:`ExportOptions` (physical scale, tolerance) where they apply, and may return a
+report ``{name: achieved deviation, ..., "tolerance": t}``.  Adding a format is adding one module
+and one line to ``EXPORTERS``.  Files are written atomically: all outputs go to temporary files
+first and are renamed only when every one of them succeeded, so a failure leaves nothing behind.
+The same body and options always give the same bytes (no dates or timings inside).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from dataclasses import dataclass, field
+
+from coinwall.forward.display import safe_repr
+from coinwall.forward.errors import OutputError
+from coinwall.forward.formats.output import write_all
+
+from . import csvfile, dxf, jsonfile, pdf, png, svg
+from .options import UNITS, ExportOptions
+
+__all__ = [
+    "EXPORTERS",
+    "UNITS",
+    "ExportOptions",
+    "ExportResult",
+    "check_outputs",
+    "export_body",
+    "exporters",
+    "write_outputs",
+]
+
+#: extension -> exporter module
+EXPORTERS = {module.EXTENSION: module for module in (svg, dxf, jsonfile, csvfile, png, pdf)}
+
+# report entries that are not deviations
+_NOT_DEVIATIONS = {"tolerance", "units", "polyline_vertices", "diameter"}
+
+
+@dataclass(frozen=True, repr=False)
+class ExportResult:
+    """What :func:`export_body` wrote.
+
+    Attributes
+    ----------
+    paths : list of str
+        The files written, in the order given.
+    reports : dict
+        ``path -> report``: for DXF ``{"spline", "polyline", "tolerance", "polyline_vertices", "units"}``,
+        for SVG ``{"path", "tolerance", "diameter", "units"}``; deviations and the tolerance
+        in output units.  Formats without approximation have an empty report.
+    options : ExportOptions
+    """
+
+    paths: list
+    reports: dict = field(default_factory=dict)
+    options: ExportOptions = field(default_factory=ExportOptions)
+
+    def deviations(self) -> dict:
+        """``path -> largest achieved deviation`` for the files that have one."""
+        out = {}
+        for path, report in self.reports.items():
+            values = [v for k, v in report.items() if k not in _NOT_DEVIATIONS]
+            if values:
+                out[path] = max(values)
+        return out
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the paths, the reports and the options."""
+        return {"paths": list(self.paths), "reports": {p: dict(r) for p, r in self.reports.items()},
+                "options": self.options.to_dict()}
+
+    @safe_repr
+    def __repr__(self) -> str:
+        devs = ", ".join(f"{os.path.basename(p)}: {d:.2g}" for p, d in self.deviations().items())
+        return f"ExportResult({len(self.paths)} files, units {self.options.unit_name}, deviations {{{devs}}})"
+
+
+def exporters() -> dict:
+    """Map of extension (``".svg"``) to exporter module (a copy of ``EXPORTERS``)."""
+    return dict(EXPORTERS)
+
+
+def check_outputs(paths) -> list:
+    """Validate output paths before any work: known extension, existing writable folder."""
+    known = EXPORTERS
+    checked = []
+    for path in paths:
+        ext = os.path.splitext(path)[1].lower()
+        if ext not in known:
+            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; "
+                              f"known: {', '.join(sorted(known))}")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder):
+            raise OutputError(f"output {path!r}: folder {folder!r} does not exist")
+        if not os.access(folder, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
+            raise OutputError(f"output {path!r}: not writable")
+        if os.path.isdir(path):
+            raise OutputError(f"output {path!r} is a folder")
+        checked.append((path, known[ext]))
+    return checked
+
+
+def _check_finite_outline(body):
+    """A body read back from a file (or made by hand) is not a checked :class:`~inverse.Body`: refuse a
+    non-finite outline before any byte is produced, so no file of ``nan`` is ever written."""
+    import numpy as np
+
+    from coinwall.forward.errors import InvalidOutline
+
+    outline = getattr(body, "outline", None)
+    for name in ("nodes", "controls"):
+        values = np.asarray(getattr(outline, name, np.zeros(0)), dtype=float)
+        bad = np.flatnonzero(~np.isfinite(values.reshape(len(values), -1)).all(axis=1)) if values.size else []
+        if len(bad):
+            raise InvalidOutline(f"the body's outline is not finite at node {int(bad[0])}; nothing was written")
+
+
+def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False, cut=False) -> list:
+    """Write ``body`` to every path (format by extension), all or nothing; returns the paths.
+
+    ``kappa``/``units``/``tolerance``/``dimension``/``cut`` are :class:`ExportOptions`; use
+    :func:`export_body` to also get the achieved deviations.
+    """
+    return export_body(body, paths, kappa=kappa, units=units, tolerance=tolerance, dimension=dimension,
+                       cut=cut).paths
+
+
+def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimension=False,
+                cut=False) -> ExportResult:
+    """Write ``body`` to every path, all or nothing, and report the deviations achieved.
+
+    Parameters
+    ----------
+    body : inverse.Body
+    paths : list of str
+        Output files; the format follows the extension.
+    kappa, units : float, str, optional
+        Radius of gyration in ``units`` (mm, cm, in): physical size.  Without them,
+        units of κ.  Only formats that draw the body (SVG, DXF) are scaled; JSON and
+        CSV stay in units of κ, the form ``coinwall wall``/``export`` read back.
+    tolerance : float, optional
+        Largest deviation from the exact outline, in output units.
+    dimension : bool
+        Draw the largest diameter (SVG).
+    cut : bool
+        Cut-ready SVG/DXF: one closed contour on one layer, nothing else (:class:`ExportOptions`).
+
+    Raises
+    ------
+    OutputError
+        Unknown extension, unwritable place, or a tolerance that cannot be reached.
+    InvalidArgument
+        Bad scale or tolerance.
+    """
+    options = ExportOptions(kappa=kappa, units=units, tolerance=tolerance, dimension=dimension, cut=cut)
+    checked = check_outputs(paths)
+    _check_finite_outline(body)
+    if options.tolerance is not None:  # refused for every format, also those that do not approximate (CSV)
+        from .flatten import largest_diameter
+
+        options.tolerance_for(largest_diameter(body.outline)[0] * options.scale)
+    reports, files = {}, {}
+    path = None
+    try:
+        for path, module in checked:
+            stream = io.BytesIO()
+            report = module.write(body, stream, options)
+            reports[path] = dict(report) if isinstance(report, dict) else {}
+            achieved = [v for k, v in reports[path].items() if k not in _NOT_DEVIATIONS]
+            limit = reports[path].get("tolerance")
+            if achieved and limit is not None and max(achieved) > limit:
+                raise OutputError(f"output {path!r}: deviation {max(achieved):.3g} exceeds `tolerance` "
+                                  f"{limit:.3g} {options.unit_name}; give a larger tolerance")
+            files[path] = stream.getvalue()
+    except OSError as exc:
+        raise OutputError(f"cannot write output {path!r}: {exc.strerror or exc}") from None
+    write_all(files)  # only once every format was produced: all or nothing
+    return ExportResult([p for p, _ in checked], reports, options)
