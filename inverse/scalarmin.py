@@ -6,7 +6,7 @@ The critical offset refines each minimum of b + b'' with Brent's bounded method.
 example, where nothing else needs it.  :func:`bounded_minimum` is that method transcribed from scipy's
 ``_minimize_scalar_bounded`` (scipy 1.17, BSD licence; Brent, *Algorithms for Minimization without
 Derivatives*, 1973, ch. 5): the same operations in the same order, hence the same iterates and the same
-answer (``tests/test_speed_paths.py`` holds it to scipy's, bit for bit).
+answer (``tests/inverse/test_speed_paths.py`` holds it to scipy's, bit for bit).
 """
 
 from __future__ import annotations

@@ -45,7 +45,8 @@ def run_cli(monkeypatch, argv):
 
 def test_default_prints_the_digits_it_earns(monkeypatch, capsys):
     """Reference: P4 elements with 12 cells, an independent discretisation (~1e-9 on the lowest levels,
-    tests/test_quantum.py).  The printed levels carry the digits the error estimate allows, and agree."""
+    tests/forward/quantum/test_quantum.py).  The printed levels carry the digits the error estimate allows,
+    and agree."""
     status = run_cli(monkeypatch, ["quantum", ELLIPSE, "--param", "eps=0.55", "--H", "2.5", "--levels", "6"])
     out = capsys.readouterr().out
     assert status == 0 and "spectral" in out
