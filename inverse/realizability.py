@@ -116,8 +116,14 @@ def _min_t(a_ub, b_ub):
     import casadi as ca
 
     rows = a_ub.shape[0]
-    solver = ca.conic("kappa_max", "highs", {"a": ca.Sparsity.dense(rows, 3), "h": ca.Sparsity(3, 3)},
-                      {"highs": {"output_flag": False}, "verbose": False, "error_on_fail": False})
+    try:
+        solver = ca.conic("kappa_max", "highs", {"a": ca.Sparsity.dense(rows, 3), "h": ca.Sparsity(3, 3)},
+                          {"highs": {"output_flag": False}, "verbose": False, "error_on_fail": False})
+    except RuntimeError:  # a casadi built without its HiGHS plugin: scipy's HiGHS, the same programme
+        from scipy.optimize import linprog
+
+        res = linprog([0.0, 0.0, 1.0], A_ub=a_ub, b_ub=b_ub, bounds=[(None, None)] * 3, method="highs")
+        return (res.x, -np.asarray(res.ineqlin.marginals)) if res.status == 0 else None
     result = solver(g=[0.0, 0.0, 1.0], a=ca.DM(a_ub), lba=-np.inf, uba=b_ub, lbx=-np.inf, ubx=np.inf)
     if not solver.stats().get("success", False):
         return None
