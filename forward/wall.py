@@ -78,17 +78,27 @@ class _ExpressionBackend:
         d2 = ca.jacobian(d1, t)
         single = ca.Function("wall", [t], [b, d1, d2])
         single0 = ca.Function("wall0", [t], [b])
-        self._f012 = (single, single.map(_BLOCK))
-        self._f0 = (single0, single0.map(_BLOCK))
-        self._switching = [(f, f.map(_BLOCK)) for f in
-                           (ca.Function(f"s{k}", [t], [s]) for k, s in enumerate(parsed.switching))]
+        # each function three ways: casadi for one angle, casadi mapped over blocks, and casadi's own
+        # algorithm replayed by numpy on whole arrays (forward/wallvector.py: no per-block call and no
+        # conversion of casadi's results; None where casadi uses an operation numpy lacks)
+        self._f012 = self._three(single)
+        self._f0 = self._three(single0)
+        self._switching = [self._three(ca.Function(f"s{k}", [t], [s])) for k, s in enumerate(parsed.switching)]
         self.parsed = parsed
+
+    @staticmethod
+    def _three(func):
+        from .wallvector import array_program
+
+        return func, func.map(_BLOCK), array_program(func)
 
     @staticmethod
     def _blocks(funcs, theta, n_out):
         theta = np.ascontiguousarray(theta, dtype=float).ravel()
         n = theta.size
-        single, func = funcs
+        single, func, program = funcs
+        if program is not None and n > 1:  # one angle (root finders): casadi's own call is cheaper
+            return program(theta)
         if n <= 8:  # root finders call with one or two points: skip the padded block
             res = [single(x) for x in theta]
             res = [r if n_out > 1 else (r,) for r in res]
@@ -440,8 +450,6 @@ class Wall:
             check_continuity(self.description, self._backend.derivatives, theta, (b, d1), self._scale)
 
     def _find_kinks(self):
-        from scipy.optimize import brentq
-
         theta = np.linspace(0.0, TWO_PI, _CHECK_POINTS + 1)
         candidates = []
         for k, s in enumerate(self._backend.switching(theta)):
@@ -450,6 +458,8 @@ class Wall:
             for i in np.flatnonzero(sign == 0):
                 candidates.append(theta[i])
             for i in np.flatnonzero(sign[:-1] * sign[1:] < 0):
+                from scipy.optimize import brentq  # here, not above: importing it costs ~0.35 s
+
                 func = self._switching_scalar(k)
                 candidates.append(brentq(func, theta[i], theta[i + 1], xtol=1e-15, rtol=1e-15, maxiter=200))
         kinks, breaks = [], []

@@ -144,7 +144,7 @@ def _unresolved_minima(wall, theta, depth: int = 3, points: int = 257, most: int
     if not found_theta:
         return np.empty(0), np.empty(0)
     # one candidate per dip: the lowest sample of each cluster, polished by Brent between its neighbours
-    from scipy.optimize import minimize_scalar
+    from .scalarmin import bounded_minimum
 
     t = np.concatenate(found_theta)
     rho = np.concatenate(found_rho)
@@ -164,10 +164,10 @@ def _unresolved_minima(wall, theta, depth: int = 3, points: int = 257, most: int
         if half > 0:
             # in the offset y from the sample: Brent's tolerance is relative to |x| (~1.5e-8 rad at θ ~ 1), far
             # coarser than a dip 1e-5 rad wide; relative to |y| it resolves the dip
-            res = minimize_scalar(lambda y: float(_smooth_curvature(wall, np.array([centre + y]))[0]),
-                                  bounds=(-half, half), method="bounded", options={"xatol": 1e-15})
-            if np.isfinite(res.fun) and float(res.fun) < value:
-                where, value = centre + float(res.x), float(res.fun)
+            x, fx = bounded_minimum(lambda y: float(_smooth_curvature(wall, np.array([centre + y]))[0]),
+                                    -half, half, xatol=1e-15)
+            if np.isfinite(fx) and float(fx) < value:
+                where, value = centre + float(x), float(fx)
         out_t.append(where)
         out_rho.append(value)
     return np.mod(np.array(out_t), TWO_PI), np.array(out_rho)
@@ -193,7 +193,7 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
         one-sided pairs); with at least ``grid // 2`` of them they serve as the
         bracketing grid and the wall is not evaluated again.
     """
-    from scipy.optimize import minimize_scalar
+    from .scalarmin import bounded_minimum  # scipy's bounded Brent without importing scipy.optimize
 
     if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
         return data_critical_offset(wall)
@@ -255,10 +255,10 @@ def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
         i = start + int(np.argmin(rho[[(start + j) % n for j in range(length)]]))
         res = None
         if right - left > 1e-12:
-            res = minimize_scalar(lambda x: float(_smooth_curvature(wall, np.array([x]))[0]),
-                                  bounds=(left, right), method="bounded", options={"xatol": 1e-10})
-        if res is not None and float(res.fun) <= float(rho[i % n]):
-            value, where = float(res.fun), float(res.x)
+            res = bounded_minimum(lambda x: float(_smooth_curvature(wall, np.array([x]))[0]),
+                                  left, right, xatol=1e-10)
+        if res is not None and float(res[1]) <= float(rho[i % n]):
+            value, where = float(res[1]), float(res[0])
         else:
             value, where = float(rho[i % n]), float(theta[i % n])
         best = min(best, value)

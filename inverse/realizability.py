@@ -35,7 +35,7 @@ of ``κ² = ∫|x|² dμ`` occur?
   The inner maximum is attained at an extreme point of K, so a dense
   polygon of the outline gives it to the polygon's accuracy, and the whole
   problem is the linear programme ``min t`` subject to
-  ``t ≥ |x_i|² − λ·x_i`` for every polygon vertex x_i (scipy's HiGHS).  The
+  ``t ≥ |x_i|² − λ·x_i`` for every polygon vertex x_i (HiGHS, through casadi).  The
   optimal μ sits on at most three boundary points (the active constraints).
   Checks: a centred disc or ellipse with semi-axes a ≥ b gives κ_max = a
   (mass at the ends of the major axis); an equilateral triangle with
@@ -70,8 +70,6 @@ def kappa_max(outline, per_segment: int = 8):
     and weights of an optimal distribution; ``(nan, empty)`` if the origin is not
     strictly inside.  See the module docstring for the derivation.
     """
-    from scipy.optimize import linprog
-
     pts = outline.polygon(per_segment) if per_segment > 1 else outline.nodes
     # centre of mass strictly inside: every support value positive
     theta = np.linspace(0, 2 * math.pi, 720, endpoint=False)
@@ -86,22 +84,50 @@ def kappa_max(outline, per_segment: int = 8):
                                        [int(np.argmax(sq))]]))
     for _ in range(50):
         a_ub = np.column_stack([-pts[subset, 0], -pts[subset, 1], -np.ones(subset.size)])
-        res = linprog([0.0, 0.0, 1.0], A_ub=a_ub, b_ub=-sq[subset], bounds=[(None, None)] * 3, method="highs")
-        if res.status != 0:
+        solution = _min_t(a_ub, -sq[subset])
+        if solution is None:
             return float("nan"), np.empty((0, 3))
-        lam, t = res.x[:2], res.x[2]
+        x, weights = solution
+        lam, t = x[:2], x[2]
         excess = sq - pts @ lam - t
         violated = np.flatnonzero(excess > 1e-12 * max(1.0, float(np.max(sq))))
         if violated.size == 0:
             break
         worst = violated[np.argsort(excess[violated])[::-1][:64]]
-        subset = np.union1d(subset, worst)
-    weights = -np.asarray(res.ineqlin.marginals)
+        grown = np.union1d(subset, worst)
+        if grown.size == subset.size:  # rows violated within HiGHS's tolerance, all in already: the same
+            break  # programme again would give the same solution (it ran all 50 rounds at 10⁵ nodes)
+        subset = grown
     active = weights > 1e-12 * max(weights.max(), 1e-300)
     points = pts[subset]
     support = np.column_stack([points[active], weights[active] / weights[active].sum()])
     # the objective at the solver's λ, evaluated over every point (not the solver's own rounding of it)
-    return math.sqrt(max(float(np.max(sq - pts @ res.x[:2])), 0.0)), support
+    return math.sqrt(max(float(np.max(sq - pts @ lam)), 0.0)), support
+
+
+def _min_t(a_ub, b_ub):
+    """``(x, weights)`` minimising ``x[2]`` subject to ``a_ub @ x <= b_ub`` (x free), or None if not solved.
+
+    HiGHS through casadi's ``conic`` plugin (casadi is loaded for every formula wall already), not
+    ``scipy.optimize.linprog``: importing ``scipy.optimize`` costs 0.3–0.7 s, a third of a ``coinwall
+    solve`` of the built-in example.  ``weights`` are the rows' multipliers (≥ 0): an optimal mass
+    distribution's weights on the active points.
+    """
+    import casadi as ca
+
+    rows = a_ub.shape[0]
+    try:
+        solver = ca.conic("kappa_max", "highs", {"a": ca.Sparsity.dense(rows, 3), "h": ca.Sparsity(3, 3)},
+                          {"highs": {"output_flag": False}, "verbose": False, "error_on_fail": False})
+    except RuntimeError:  # a casadi built without its HiGHS plugin: scipy's HiGHS, the same programme
+        from scipy.optimize import linprog
+
+        res = linprog([0.0, 0.0, 1.0], A_ub=a_ub, b_ub=b_ub, bounds=[(None, None)] * 3, method="highs")
+        return (res.x, -np.asarray(res.ineqlin.marginals)) if res.status == 0 else None
+    result = solver(g=[0.0, 0.0, 1.0], a=ca.DM(a_ub), lba=-np.inf, uba=b_ub, lbx=-np.inf, ubx=np.inf)
+    if not solver.stats().get("success", False):
+        return None
+    return np.asarray(result["x"]).ravel(), np.asarray(result["lam_a"]).ravel()
 
 
 @dataclass(frozen=True, repr=False)

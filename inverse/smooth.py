@@ -137,6 +137,10 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
 def shape_check(points) -> tuple[bool, bool]:
     """``(valid, convex)`` of the closed polygon through ``points`` (shapely): simple, and with no more
     area in its convex hull than in itself (to 1e-9)."""
+    from .convexity import simple_convex
+
+    if simple_convex(points):  # linear time; shapely below decides what it leaves open
+        return True, True
     from shapely.geometry import Polygon
 
     polygon = Polygon(points)

@@ -47,12 +47,13 @@ def register(subparsers):
                         help="distance between the walls (units of κ); several, comma-separated, make a doublet scan")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--levels", type=count, required=True, help="number of levels (the lowest)")
-    parser.add_argument("--method", choices=LibraryChoices("coinwall.forward.quantum.spectrum", "METHODS"),
-                        metavar="METHOD", default="fem",
-                        help="solver: fem (default; Lagrange elements on a mesh that follows the walls) or spectral "
-                             "(Fourier × Legendre modes, smooth walls only, exponentially convergent; no eigenvectors, "
-                             "so no --splittings or |ψ|² figure)")
-    parser.add_argument("--order", type=int, default=2, choices=(2, 3, 4), help="element degree (default 2)")
+    parser.add_argument("--method", choices=LibraryChoices("coinwall.forward.quantum.spectrum", "METHODS", ("auto",)),
+                        metavar="METHOD", default="auto",
+                        help="solver: auto (default: spectral for a smooth wall on an open strip, up to 12,000 "
+                             "modes, else fem of degree 4), fem (Lagrange elements on a mesh that follows the walls) "
+                             "or spectral (Fourier × Legendre modes, smooth walls only, exponentially convergent; no "
+                             "eigenvectors, so no --splittings or |ψ|² figure)")
+    parser.add_argument("--order", type=int, default=None, choices=(2, 3, 4), help="element degree (default 4)")
     parser.add_argument("--cells", type=count, default=None,
                         help="fem: rows of cells across the strip (default: from --levels, ~1e-4 relative at the top); "
                              "spectral: polynomial modes across (default ~1e-8)")
@@ -88,18 +89,33 @@ def _body(text):
 
 
 def _solve(args, wall, H, bar):
+    import numpy as np
+
     from coinwall.forward.quantum import make_strip, quantum_spectrum, splitting_of
 
     strip = make_strip(wall, H, args.b0)
-    spectrum = quantum_spectrum(strip, levels=args.levels, method=args.method, cells=args.cells, order=args.order,
+    method, order = args.method, args.order or 4
+    if method == "auto":
+        from coinwall.forward.quantum.choice import default_solver
+
+        # --cells means rows of elements: a given --cells keeps the finite elements
+        choice = default_solver(strip, args.levels, eigenvectors=args.splittings or args.cells is not None)
+        method = choice.method
+    spectrum = quantum_spectrum(strip, levels=args.levels, method=method, cells=args.cells, order=order,
                                 progress=(lambda n: bar.update(n)) if bar is not None else None)
     splittings = None
     if args.splittings and strip.periodic and spectrum.symmetry_names:
         splittings = [splitting_of(spectrum, k) for k in range(len(spectrum) // 2)]
-    return spectrum, splittings
+    error = None
+    if spectrum.method == "spectral" and args.cells is None:
+        from coinwall.forward.quantum.choice import spectral_error
+
+        # the digits the default modes have earned: a second, coarser solve says (its docstring)
+        error = float(np.max(spectral_error(strip, spectrum.eigenvalues, spectrum.cells)))
+    return spectrum, splittings, error
 
 
-def _summary(spectrum, splittings, body):
+def _summary(spectrum, splittings, error, body):
     from coinwall.forward.quantum.tunnelling import HBAR, tunnelling_time
 
     strip = spectrum.strip
@@ -121,6 +137,8 @@ def _summary(spectrum, splittings, body):
                  "residual": [float(r) for r in weyl.residual], "rms_residual": weyl.rms_residual},
         "strip": strip.to_dict(), "method": spectrum.method, "order": spectrum.order, "cells": spectrum.cells,
         "dofs": spectrum.dofs, "seconds": spectrum.seconds, "body": physical,
+        # the spectral method's largest relative difference from a coarser solve (None: not estimated)
+        "error_estimate": error if error is not None and math.isfinite(error) else None,
     }
 
 
@@ -172,17 +190,18 @@ def _cmd_quantum(args):
         check_positive_count("--cells", args.cells)
     check_paths(args.output, FIGURE_FORMATS + (".json",))
     args.splittings = args.splittings or len(heights) > 1
-    if args.splittings and args.method != "fem":
+    if args.splittings and args.method == "spectral":
         raise InvalidArgument("--splittings (and a scan of several --H) need --method fem: Herring's flux formula "
                               "uses the eigenvectors")
     wall = load_wall(args.wall, args.param, **wall_options(args))
     bar = progress_bar(args, None, "class")
     try:
-        results = [_solve(args, wall, H, bar) for H in heights]
+        solved = [_solve(args, wall, H, bar) for H in heights]
     finally:
         if bar is not None:
             bar.close()
-    summaries = [_summary(*r, body) for r in results]
+    results = [(spectrum, splittings) for spectrum, splittings, _ in solved]
+    summaries = [_summary(*r, body) for r in solved]
     document = summaries[0] if len(summaries) == 1 else {"scan": summaries}
     document = {"wall": args.wall, "params": dict(wall.params), **document}
     files = {}
@@ -195,14 +214,14 @@ def _cmd_quantum(args):
     if args.json:
         print(json.dumps(document, indent=1, allow_nan=False))
         return 0
-    for (spectrum, splittings), summary in zip(results, summaries):
-        _print(spectrum, splittings, summary["body"], default_mesh=args.cells is None)
+    for (spectrum, splittings, error), summary in zip(solved, summaries):
+        _print(spectrum, splittings, summary["body"], default_mesh=args.cells is None, error=error)
     for line in written_lines(written, written.replaced):
         print(line)
     return 0
 
 
-def _print(spectrum, splittings, body, default_mesh=True):
+def _print(spectrum, splittings, body, default_mesh=True, error=None):
     strip = spectrum.strip
     print(f"strip      {strip!r}")
     if not strip.periodic:
@@ -216,9 +235,19 @@ def _print(spectrum, splittings, body, default_mesh=True):
     print(f"solver     {solver}, {spectrum.seconds:.3g} s")
     if spectrum.method == "fem" and default_mesh:
         # default_cells aims at ~1e-4 relative at the top level: print the digits that carry, and say so
-        print("accuracy   about 1e-4 relative at the highest level (the default mesh; --cells or --order 4 for "
+        print("accuracy   about 1e-4 relative at the highest level (the default mesh; --cells for "
               "more; --json has every digit)")
         digits = 6
+    elif error is not None:
+        from coinwall.forward.quantum.choice import earned_digits
+
+        digits = earned_digits(error)
+        if math.isfinite(error):
+            print(f"accuracy   {error:.1g} relative at most (the difference from a solve with 4 fewer modes "
+                  f"across); {digits} digits printed, --json has every digit")
+        else:  # the coarser solve has fewer modes than levels asked for
+            print(f"accuracy   not estimated (too few modes for a coarser check); {digits} digits printed, "
+                  "--json has every digit")
     else:
         digits = 10
     width = len(str(len(spectrum)))

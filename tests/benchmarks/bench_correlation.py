@@ -33,6 +33,8 @@ much less than √40.  Nothing is asserted: the ratio is reported.
 Baselines in the same run (in this process, warm, median of ``--repeat``, at each answer N):
 the kernel alone (``coinwall.forward.dynamics.billiard.ensemble`` over the same orbits and collisions, no analysis)
 gives the cost of the analysis; ``correlation(..., workers=1)`` gives the parallel speed-up.
+
+``--smoke``: each step once at 20,000 bounces of 4 orbits, one fresh run (seconds; checks the script, not the numbers).
 """
 
 import argparse
@@ -187,6 +189,22 @@ def _row(r):
             f"{r['import_s'] + r['setup_s']:8.2f} {r['compile_s']:8.2f}")
 
 
+def _smoke(bounces=20_000, orbits=4):
+    """Each step of the benchmark once, at sizes that take seconds."""
+    record = fresh_run(bounces, orbits)
+    print(_row(record))
+    # the fit of σ against N, on the fresh run and a copy of it at four times N with half the error
+    fitted, slope = crossing([record, {**record, "bounces": 4 * bounces, "max_stderr": record["max_stderr"] / 2}],
+                             THRESHOLD)
+    print(f"fit σ ∝ N^{slope:.3f} crosses {THRESHOLD} at N = {fitted:,.0f}")
+    base = baselines(bounces, orbits, 1)
+    print(f"kernel alone {base['kernel']:.3f} s, correlation {base['all cores']:.3f} s, "
+          f"one core {base['one core']:.3f} s")
+    check = seed_check(bounces, orbits, 2)
+    print(f"spread between 2 seeds / reported P_stderr = {check['pooled']:.2f}")
+    return 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="1σ reading only, 4 seeds, no repeats")
@@ -195,10 +213,13 @@ def main(argv=None):
     parser.add_argument("--repeat", type=int, default=3, help="fresh runs of each answer, and in-process repeats")
     parser.add_argument("--child", type=int, default=None, metavar="BOUNCES", help=argparse.SUPPRESS)
     parser.add_argument("--seed", type=int, default=1, help=argparse.SUPPRESS)
+    parser.add_argument("--smoke", action="store_true", help="every step once, tiny sizes: checks the script")
     args = parser.parse_args(argv)
     if args.child is not None:
         _child(args.child, args.orbits, args.seed)
         return 0
+    if args.smoke:
+        return _smoke()
     if args.quick:
         args.seeds, args.repeat = min(args.seeds, 4), 1
     goals = {"1σ": THRESHOLD} if args.quick else {"1σ": THRESHOLD, "2σ": THRESHOLD / 2}

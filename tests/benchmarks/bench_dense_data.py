@@ -56,7 +56,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--count", type=int, default=COUNT)
+    parser.add_argument("--smoke", action="store_true", help="10,000 samples, one repeat: checks the script")
     args = parser.parse_args()
+    if args.smoke:
+        args.count, args.repeats = 10_000, 1
     theta = W.random_angles(args.count, seed=7, sort=False)
     inputs = {
         "ellipse (1.25, 0.8), 17 digits": (W.smooth("ellipse", theta, semi_axes=(1.25, 0.8)), None),

@@ -17,6 +17,9 @@ splitting   The lowest doublet's splitting Δλ(H) of the ε = 0.55 ellipse as H
 figures     docs/figures/quantum-*.png.
 
 Results are printed and written to /tmp/bench_quantum.json (one key per part).
+
+``--smoke``: each part's calls once at tiny sizes (a few seconds), the figures into a temporary folder and
+no results file: checks the script, not the numbers.
 """
 
 from __future__ import annotations
@@ -162,12 +165,43 @@ def part_figures(quick, results):
         save(fig, "quantum-transition.png")
 
 
+def _smoke():
+    """Each part's calls once, at tiny sizes; nothing written outside a temporary folder."""
+    import tempfile
+
+    from coinwall.forward.dynamics.billiard import Billiard
+    from coinwall.forward.dynamics.lyapunov import chaotic_fraction
+    from coinwall.forward.formats.figure import new_figure
+    from coinwall.forward.quantum import doublet_splitting, quantum_spectrum
+    from coinwall.forward.quantum.figures import plot_density, plot_orientation
+
+    wall = ellipse(0.55)
+    reference = quantum_spectrum(wall, 2.5, levels=8, cells=8, order=4)
+    for order in (2, 3, 4):
+        s = quantum_spectrum(wall, 2.5, levels=8, cells=4, order=order)
+        error = float(np.max(np.abs(s.eigenvalues - reference.eigenvalues) / reference.eigenvalues))
+        print(f"P{order} cells {s.cells} dofs {s.dofs} {s.seconds:.2f} s  max rel error {error:.2e}")
+    print("fresh process", child(8, 4, 4))
+    print(quantum_spectrum(wall, 2.5, levels=30, order=4).statistics().to_dict())
+    print(chaotic_fraction(Billiard(wall, 2.5), orbits=4, collisions=100, seed=1).fraction)
+    print(doublet_splitting(wall, 2.2, cells=6))
+    with tempfile.TemporaryDirectory() as folder:
+        fig, axes = new_figure(1, 2, figsize=(8, 3))
+        plot_density(reference, 0, ax=axes[0])
+        plot_orientation(reference, (0, 1), ax=axes[1])
+        fig.savefig(os.path.join(folder, "smoke.png"), dpi=50)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", action="append", choices=["accuracy", "thousand", "transition", "splitting",
                                                             "figures"])
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes, no files: checks the script")
     args = parser.parse_args()
+    if args.smoke:
+        _smoke()
+        return
     parts = args.part or ["accuracy", "thousand", "transition", "splitting", "figures"]
     results = {}
     if os.path.exists(RESULTS):

@@ -123,11 +123,11 @@ def part_gil(cells):
     return rows
 
 
-def part_scaling(grid, options):
+def part_scaling(grid, options, workers=(1, 2)):
     from distributed import Client, LocalCluster
 
     rows = {}
-    for n in (1, 2):
+    for n in workers:
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                           silence_logs=50) as cluster, Client(cluster) as client:
             _run_cells(client, _cells(2 * n, 5, 50))
@@ -137,15 +137,17 @@ def part_scaling(grid, options):
             rows[n] = result.seconds
             log(f"{n} worker(s): {result.cells} cells in {result.seconds:.2f} s ({result.cells / result.seconds:.2f} "
                 f"cells/s)")
+    if 2 not in rows:
+        return {"seconds": rows}
     efficiency = rows[1] / (2 * rows[2])
     log(f"efficiency 1 -> 2 workers: {efficiency:.2f}")
     return {"seconds": rows, "efficiency": efficiency}
 
 
-def part_plan(collisions, repeat):
+def part_plan(collisions, repeat, points=((0.5, 2.5), (3.0, 3.0), (20.0, 6.0))):
     """One cell of 100 orbits × collisions at a few (ε, H); the mean is the plan's cell time."""
     times = []
-    for eps, H in [(0.5, 2.5), (3.0, 3.0), (20.0, 6.0)]:
+    for eps, H in points:
         cell = check_options("chaotic-fraction", {"orbits": 100, "collisions": collisions})
         compute_cell("chaotic-fraction", TableSpec(ELLIPSE_WALL), {"eps": eps}, H, 0, check_options(
             "chaotic-fraction", {"orbits": 2, "collisions": 20}))
@@ -163,11 +165,23 @@ def part_plan(collisions, repeat):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", "--smoke", action="store_true", help="small sizes: checks that the script runs")
+    parser.add_argument("--quick", action="store_true", help="small sizes: checks that the script runs")
+    parser.add_argument("--smoke", action="store_true",
+                        help="tiny sizes, no cluster (the thread/process and scaling parts need one): checks it runs")
     parser.add_argument("--json", help="write the numbers here")
     args = parser.parse_args()
-    quick = args.quick
+    quick = args.quick or args.smoke
     out = {"loadavg_before": os.getloadavg()}
+    if args.smoke:  # tiny sizes; the store written with the synchronous scheduler (no cluster to start)
+        out["overhead"] = [part_overhead(10, 100, 1)]
+        with tempfile.TemporaryDirectory() as folder:
+            result = scan("chaotic-fraction", TableSpec(ELLIPSE_WALL), {"eps": "2:4:2", "H": "3"},
+                          output=os.path.join(folder, "s.zarr"), options={"orbits": 4, "collisions": 100}, seed=0,
+                          scheduler="synchronous")
+        log(f"synchronous: {result.cells} cells in {result.seconds:.2f} s")
+        out["plan"] = part_plan(100, 1, points=((3.0, 3.0),))
+        print(json.dumps(out, indent=1))
+        return
     out["overhead"] = [part_overhead(100, c, 1 if quick else 2) for c in ((1000,) if quick else (1000, 10000))]
     cells = _cells(4 if quick else 8, 100, 1000 if quick else 2000)
     out["gil"] = part_gil(cells)

@@ -1,11 +1,13 @@
 """Benchmark: solve + verify a 10,000-node outline vs evaluating b, b', b'' on the same grid.
 
-Run:  python tests/benchmarks/bench_solve.py
+Run:  python tests/benchmarks/bench_solve.py [--smoke]
 Both timings are taken in the same run, interleaved (eval, solve, eval, solve, ...) so that load
 from other processes hits both alike; medians of the repeats.  The ratio is what we track,
 because the machines are shared and noisy.  Target: ratio ≤ 5, absolute < 0.5 s, round trip ≤ 1e-10.
+``--smoke``: 1,000 nodes, 2 repeats (a few seconds: checks the script, not the numbers).
 """
 
+import argparse
 import statistics
 import time
 
@@ -34,13 +36,18 @@ def median_times(baseline, func, repeats=REPEATS):
     return statistics.median(base), statistics.median(times), result
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help="1,000 nodes, 2 repeats: checks the script")
+    args = parser.parse_args(argv)
+    n, repeats = (1000, 2) if args.smoke else (N, REPEATS)
     wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
-    theta = np.linspace(0, 2 * np.pi, N, endpoint=False)
+    theta = np.linspace(0, 2 * np.pi, n, endpoint=False)
     for b0 in (0.0, -0.5, -0.6):
-        t_eval, t_solve, body = median_times(lambda: wall.derivatives(theta), lambda: solve_body(wall, b0, points=N))
-        _, t_cross, crossed = median_times(lambda: None, lambda: solve_body(wall, b0, points=N, cross_check=True),
-                                           repeats=3)
+        t_eval, t_solve, body = median_times(lambda: wall.derivatives(theta), lambda: solve_body(wall, b0, points=n),
+                                             repeats=repeats)
+        _, t_cross, crossed = median_times(lambda: None, lambda: solve_body(wall, b0, points=n, cross_check=True),
+                                           repeats=min(3, repeats))
         print(f"b0={b0:+.2f} regime={body.regime:8s} eval b,b',b''={t_eval * 1e3:7.2f} ms  "
               f"solve+verify={t_solve * 1e3:7.2f} ms  ratio={t_solve / t_eval:5.2f}  "
               f"round-trip error={body.max_wall_error:.1e}  "

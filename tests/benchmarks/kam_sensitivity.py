@@ -485,7 +485,10 @@ def main():
                         help="parts to run (default 0,1,2,3; part 3 and the figure need 1 and 2)")
     parser.add_argument("--probe", help="comma-separated large ε values for the probe (2000 orbits × 1000 "
                                         "collisions each, ~15 s per value and H)")
+    parser.add_argument("--smoke", action="store_true", help="the closed forms at H = 2 only: checks the script")
     args = parser.parse_args()
+    if args.smoke:  # part 0 (closed forms and their checks); parts 1-3 take about a minute even with --quick
+        args.H, args.parts, args.quick = "2", "0", True
     H_values = [float(v) for v in args.H.split(",")]
     parts = set(args.parts.split(","))
     begin, cpu = time.perf_counter(), time.process_time()

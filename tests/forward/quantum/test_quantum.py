@@ -325,8 +325,10 @@ def test_cli_bad_tables_one_line_exit_2(monkeypatch, capsys, argv, message):
 
 
 def test_cli_method_choices_are_the_registry():
-    """--method offers the library's METHODS, read from the library when the command runs."""
+    """--method offers "auto" (the default: the solver chosen for the strip) and the library's METHODS, read
+    from the library when the command runs."""
     from coinwall.cases.cli.parser import build_parser
 
     action = next(a for a in build_parser().commands["quantum"]._actions if a.dest == "method")
-    assert list(action.choices) == list(METHODS) and "spectral" in action.choices and "magic" not in action.choices
+    assert list(action.choices) == ["auto", *METHODS] and action.default == "auto"
+    assert "spectral" in action.choices and "magic" not in action.choices
