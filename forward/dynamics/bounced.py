@@ -45,7 +45,7 @@ class BounceStudy:
     inputs: dict
 
     def bounces_to_fair(self, within: float = 0.001):
-        """The first n with |P − ½| < ``within`` by more than two standard errors' margin (None if none)."""
+        """The first n with ``|P − ½| < within`` by more than two standard errors' margin (None if none)."""
         ok = np.abs(self.same - 0.5) + 2 * self.stderr < within
         idx = np.flatnonzero(ok)
         return int(idx[0]) + 1 if idx.size else None

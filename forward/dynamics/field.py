@@ -189,8 +189,8 @@ def landscape(wall: Wall, points: int = 16384) -> Landscape:
 class FieldTable:
     """A floor (and optionally a ceiling) for ``wall`` in a constant field ``g``, with restitution ``e``.
 
-    Parameters / attributes
-    -----------------------
+    Parameters
+    ----------
     wall : Wall
     g : float
         The field in κ/s² along −η (≥ 0; 0: no field).

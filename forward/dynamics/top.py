@@ -53,8 +53,8 @@ STATUS = {0: "impact budget reached", 1: "settled (energy below the equator's ba
 class TopTable:
     """A body of revolution on a floor (and optionally under a ceiling) in a field, with restitution.
 
-    Parameters / attributes
-    -----------------------
+    Parameters
+    ----------
     body : Revolution
     g : float
         The field in κ₁/s² along −η (≥ 0).
