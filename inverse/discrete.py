@@ -296,6 +296,7 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
         # the lines that made this vertex (merged within rounding) pass through it: fit the point to
         # them, then to every line of the window within rounding of it (a vertex window)
         made = np.unique(np.concatenate([active[groups[k]], nxt[groups[k]]]))
+        meet = vertices[k].copy()  # where the window's lines meet: under every line of it, within rounding
         if made.size >= 2:
             vertices[k] = _least_squares_point(theta[made], h[made])
         for _ in range(2):
@@ -305,6 +306,17 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
                 break
             vertices[k] = _least_squares_point(theta[idx[through]], h[idx[through]])
         standoff = h[idx] - normals[idx] @ vertices[k]
+        crossed = standoff < -through_tol
+        if crossed.any():
+            # the fitted point lies beyond a line of the window (in a wide corner window many lines pass near
+            # the vertex, and their least-squares point can cross the window's edge lines): move it back towards
+            # where the lines meet, just far enough that no line of the window is crossed
+            at_meet = h[idx] - normals[idx] @ meet
+            need = (-through_tol[crossed] - standoff[crossed]) / np.maximum(at_meet[crossed] - standoff[crossed],
+                                                                              1e-300)
+            s = min(1.0, float(np.max(need)))
+            vertices[k] = vertices[k] + s * (meet - vertices[k])
+            standoff = h[idx] - normals[idx] @ vertices[k]
         standoff[np.abs(standoff) <= through_tol] = 0.0
         worst = int(np.argmax(standoff))
         deficit[k] = max(float(standoff[worst]), 0.0)

@@ -112,6 +112,27 @@ def test_cams(tmp_path, capsys, law, samples, b_digits, theta_decimals):
     assert doc["regime"] == "convex" and doc["corners"] == [] and code == 0
 
 
+@pytest.mark.parametrize("law", ["345", "modified-trapezoid"])
+def test_cam_with_its_centre_on_the_boundary_stays_under_every_sample(tmp_path, capsys, law):
+    """0.1° with 4-decimal values at b0 = 0, where the dwell puts the centre of mass on the outline (h = 0 over
+    a third of the turn): the corner at the top of the rise governs a 1.5-rad window.  The least-squares point
+    of the lines through it used to lie 0.0087 beyond the window's edge line (exit 1: "wall differs by 0.00875").
+    The body's own support function, computed here from its outline nodes with numpy, must not exceed any
+    sample by more than the samples' rounding plus the reported accuracy, and the run must be clean."""
+    ref = W.cam(law, 3600)
+    written = W.write_rounded(ref, 4, theta_digits=1, degrees=True, mode="decimals")
+    path = tmp_path / "cam.csv"
+    path.write_text(written.text)
+    body = solve_body(load_wall(str(path)), 0.0)
+    assert body.warnings == ()
+    theta, b = written.radians, written.b
+    nodes = np.column_stack([body.x, body.y])
+    support = np.max(np.outer(np.cos(theta), nodes[:, 0]) + np.outer(np.sin(theta), nodes[:, 1]), axis=1)
+    assert np.max(support - b) <= 0.5e-4 + body.accuracy
+    _check({"b_c_lower": body.b_c_lower, "b_c_upper": body.b_c_upper, "regimes": body.regimes,
+            "regime_decided": body.regime_decided, "regime": body.regime}, ref)
+
+
 def test_modified_trapezoid_truth_is_in_the_interval_from_the_issue():
     """The modified-trapezoid cam at 1°: truth 3.7269596 (walldata's closed form; the discrete curvature of
     the 360 lines gives 3.711452, below it: the minimum falls between samples, near a jump of ρ'')."""
