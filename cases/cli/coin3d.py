@@ -74,6 +74,8 @@ def _cmd_coin3d(args):
         raise InvalidArgument("-o draws the fit's figure: use it with `coin3d fit`")
     if args.tosser is not None and args.mode != "fit":
         raise InvalidArgument("--tosser belongs to `coin3d fit`")
+    if args.tosser is not None and args.output:
+        raise InvalidArgument("-o draws all the tossers; leave out --tosser to draw it")
     if args.mode == "caught":
         return _caught(args)
     if args.mode == "fit":
@@ -153,7 +155,22 @@ def _bounce(args):
     print(f"status     {study.status}")
     for n, (p, s, k) in enumerate(zip(study.same, study.stderr, study.reached), start=1):
         print(f"  bounce {n:>3}: P(same side) = {p:.4f} ± {s:.4f}  ({k} tosses)")
+    import numpy as np
+
     n = study.bounces_to_fair()
-    print("fair       " + (f"within 0.001 of ½ from bounce {n}" if n else
-                           "never within 0.001 of ½ (by two standard errors) in these bounces"))
+    if n:
+        verdict = f"within 0.001 of ½ from bounce {n}"
+    elif np.any(np.abs(study.same - 0.5) - 2 * study.stderr > 0.001):
+        far = int(np.flatnonzero(np.abs(study.same - 0.5) - 2 * study.stderr > 0.001)[-1]) + 1
+        verdict = (f"not fair: at bounce {far} P(same side) is more than 0.001 from ½ by two standard errors "
+                   "(on a frictionless floor L_z and L₃ are kept, see docs/coin3d.md)")
+    else:
+        verdict = ("not resolved: two standard errors (±{:.4f}) are wider than 0.001 at every bounce; raise "
+                   "--samples".format(2 * float(np.min(study.stderr))))
+    print("fair       " + verdict)
+    stopped = int(study.reached[0] - study.reached[-1]) if study.reached.size else 0
+    if stopped > 0.01 * max(int(study.reached[0]), 1):
+        print(f"note       {stopped} of {int(study.reached[0])} tosses stopped before bounce {study.reached.size} "
+              "(a face flat on the floor, or a graze the search could not resolve; see the status line): "
+              "each bounce's share is over the tosses that reached it")
     return 0

@@ -24,7 +24,9 @@ The lowest levels of the quantum body between the walls (docs/quantum.md).
 
 With η = y/κ the Hamiltonian is −(ħ²/2Mκ²)(∂²_θ + ∂²_η): the levels are the eigenvalues λ of −Δ on the
 billiard's strip b0 + b(θ) < η < H − b0 − b(θ + π), periodic in θ, zero on both walls (units 1/κ²;
-E = ħ²λ/(2Mκ²)).  Finite elements of degree --order on a mesh that follows the walls exactly, solved
+E = ħ²λ/(2Mκ²)).  The method is chosen for the wall (--method auto, the default): a spectral basis for a
+smooth wall on an open strip (printed to the digits a coarser second solve confirms), else finite elements
+of degree --order (default 4) on a mesh that follows the walls exactly; either is solved
 class by class: each level is labelled by its symmetry class (swap: (θ, η) → (θ + π, H − η), always;
 mirror: θ → −θ and half_turn: θ → θ + π when the wall has them).  Weyl's law N ≈ Aλ/4π − L√λ/4π + C is
 checked.  Where H is below the body's diameter the strip falls apart: each region is solved on its own

@@ -113,10 +113,13 @@ def _table(args):
     if args.wall.startswith("case:") or args.wall.lower().endswith((".csv", ".json")):
         import pickle
 
-        if grid:
+        from coinwall.cases.scan.table import TOSS_AXES
+
+        if set(grid) - set(TOSS_AXES):
             raise InvalidArgument(f"--param: {args.wall!r} is not an expression, its parameters cannot be scanned")
-        spec = TableSpec(load_wall(args.wall, [f"{k}={v!r}" for k, v in params.items()], **wall_options(args)), (),
-                         args.b0, args.kappa)
+        toss_fixed = tuple((k, v) for k, v in params.items() if k in TOSS_AXES)  # the toss's, not the wall's
+        wall_params = [f"{k}={v!r}" for k, v in params.items() if k not in TOSS_AXES]
+        spec = TableSpec(load_wall(args.wall, wall_params, **wall_options(args)), toss_fixed, args.b0, args.kappa)
         if not isinstance(spec.wall, str):
             try:
                 pickle.dumps(spec.wall)  # it travels to the workers as an object

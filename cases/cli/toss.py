@@ -85,8 +85,8 @@ def register(subparsers):
     parser.add_argument("--g", type=number, default=1.0, help="field in κ/s² (default 1; m/s² with --kappa)")
     parser.add_argument("--e", type=number, default=0.6, help="coefficient of restitution in (0, 1] (default 0.6)")
     parser.add_argument("--height", type=number, default=None,
-                        help="launch height of the centre of mass (κ; default: the rest height plus the largest "
-                             "wall value, i.e. clear of the floor at every angle)")
+                        help="launch height of the centre of mass (κ; default: b0 + 2 × the largest wall value, at "
+                             "least b0 + 1, i.e. clear of the floor at every angle)")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--H", type=number, default=None, help="a ceiling at this height (κ; default: none)")
     parser.add_argument("--kappa", type=number, default=None, metavar="METRES",
@@ -157,6 +157,9 @@ def _cmd_toss(args):
     if height is None:
         height = args.b0 + 2.0 * float(np.max(wall(np.linspace(0, 2 * np.pi, 1024, endpoint=False))))
         height = max(height, args.b0 + 1.0)
+        if table.ceiling and not height < float(table.upper(np.array([table.landscape.minima[0]]))[0]):
+            raise InvalidArgument(f"the default launch height {height:g} (b0 + 2 × the largest wall value) is above "
+                                  f"the ceiling --H {args.H:g}; give --height")
     if args.spread is not None:
         mean, sigma = args.spread[:2], args.spread[2:]
         bar = progress_bar(args, args.samples, "toss")

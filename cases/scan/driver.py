@@ -270,6 +270,28 @@ def _close(client, cluster, interrupted) -> None:
             _restore_logs(saved)
 
 
+def _check_toss_grid(table, axes, options) -> None:
+    """Refuse, before any store is made, the toss cells that could only fail: a restitution outside (0, 1] and a
+    launch height H the body does not clear (checked on the first wall of the grid)."""
+    from coinwall.forward.dynamics.toss import launch_states
+
+    from .table import DEFAULT_RESTITUTION
+
+    scanned = {a.name: a.values for a in axes}
+    values = scanned.get("restitution", [dict(table.params).get("restitution", DEFAULT_RESTITUTION)])
+    for value in values:
+        if not 0.0 < float(value) <= 1.0:
+            raise InvalidArgument(f"restitution must be in (0, 1], got {value!r}")
+    first = {a.name: a.values[0] for a in axes[:-1]}
+    field = table.field_table_at(first, float(options["g"]))
+    kappa = 1.0 if table.kappa is None else float(table.kappa)
+    for H in axes[-1].values:
+        try:
+            launch_states(field, 0.0, 0.0, float(H) / kappa)
+        except InvalidArgument as exc:
+            raise InvalidArgument(f"--H {H:g} (the launch height of the toss scan): {exc}") from None
+
+
 def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: dict | None = None, seed: int = 0,
          scheduler: str = "local", workers: int | None = None, client=None, retries: int = 3, progress=None,
          command: str = "", notes=None) -> ScanResult:
@@ -331,6 +353,8 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     misplaced = sorted(set(TOSS_AXES) & ({a.name for a in axes} | {k for k, _ in table.params}))
     if misplaced and quantity != "toss":
         raise InvalidArgument(f"`{misplaced[0]}` is a parameter of the toss quantity, not of {quantity!r}")
+    if quantity == "toss":
+        _check_toss_grid(table, axes, options)
     shape = tuple(len(a) for a in axes)
     total = int(np.prod(shape))
     check_memory(f"a grid of {total} cells ({_BYTES_PER_CELL:g} bytes of bookkeeping per cell)",
@@ -340,6 +364,10 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     table.wall_at(first)  # a wrong parameter name or expression fails here, once, not in every cell
     identity = {"quantity": quantity, "options": options, **table.identity(), "seed": seed,
                 "axes": {a.name: list(a.values) for a in axes}, "coinwall_version": __version__}
+    if quantity == "toss" and "restitution" not in {a.name for a in axes} | {k for k, _ in table.params}:
+        from .table import DEFAULT_RESTITUTION
+
+        identity["restitution"] = DEFAULT_RESTITUTION  # the store says which e its cells were tossed with
     if client is None and scheduler not in (None, "local", "synchronous"):
         _check_address(scheduler)  # before the store is read or made
     said = []

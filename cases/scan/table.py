@@ -16,10 +16,12 @@ from dataclasses import dataclass, field
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.wall import Wall
 
-__all__ = ["TOSS_AXES", "TableSpec"]
+__all__ = ["DEFAULT_RESTITUTION", "TOSS_AXES", "TableSpec"]
 
 #: axis names that are not wall parameters: the toss quantities read them (the coefficient of restitution)
 TOSS_AXES = ("restitution",)
+#: the coefficient of restitution of a toss scan that neither scans nor fixes one (as ``coinwall toss --e``)
+DEFAULT_RESTITUTION = 0.6
 
 
 @dataclass(frozen=True)
@@ -85,11 +87,12 @@ class TableSpec:
 
     def field_table_at(self, values: dict, g: float):
         """The :class:`~coinwall.forward.dynamics.field.FieldTable` of a toss cell: a floor only, the field ``g``
-        (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; 1 if neither)."""
+        (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; else
+        :data:`DEFAULT_RESTITUTION`, as ``coinwall toss``)."""
         from coinwall.forward.dynamics.field import FieldTable
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
-        restitution = {**dict(self.params), **values}.get("restitution", 1.0)
+        restitution = {**dict(self.params), **values}.get("restitution", DEFAULT_RESTITUTION)
         return FieldTable(self.wall_at(values), g=g, e=float(restitution),
                           b0=float(self.b0) / kappa)
 

@@ -118,7 +118,7 @@ class BasinMap:
             for j, v in enumerate(self.v0):
                 k = int(self.outcome[i, j])
                 name = self.names[k] if k >= 0 else "undecided"
-                lines.append(f"{v!r},{w!r},{k},{name},{int(self.bounces[i, j])}")
+                lines.append(f"{float(v)!r},{float(w)!r},{k},{name},{int(self.bounces[i, j])}")
         return "\n".join(lines) + "\n"
 
     def plot(self, title: str = "", keller: bool = True):
@@ -155,7 +155,7 @@ class BasinMap:
         ax.set_xlabel("launch velocity v0 (κ/s)")
         ax.set_ylabel("spin ω0 (rad/s)")
         mode = "caught at the floor" if self.catch else f"e = {self.table.e:g}"
-        ax.set_title(f"{title}  outcome, g = {self.table.g:g} κ/s², {mode}".strip(), fontsize=9)
+        ax.set_title(f"{title + ': ' if title else ''}outcome, g = {self.table.g:g} κ/s², {mode}", fontsize=9)
         decided = self.bounces[self.outcome != UNDECIDED]
         top = max(1, int(np.percentile(decided, 99))) if decided.size else 1
         im = bx.pcolormesh(self.v0, self.omega0, np.where(self.outcome == UNDECIDED, np.nan, self.bounces),

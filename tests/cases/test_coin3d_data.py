@@ -87,7 +87,8 @@ def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
     for argv, word in ((("caught", "--psi", "270"), "--psi"), (("fit", "--tosser", "T99"), "--tosser"),
                        (("bounce", "--e", "2"), "--e"), (("caught",), "--psi"), (("caught", "--psi", "nan"), "--psi"),
                        (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("bounce", "--g", "0"), "--g"),
-                       (("fit", "-o", str(tmp_path / "x.txt")), "")):
+                       (("fit", "-o", str(tmp_path / "x.txt")), ""),
+                       (("fit", "--tosser", "T48", "-o", str(tmp_path / "x.png")), "--tosser")):
         code, out, err = run(*argv)
         assert code == 2 and out == ""
         assert len(err.strip().splitlines()) == 1 and word in err
@@ -108,3 +109,12 @@ def test_cli_coin3d_runs(tmp_path, capsys):
     assert code == 0 and fig.stat().st_size > 10_000 and "81.16°" in out
     code, out, err = run("bounce", "--psi", "81", "--e", "0.9", "--bounces", "3", "--samples", "500", "--json")
     assert code == 0 and len(json.loads(out)["same"]) == 3
+
+
+def test_cli_bounce_says_not_resolved_when_the_errors_are_wider_than_the_tolerance(capsys):
+    """Without precession (ψ = 90°) the share stays near ½; 300 tosses give two standard errors of ~0.06, so
+    "within 0.001" can be neither shown nor refuted: the verdict says so (it said "never within")."""
+    run = _cli(capsys)
+    code, out, err = run("bounce", "--psi", "90", "--e", "0.9", "--bounces", "2", "--samples", "300", "--seed", "2")
+    assert code == 0, err
+    assert "not resolved" in out and "never" not in out

@@ -296,3 +296,47 @@ def test_bad_toss_inputs_are_refused(tmp_path):
         scan("chaotic-fraction", TableSpec(COIN, (("eps", 99.0),)), {"restitution": "0.5,0.7", "H": "3"},
              output=str(tmp_path / "x.zarr"), scheduler="synchronous")
     assert not (tmp_path / "x.zarr").exists()
+
+
+def test_toss_scan_checks_its_grid_before_any_store_and_records_e(tmp_path, capsys):
+    """A restitution outside (0, 1] or a launch height the body does not clear is one line, exit 2, no store
+    (they used to be refused cell by cell, exit 1, with a half-NaN store left); a scan that gives no restitution
+    uses coinwall toss's default e = 0.6 and says so in the store; a named case takes a restitution too."""
+    pytest.importorskip("distributed")
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("zarr")
+    import json as _json
+
+    from coinwall.cases.cli.main import main
+    from coinwall.cases.scan.table import DEFAULT_RESTITUTION
+    from coinwall.forward.dynamics.toss import heads_fraction
+
+    base = ["scan", "toss", COIN, "--param", "eps=99", "--tosses", "50", "--scheduler", "synchronous"]
+    for extra, needle in [(["--param", "restitution=0.5,1.5", "--H", "1.2"], "restitution must be in (0, 1]"),
+                          (["--param", "restitution=0.5", "--H", "0.01,1.2"], "--H 0.01")]:
+        store = tmp_path / "bad.zarr"
+        assert main([*base, *extra, "-o", str(store)]) == 2
+        err = capsys.readouterr().err
+        assert needle in err and len(err.strip().splitlines()) == 1
+        assert not store.exists()
+    store = tmp_path / "default.zarr"
+    assert main([*base, "--H", "1.2", "-o", str(store), "--seed", "4"]) == 0
+    capsys.readouterr()
+    data = xr.open_zarr(str(store))
+    assert _json.loads(data.attrs["scan_identity"])["restitution"] == DEFAULT_RESTITUTION == 0.6
+    from coinwall.cases.scan.grid import cell_seed
+
+    ref = heads_fraction(FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=0.6), (2.0, 5.0),
+                         (0.04, 0.1), 1.2, samples=50, seed=cell_seed(4, (1.2,)))
+    assert float(data["heads"].values[0]) == pytest.approx(ref.fractions["heads"][0], abs=1e-12)
+    assert main(["scan", "toss", "case:coin", "--param", "restitution=0.4,0.8", "--H", "1.2", "--tosses", "20",
+                 "--scheduler", "synchronous", "-o", str(tmp_path / "case.zarr")]) == 0
+
+
+def test_basin_map_csv_holds_plain_numbers():
+    from coinwall.forward.dynamics.toss import basin_map
+
+    table = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=1.0)
+    text = basin_map(table, np.linspace(0.5, 1.0, 2), np.linspace(1.0, 2.0, 2), 1.2, catch=True).to_csv()
+    rows = [line.split(",") for line in text.splitlines()[1:]]
+    assert len(rows) == 4 and all(float(r[0]) in (0.5, 1.0) and float(r[1]) in (1.0, 2.0) for r in rows)
