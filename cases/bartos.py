@@ -105,8 +105,11 @@ def plot_bartos(fits: BartosFits | None = None):
         bx.plot(psi, dhm_same_side(np.radians(psi)), color=PALETTE[0], label="DHM: ½ + arcsin(cot²ψ)/π")
         bx.axhspan(o.p_low, o.p_high, color=PALETTE[1], alpha=0.25, label="all flips, 95 % interval")
         bx.axvspan(o.psi_low, o.psi_high, color=PALETTE[1], alpha=0.25)
-        bx.set_ylim(0.49, 0.62)
-        bx.set_xlim(65, 90)
+        # wide enough for every tosser's P(same side) and its ψ on the curve (the most precessing is near 61°)
+        top = max(0.62, float(np.max(p)) + 0.01)
+        bx.set_ylim(0.49, top)
+        curve = dhm_same_side(np.radians(psi))  # falls with ψ: the first ψ below the top of the axis
+        bx.set_xlim(min(65.0, float(psi[np.argmax(curve <= top)]) - 1.0), 90)
         bx.set_xlabel("ψ, angle between angular momentum and normal (degrees)")
         bx.set_ylabel("P(same side) (dimensionless)")
         bx.set_title("the caught coin's precession (DHM 2007)")

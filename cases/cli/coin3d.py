@@ -70,6 +70,14 @@ def _cmd_coin3d(args):
         raise InvalidArgument(f"--samples must be at most 1e7, got {args.samples}")
     if args.bounces > 1000:
         raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
+    # a flag another mode reads is refused, not ignored (its value would silently change nothing)
+    defaults = {"psi": None, "samples": 20_000, "seed": None, "e": 0.6, "bounces": 10, "g": 9.81, "ceiling": None,
+                "height": 1.0}
+    used = {"caught": {"psi", "samples", "seed"}, "fit": set(),
+            "bounce": {"psi", "samples", "seed", "e", "bounces", "g", "ceiling", "height"}}[args.mode]
+    for name, default in defaults.items():
+        if name not in used and getattr(args, name) != default:
+            raise InvalidArgument(f"--{name} does nothing in `coin3d {args.mode}`; leave it out")
     if args.output and args.mode != "fit":
         raise InvalidArgument("-o draws the fit's figure: use it with `coin3d fit`")
     if args.tosser is not None and args.mode != "fit":

@@ -39,6 +39,12 @@ def _default_theta0(table: FieldTable) -> float:
 
 def launch_states(table: FieldTable, v0, omega0, height: float, theta0: float | None = None) -> np.ndarray:
     """States ``[θ0, height, ω0, v0]`` for arrays of launch velocities and spins (broadcast together)."""
+    land = table.landscape
+    if land.names and np.all(np.isinf(land.barriers)):
+        # one valley without a barrier: the wall is flat (a disc), every orientation is a rest state, and the
+        # outcome named after its one "minimum" would be made up
+        raise InvalidArgument(f"wall {table.wall.description!r} has no valleys (b is constant within rounding): a "
+                              "body resting on it can rest at any angle, so a toss has no outcome")
     theta0 = _default_theta0(table) if theta0 is None else float(theta0)
     if not math.isfinite(theta0):
         raise InvalidArgument(f"`theta0` must be a finite angle, got {theta0!r}")
@@ -195,6 +201,12 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
     impacts = check_count("impacts", impacts)
     v = _grid("v0", v0)
     w = _grid("omega0", omega0)
+    land = table.landscape
+    if land.names and np.all(np.isinf(land.barriers)):
+        # one valley without a barrier: the wall is flat (a disc), every orientation is a rest state, and the
+        # outcome named after its one "minimum" would be made up
+        raise InvalidArgument(f"wall {table.wall.description!r} has no valleys (b is constant within rounding): a "
+                              "body resting on it can rest at any angle, so a toss has no outcome")
     theta0 = _default_theta0(table) if theta0 is None else float(theta0)
     V, W = np.meshgrid(v, w)
     states = launch_states(table, V, W, height, theta0)

@@ -88,7 +88,9 @@ def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
                        (("bounce", "--e", "2"), "--e"), (("caught",), "--psi"), (("caught", "--psi", "nan"), "--psi"),
                        (("bounce", "-o", str(tmp_path / "x.png")), "-o"), (("bounce", "--g", "0"), "--g"),
                        (("fit", "-o", str(tmp_path / "x.txt")), ""),
-                       (("fit", "--tosser", "T48", "-o", str(tmp_path / "x.png")), "--tosser")):
+                       (("fit", "--tosser", "T48", "-o", str(tmp_path / "x.png")), "--tosser"),
+                       (("caught", "--psi", "70", "--ceiling", "0.001"), "--ceiling does nothing"),
+                       (("fit", "--psi", "70"), "--psi does nothing"), (("fit", "--e", "0.3"), "--e does nothing")):
         code, out, err = run(*argv)
         assert code == 2 and out == ""
         assert len(err.strip().splitlines()) == 1 and word in err

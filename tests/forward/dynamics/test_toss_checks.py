@@ -340,3 +340,12 @@ def test_basin_map_csv_holds_plain_numbers():
     text = basin_map(table, np.linspace(0.5, 1.0, 2), np.linspace(1.0, 2.0, 2), 1.2, catch=True).to_csv()
     rows = [line.split(",") for line in text.splitlines()[1:]]
     assert len(rows) == 4 and all(float(r[0]) in (0.5, 1.0) and float(r[1]) in (1.0, 2.0) for r in rows)
+
+
+def test_a_disc_has_no_outcome():
+    """b constant: every angle is a rest state; the toss used to report 'rest θ=0' after one impact."""
+    from coinwall.forward.dynamics.toss import launch_states
+    from coinwall.forward.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match="no valleys"):
+        launch_states(FieldTable(Wall.from_expression("1 + 0*t"), g=1.0, e=0.6), 1.0, 1.0, 2.0)
