@@ -140,6 +140,13 @@ def _cmd_toss(args):
         raise InvalidArgument("-o writes the basin map; --spread prints fractions only (drop one of them)")
     if args.uncertainty is not None and (args.output or args.spread is not None):
         raise InvalidArgument("--uncertainty prints the exponent only: drop -o and --spread")
+    # flags the basin map does not read are refused, not ignored
+    if args.spread is None and args.uncertainty is None and (args.samples != 10_000 or args.seed is not None):
+        raise InvalidArgument("--samples and --seed are for --spread and --uncertainty; the basin map is a grid "
+                              "(--v0, --omega)")
+    if args.catch and args.slide:
+        raise InvalidArgument("--slide follows tosses that slide on the floor; --catch stops at the first contact "
+                              "(drop one of them)")
     for name, value in (("--g", args.g), ("--e", args.e), ("--b0", args.b0), ("--H", args.H),
                         ("--height", args.height), ("--theta0", args.theta0)):
         if value is not None and not math.isfinite(value):

@@ -323,7 +323,9 @@ _CLAIMS = (
           "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor "
           "impact and reads the face down; a toss settled before keeps its outcome. Fairness to 0.001 needs "
           "about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. With small e the coin settles "
-          "after a few bounces and the outcome keeps the bias it had then."),
+          "after a few bounces and the outcome keeps the bias it had then. This is the planar coin, the paper's "
+          "model; a precessing coin on a frictionless floor keeps L_z and L₃ and is not randomised by its bounces "
+          "(docs/coin3d.md)."),
     # ------------------------------------------------------------------ section V: the announced next step
     Claim("quantum-tunnelling", "The quantum body tunnels from heads to tails", "sec. V (last paragraph)",
           "announced as a current focus; nothing computed", checks_quantum.tunnelling_doublets,

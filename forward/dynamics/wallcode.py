@@ -168,8 +168,8 @@ def wall_source(wall, decorator: str = ""):
         n = backend.cos.size
         constants = np.concatenate([[backend.a0, float(n)], backend.cos, backend.sin])
         return FOURIER_SOURCE.format(decorator=decorator), constants
-    raise InvalidWall(f"wall {wall!r}: unknown wall kind {wall.kind!r}; the billiard kernel handles "
-                      f"expression, Fourier and sample walls")
+    raise InvalidWall(f"wall {wall.description!r} is built from exact {wall.kind}; the compiled billiard takes walls "
+                      "given as an expression, Fourier coefficients or samples (a CSV of b(θ) at many angles works)")
 
 
 def python_wall(wall, order: int = 1):

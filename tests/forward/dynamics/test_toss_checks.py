@@ -349,3 +349,15 @@ def test_a_disc_has_no_outcome():
 
     with pytest.raises(InvalidArgument, match="no valleys"):
         launch_states(FieldTable(Wall.from_expression("1 + 0*t"), g=1.0, e=0.6), 1.0, 1.0, 2.0)
+
+
+def test_toss_refuses_flags_its_mode_does_not_read(capsys):
+    from coinwall.cases.cli.main import main
+
+    for argv, needle in [(["--samples", "100"], "--samples and --seed"), (["--seed", "3"], "--samples and --seed"),
+                         (["--catch", "--slide"], "--slide"), ]:
+        assert main(["toss", "case:coin", *argv]) == 2
+        err = capsys.readouterr().err
+        assert needle in err and len(err.strip().splitlines()) == 1
+    assert main(["toss", "case:reuleaux-3"]) == 2
+    assert "built from exact arcs" in capsys.readouterr().err
