@@ -38,16 +38,16 @@ a fractal one; --samples launches per ε)."""
 
 EXAMPLE = ('coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:300 --omega 0:8:300 -o basin.png\n'
            'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --spread 2,5,0.05,0.2 --samples 20000 --seed 1\n'
-           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:2 --omega 0:8:2 --uncertainty 1e-6:1e-2:5')
+           'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3 --omega 0:8 --uncertainty 1e-6:1e-2:5')
 
 
 def _grid(text: str):
-    """``LO:HI:N`` -> N numbers from LO to HI."""
+    """``LO:HI:N`` -> N numbers from LO to HI; ``LO:HI`` (a range, as --uncertainty reads it) has N = 120."""
     parts = text.split(":")
-    if len(parts) != 3:
+    if len(parts) not in (2, 3):
         raise ValueError(text)
     lo, hi = number(parts[0]), number(parts[1])
-    n = count(parts[2])
+    n = count(parts[2]) if len(parts) == 3 else 120
     if not (math.isfinite(lo) and math.isfinite(hi) and hi >= lo and 1 <= n <= 4096):
         raise ValueError(text)
     return lo, hi, n
@@ -72,7 +72,7 @@ def _epsilons(text: str):
     return lo, hi, n
 
 
-_grid.__name__ = "grid LO:HI:N (N up to 4096)"
+_grid.__name__ = "grid LO:HI:N or range LO:HI (N up to 4096)"
 _epsilons.__name__ = "epsilons LO:HI:N (0 < LO < HI <= 0.1, 2 <= N <= 50)"
 _spread.__name__ = "spread V0,OMEGA0,SIGMA_V0,SIGMA_OMEGA0"
 
