@@ -79,11 +79,16 @@ def number(spec: dict, key: str, default=_MISSING) -> float:
         if default is _MISSING:
             raise InvalidArgument(f"`{key}` is missing; give a number")
         return default
+    return _finite(value, f"`{key}`", InvalidArgument)
+
+
+def _finite(value, what: str, error) -> float:
+    """``value`` as a finite float if it is a JSON number (not a truth value); ``error`` naming ``what`` else."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InvalidArgument(f"`{key}` must be a number, got {value!r}"[:200])
+        raise error(f"{what} must be a number, got {value!r}"[:200])
     value = float(value)  # the JSON reader caps numbers at 100 characters: no overflow here
     if not math.isfinite(value):
-        raise InvalidArgument(f"`{key}` must be finite, got {value}")
+        raise error(f"{what} must be finite, got {value}")
     return value
 
 
@@ -162,16 +167,7 @@ def _params(spec) -> dict:
     if len(names) > MAX_PARAMS:
         raise InvalidParameter(f"the expression has {len(names)} parameters ({', '.join(names[:MAX_PARAMS])}, …); "
                                f"at most {MAX_PARAMS}")
-    out = {}
-    for name in names:
-        value = given.get(name, PARAM_DEFAULT)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InvalidParameter(f"parameter {name} must be a number, got {value!r}")
-        value = float(value)  # the JSON reader caps numbers at 100 characters: no overflow here
-        if not math.isfinite(value):
-            raise InvalidParameter(f"parameter {name} must be finite, got {value}")
-        out[name] = value
-    return out
+    return {name: _finite(given.get(name, PARAM_DEFAULT), f"parameter {name}", InvalidParameter) for name in names}
 
 
 def get_wall(spec: dict):

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
+from ..display import json_numbers, safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count
 from .field import FieldTable, field_run_many
@@ -92,12 +92,10 @@ class Fairness:
         return int(self.bounces[bad[-1] + 1]) if bad.size else int(self.bounces[0])
 
     def to_dict(self) -> dict:
-        def clean(a):
-            return [None if not math.isfinite(x) else float(x) for x in a]
-
-        return {"e": self.e, "bounces": self.bounces.tolist(), "heads": clean(self.heads), "tails": clean(self.tails),
-                "undecided": clean(self.undecided), "bias": clean(self.bias), "stderr": clean(self.stderr),
-                "settled": clean(self.settled), "samples": self.samples, "mean_v0_omega0": list(self.mean),
+        return {"e": self.e, "bounces": self.bounces.tolist(), "heads": json_numbers(self.heads),
+                "tails": json_numbers(self.tails), "undecided": json_numbers(self.undecided),
+                "bias": json_numbers(self.bias), "stderr": json_numbers(self.stderr),
+                "settled": json_numbers(self.settled), "samples": self.samples, "mean_v0_omega0": list(self.mean),
                 "sigma_v0_omega0": list(self.sigma), "fair_after_0.001": self.fair_after()}
 
     @safe_repr

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
+from ..display import json_number, safe_repr
 from ..errors import InvalidArgument
 from ..validation import check_count
 from .field import FieldTable
@@ -73,13 +73,10 @@ class Uncertainty:
     catch: bool
 
     def to_dict(self) -> dict:
-        def clean(x):
-            return None if not math.isfinite(x) else float(x)
-
         return {"epsilons": self.epsilons.tolist(), "fractions": self.fractions.tolist(),
-                "counts": self.counts.tolist(), "samples": self.samples, "alpha": clean(self.alpha),
-                "alpha_stderr": clean(self.alpha_stderr), "prefactor": clean(self.prefactor), "v0": list(self.v0),
-                "omega0": list(self.omega0), "e": self.e, "catch": self.catch}
+                "counts": self.counts.tolist(), "samples": self.samples, "alpha": json_number(self.alpha),
+                "alpha_stderr": json_number(self.alpha_stderr), "prefactor": json_number(self.prefactor),
+                "v0": list(self.v0), "omega0": list(self.omega0), "e": self.e, "catch": self.catch}
 
     @safe_repr
     def __repr__(self):
