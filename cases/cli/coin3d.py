@@ -9,6 +9,11 @@ from .common import add_command, check_positive_count, check_seed, count, number
 
 __all__ = ["register"]
 
+#: the defaults of the flags some modes read, and which mode reads which (a flag given to another is refused)
+_DEFAULTS = {"psi": None, "samples": 20_000, "seed": None, "e": 0.6, "bounces": 10, "g": 9.81, "ceiling": None,
+             "height": 1.0}
+_READS = {"caught": {"psi", "samples", "seed"}, "fit": set(), "bounce": set(_DEFAULTS)}
+
 DESCRIPTION = """\
 The coin in three dimensions.  A body of revolution bouncing on horizontal walls is a billiard in
 (θ, η) (tilt of the axis, height / transverse radius of gyration) with the spinning top's potential;
@@ -33,17 +38,19 @@ def register(subparsers):
     parser = add_command(subparsers, "coin3d", help="the coin in 3-D: caught tosses, the real flips, bounces",
                          description=DESCRIPTION, example=EXAMPLE)
     parser.add_argument("mode", choices=("caught", "fit", "bounce"), help="what to compute (see above)")
-    parser.add_argument("--psi", type=number, default=None,
+    parser.add_argument("--psi", type=number, default=_DEFAULTS["psi"],
                         help="angle between angular momentum and normal, degrees (caught: required; bounce: default "
                              "the value fitted to the real flips)")
-    parser.add_argument("--samples", type=count, default=20_000, help="tosses simulated (default 20000)")
-    parser.add_argument("--seed", type=count, default=None, help="seed of the draws")
-    parser.add_argument("--e", type=number, default=0.6, help="bounce: restitution in (0, 1] (default 0.6)")
-    parser.add_argument("--bounces", type=count, default=10, help="bounce: floor impacts followed (default 10)")
-    parser.add_argument("--g", type=number, default=9.81, help="bounce: gravity in m/s² (default 9.81)")
-    parser.add_argument("--ceiling", type=number, default=None,
+    parser.add_argument("--samples", type=count, default=_DEFAULTS["samples"], help="tosses simulated (default 20000)")
+    parser.add_argument("--seed", type=count, default=_DEFAULTS["seed"], help="seed of the draws")
+    parser.add_argument("--e", type=number, default=_DEFAULTS["e"], help="bounce: restitution in (0, 1] (default 0.6)")
+    parser.add_argument("--bounces", type=count, default=_DEFAULTS["bounces"],
+                        help="bounce: floor impacts followed (default 10)")
+    parser.add_argument("--g", type=number, default=_DEFAULTS["g"], help="bounce: gravity in m/s² (default 9.81)")
+    parser.add_argument("--ceiling", type=number, default=_DEFAULTS["ceiling"],
                         help="bounce: a second wall this high above the floor (m; default none)")
-    parser.add_argument("--height", type=number, default=1.0, help="bounce: launch height above the floor (m)")
+    parser.add_argument("--height", type=number, default=_DEFAULTS["height"],
+                        help="bounce: launch height above the floor (m; default 1)")
     parser.add_argument("--tosser", default=None, help="fit: one tosser (T01 … T48) instead of the table")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="fit: figure of the data against the model (.png, .svg, .pdf; repeatable)")
@@ -71,12 +78,8 @@ def _cmd_coin3d(args):
     if args.bounces > 1000:
         raise InvalidArgument(f"--bounces must be at most 1000, got {args.bounces}")
     # a flag another mode reads is refused, not ignored (its value would silently change nothing)
-    defaults = {"psi": None, "samples": 20_000, "seed": None, "e": 0.6, "bounces": 10, "g": 9.81, "ceiling": None,
-                "height": 1.0}
-    used = {"caught": {"psi", "samples", "seed"}, "fit": set(),
-            "bounce": {"psi", "samples", "seed", "e", "bounces", "g", "ceiling", "height"}}[args.mode]
-    for name, default in defaults.items():
-        if name not in used and getattr(args, name) != default:
+    for name, default in _DEFAULTS.items():
+        if name not in _READS[args.mode] and getattr(args, name) != default:
             raise InvalidArgument(f"--{name} does nothing in `coin3d {args.mode}`; leave it out")
     if args.output and args.mode != "fit":
         raise InvalidArgument("-o draws the fit's figure: use it with `coin3d fit`")

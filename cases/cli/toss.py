@@ -73,6 +73,8 @@ def _epsilons(text: str):
 
 
 _grid.__name__ = "grid LO:HI:N or range LO:HI (N up to 4096)"
+#: draws of --spread and --uncertainty by default (the basin map, a grid, takes none)
+_SAMPLES = 10_000
 _epsilons.__name__ = "epsilons LO:HI:N (0 < LO < HI <= 0.1, 2 <= N <= 50)"
 _spread.__name__ = "spread V0,OMEGA0,SIGMA_V0,SIGMA_OMEGA0"
 
@@ -107,7 +109,7 @@ def register(subparsers):
     parser.add_argument("--uncertainty", type=_epsilons, default=None, metavar="LO:HI:N",
                         help="instead of the map: the uncertainty exponent of the outcome over the --v0 × --omega box, "
                              "from N log-spaced ε between LO and HI (fractions of the box's sides)")
-    parser.add_argument("--samples", type=count, default=10_000,
+    parser.add_argument("--samples", type=count, default=_SAMPLES,
                         help="draws for --spread, launches per ε for --uncertainty (default 10000)")
     parser.add_argument("--seed", type=count, default=None, help="seed of the --spread or --uncertainty draws")
     parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
@@ -122,7 +124,7 @@ def _cmd_toss(args):
     import numpy as np
 
     from coinwall.forward.dynamics.field import FieldTable
-    from coinwall.forward.dynamics.toss import basin_map, heads_fraction
+    from coinwall.forward.dynamics.toss import basin_map, heads_fraction, launch_states
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
@@ -141,7 +143,7 @@ def _cmd_toss(args):
     if args.uncertainty is not None and (args.output or args.spread is not None):
         raise InvalidArgument("--uncertainty prints the exponent only: drop -o and --spread")
     # flags the basin map does not read are refused, not ignored
-    if args.spread is None and args.uncertainty is None and (args.samples != 10_000 or args.seed is not None):
+    if args.spread is None and args.uncertainty is None and (args.samples != _SAMPLES or args.seed is not None):
         raise InvalidArgument("--samples and --seed are for --spread and --uncertainty; the basin map is a grid "
                               "(--v0, --omega)")
     if args.catch and args.slide:
@@ -164,9 +166,13 @@ def _cmd_toss(args):
     if height is None:
         height = args.b0 + 2.0 * float(np.max(wall(np.linspace(0, 2 * np.pi, 1024, endpoint=False))))
         height = max(height, args.b0 + 1.0)
-        if table.ceiling and not height < float(table.upper(np.array([table.landscape.minima[0]]))[0]):
-            raise InvalidArgument(f"the default launch height {height:g} (b0 + 2 × the largest wall value) is above "
-                                  f"the ceiling --H {args.H:g}; give --height")
+        try:  # the library's check of a launch height, said of the default the user did not choose
+            launch_states(table, 0.0, 0.0, height, args.theta0)
+        except InvalidArgument as exc:
+            if not str(exc).startswith("`height`"):  # not about the height (a wall without valleys): as it is
+                raise
+            raise InvalidArgument(f"the default launch height {height:g} (b0 + 2 × the largest wall value) does not "
+                                  f"fit: {exc}; give --height") from None
     if args.spread is not None:
         mean, sigma = args.spread[:2], args.spread[2:]
         bar = progress_bar(args, args.samples, "toss")
