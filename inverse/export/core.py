@@ -1,12 +1,7 @@
-"""Exporters of solved bodies, chosen by file extension.
+"""The exporters' table (``EXPORTERS``) and the writers of solved bodies (``export_body``, ``write_outputs``).
 
-``EXPORTERS`` maps each extension to its module.  Every exporter module defines ``EXTENSION`` and
-``write(body, stream, options=None)``: it writes the bytes of the file to the binary ``stream``,
-following the :class:`ExportOptions` (physical scale, tolerance) where they apply, and may return a
-report ``{name: achieved deviation, ..., "tolerance": t}``.  Adding a format is adding one module
-and one line to ``EXPORTERS``.  Files are written atomically: all outputs go to temporary files
-first and are renamed only when every one of them succeeded, so a failure leaves nothing behind.
-The same body and options always give the same bytes (no dates or timings inside).
+What an exporter module defines, and the promises (atomic files, the same bytes for the same body), are in
+the package's docstring, :mod:`coinwall.inverse.export`.
 """
 
 from __future__ import annotations

@@ -27,39 +27,13 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests"))  # the per-orbit loop, tests/benettin_loop.py
 
+from _clock import KernelClock, log  # noqa: E402
 from benettin_loop import lyapunov_loop  # noqa: E402
 
 from coinwall.forward.dynamics.billiard import Billiard, random_states  # noqa: E402
 from coinwall.forward.dynamics.islands import ELLIPSE_WALL  # noqa: E402
-from coinwall.forward.dynamics.kernel import CompiledKernel  # noqa: E402
 from coinwall.forward.dynamics.lyapunov import lyapunov_many  # noqa: E402
 from coinwall.forward.wall import Wall  # noqa: E402
-
-
-def log(*text):
-    print(*text, file=sys.stderr, flush=True)
-
-
-class KernelClock:
-    """Sums the seconds spent in the compiled kernel functions while active."""
-
-    def __enter__(self):
-        self.seconds = 0.0
-        self.original = CompiledKernel.call
-        clock = self
-
-        def timed(kernel, name, *args):
-            start = time.perf_counter()
-            try:
-                return clock.original(kernel, name, *args)
-            finally:
-                clock.seconds += time.perf_counter() - start
-
-        CompiledKernel.call = timed
-        return self
-
-    def __exit__(self, *exc):
-        CompiledKernel.call = self.original
 
 
 def timed(function):

@@ -30,40 +30,14 @@ if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 sys.path.insert(0, os.path.join(ROOT, "tests"))  # the per-orbit loop, tests/benettin_loop.py
 
+from _clock import KernelClock, log  # noqa: E402
 from benettin_loop import lyapunov_loop  # noqa: E402
 
 from coinwall.cases.scan import TableSpec, check_options, compute_cell, scan
 from coinwall.forward.dynamics.billiard import Billiard, random_states
 from coinwall.forward.dynamics.islands import ELLIPSE_WALL
-from coinwall.forward.dynamics.kernel import CompiledKernel
 from coinwall.forward.dynamics.lyapunov import lyapunov_many
 from coinwall.forward.wall import Wall
-
-
-def log(*text):
-    print(*text, file=sys.stderr, flush=True)
-
-
-class KernelClock:
-    """Sums the seconds spent in the compiled kernel functions while active."""
-
-    def __enter__(self):
-        self.seconds = 0.0
-        self.original = CompiledKernel.call
-        clock = self
-
-        def timed(kernel, name, *args):
-            start = time.perf_counter()
-            try:
-                return clock.original(kernel, name, *args)
-            finally:
-                clock.seconds += time.perf_counter() - start
-
-        CompiledKernel.call = timed
-        return self
-
-    def __exit__(self, *exc):
-        CompiledKernel.call = self.original
 
 
 def best(function, repeat):
