@@ -31,7 +31,8 @@ ax_levels.set(
 )
 
 spectrum.plot(ax=ax_count)
-ax_count.set_title(f"counting function, P{spectrum.order} FEM, {spectrum.dofs} dofs")
+solver = f"P{spectrum.order} elements" if spectrum.method == "fem" else "spectral method"  # the default picks
+ax_count.set_title(f"counting function, {solver}, {spectrum.dofs} unknowns")
 ax_count.set_ylabel("number of levels N(λ)")
 fig.suptitle(
     f"Quantum billiard of the ellipse wall sqrt((1+ε cos²θ)/(1+ε)), ε = {eps:g}, H = {H:g} κ"

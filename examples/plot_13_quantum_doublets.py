@@ -23,7 +23,7 @@ splittings = [doublet_splitting(wall, H) for H in (2.7, 2.6, 2.5, 2.4, 2.3, 2.25
 for s in splittings:
     print(s)
 
-spectrum = quantum_spectrum(wall, H=2.4, levels=2)
+spectrum = quantum_spectrum(wall, H=2.4, levels=2, method="fem")  # |ψ|² needs the elements
 
 fig, (ax_split, ax_psi) = plt.subplots(1, 2, figsize=(12, 4.2), width_ratios=[1, 1.4])
 plot_splittings(splittings, ax=ax_split)

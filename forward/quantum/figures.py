@@ -26,6 +26,7 @@ __all__ = [
 
 def level_grid(spectrum, level: int):
     """``(theta, eta, density, triangles)`` of |ψ|² at the mesh vertices of level ``level`` (physical coordinates)."""
+    spectrum.require_vectors("|ψ|²")
     mesh = spectrum.meshes[int(spectrum.domain[level])]
     values = mesh.reduce @ spectrum.vectors[level]
     vertex = values[mesh.basis.nodal_dofs[0]]
@@ -36,6 +37,7 @@ def level_grid(spectrum, level: int):
 
 def orientation_probability(spectrum, level: int):
     """``(theta, P)``: P(θ) = ∫|ψ|² dη at the mesh columns (trapezoid across; ∫P dθ ≈ 1)."""
+    spectrum.require_vectors("P(θ)")
     mesh = spectrum.meshes[int(spectrum.domain[level])]
     values = mesh.reduce @ spectrum.vectors[level]
     vertex = values[mesh.basis.nodal_dofs[0]].reshape(mesh.theta.size, mesh.s.size)
@@ -59,6 +61,7 @@ def _angle_ticks(ax):
 @styled
 def plot_density(spectrum, level: int = 0, ax=None, name=None):
     """|ψ|² of level ``level`` in the (θ, η) strip, with both walls and a colour bar."""
+    spectrum.require_vectors("|ψ|²")  # before a figure is made
     ax, created = axes_or_new(ax, (8, 3.2))
     theta, eta, density, triangles = level_grid(spectrum, level)
     image = ax.tripcolor(theta, eta, triangles, density, shading="gouraud", cmap="magma")
@@ -83,6 +86,7 @@ def plot_density(spectrum, level: int = 0, ax=None, name=None):
 @styled
 def plot_orientation(spectrum, levels=(0, 1), ax=None, name=None):
     """The probability density of the body's orientation θ for the given levels."""
+    spectrum.require_vectors("P(θ)")  # before a figure is made
     ax, created = axes_or_new(ax, (6, 3.8))
     for level in levels:
         theta, density = orientation_probability(spectrum, level)

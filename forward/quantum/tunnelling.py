@@ -169,13 +169,14 @@ def doublet_splitting(wall, H, b0: float = 0.0, *, pair: int = 0, cells: int = 8
     if not strip.periodic:
         raise InvalidArgument(f"`H` = {H:g} is not above the diameter {strip.diameter:.12g}: the strip fell apart, "
                               "and there is no tunnelling between separate regions")
-    return splitting_of(quantum_spectrum(strip, levels=2 * pair + 2, cells=cells, order=order), pair)
+    return splitting_of(quantum_spectrum(strip, levels=2 * pair + 2, method="fem", cells=cells, order=order), pair)
 
 
 def splitting_of(spectrum, pair: int = 0) -> Splitting:
     """The :class:`Splitting` of levels 2·pair and 2·pair + 1 of a periodic, class-resolved ``spectrum``."""
     strip = spectrum.strip
     k = 2 * pair
+    spectrum.require_vectors("the splitting of a pair")
     if not strip.periodic or len(spectrum) < k + 2 or not spectrum.symmetry_names:
         raise InvalidArgument(f"`pair` = {pair}: needs {k + 2} class-resolved levels of a periodic strip")
     lower, upper = (float(v) for v in spectrum.eigenvalues[k:k + 2])

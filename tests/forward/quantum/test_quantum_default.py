@@ -77,3 +77,27 @@ def test_eigenvectors_or_cells_keep_the_elements(monkeypatch, capsys):
                                    "--cells", "6", "--json"])
     data = json.loads(capsys.readouterr().out)
     assert status == 0 and (data["method"], data["order"], data["cells"]) == ("fem", 4, 6)
+
+
+def test_the_library_default_is_the_command_lines():
+    # quantum_spectrum() without a method picks what `coinwall quantum` picks; the reference is P4 elements at
+    # 12 rows (an independent discretisation, ~1e-9 on these levels by its h^8 rate)
+    reference = quantum_spectrum(ellipse(), 2.5, levels=6, method="fem", cells=12, order=4).eigenvalues
+    smooth = quantum_spectrum(ellipse(), 2.5, levels=6)
+    assert smooth.method == "spectral"
+    np.testing.assert_allclose(smooth.eigenvalues, reference, rtol=1e-8)
+    kinked = quantum_spectrum(Wall.from_expression("max(cos(t), 0.5) + 1"), 4.5, levels=4)
+    assert (kinked.method, kinked.order) == ("fem", 4) and len(kinked.vectors) == 4
+    assert (quantum_spectrum(ellipse(), 2.5, levels=2, cells=6).method) == "fem"  # rows of elements given
+
+
+def test_eigenvector_uses_of_a_spectral_spectrum_say_so():
+    from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.quantum import splitting_of
+    from coinwall.forward.quantum.figures import orientation_probability, plot_density
+
+    spectrum = quantum_spectrum(ellipse(), 2.5, levels=2, method="spectral")
+    for use in (lambda: plot_density(spectrum), lambda: orientation_probability(spectrum, 0),
+                lambda: splitting_of(spectrum)):
+        with pytest.raises(InvalidArgument, match='needs eigenvectors.*method="fem"'):
+            use()
