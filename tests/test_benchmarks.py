@@ -26,3 +26,12 @@ def test_benchmark_smoke_run(script, tmp_path):
                           text=True, timeout=300)
     assert done.returncode == 0, f"{script.name} --smoke exited {done.returncode}:\n{done.stderr[-3000:]}"
     assert done.stdout.strip(), f"{script.name} --smoke printed nothing"
+
+
+def test_the_full_run_covers_every_benchmark():
+    # run_all.py is the run behind docs/performance.md: a benchmark it leaves out would go stale unnoticed
+    done = subprocess.run([sys.executable, str(ROOT / "tests" / "benchmarks" / "run_all.py"), "--list"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    listed = {line.split("tests/benchmarks/")[1].split()[0] for line in done.stdout.splitlines()}
+    assert listed == {s.name for s in SCRIPTS}

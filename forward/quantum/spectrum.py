@@ -261,7 +261,8 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
         A key of :data:`METHODS`, or ``"auto"`` (default): the fastest accurate solver for the strip, as the
         command line picks it (:func:`.choice.default_solver`): the spectral method for a smooth wall on a
         strip open at every angle, degree-4 elements otherwise.  The spectral method gives no eigenvectors:
-        for |ψ|² or splittings pass ``method="fem"`` (``"auto"`` with ``cells`` given is ``"fem"`` too).
+        for |ψ|² or splittings pass ``method="fem"`` (``"auto"`` with ``cells`` or ``order`` given is ``"fem"``
+        too).
     cells : int, optional
         FEM: rows of cells across the strip (even), default :func:`default_cells`; spectral: sine modes
         across (the Fourier modes follow, :func:`.spectral.spectral_modes`), default :func:`default_modes`.
@@ -278,6 +279,7 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
     """
     check_choice("method", method, ("auto", *METHODS))
     levels = check_count("levels", levels, minimum=1, maximum=100_000)
+    elements = cells is not None or order is not None  # element parameters given: the elements (as the CLI)
     order = 4 if order is None else check_count("order", order, minimum=2, maximum=4)
     if isinstance(wall, Strip):
         strip = wall
@@ -288,10 +290,9 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
     else:
         raise InvalidArgument(f"`wall` must be a Wall or a Strip, got {type(wall).__name__}")
     if method == "auto":
-        # rows of elements given: the elements (as on the command line)
         from .choice import default_solver
 
-        method = "fem" if cells is not None else default_solver(strip, levels).method
+        method = "fem" if elements else default_solver(strip, levels).method
     if cells is None:
         cells = default_modes(strip, levels) if method == "spectral" else default_cells(strip, levels, order)
     cells = check_count("cells", cells, minimum=2, maximum=4096)

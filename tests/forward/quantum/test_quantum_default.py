@@ -88,7 +88,8 @@ def test_the_library_default_is_the_command_lines():
     np.testing.assert_allclose(smooth.eigenvalues, reference, rtol=1e-8)
     kinked = quantum_spectrum(Wall.from_expression("max(cos(t), 0.5) + 1"), 4.5, levels=4)
     assert (kinked.method, kinked.order) == ("fem", 4) and len(kinked.vectors) == 4
-    assert (quantum_spectrum(ellipse(), 2.5, levels=2, cells=6).method) == "fem"  # rows of elements given
+    for given in ({"cells": 6}, {"order": 3}):  # an element parameter given: the elements
+        assert quantum_spectrum(ellipse(), 2.5, levels=2, **given).method == "fem"
 
 
 def test_eigenvector_uses_of_a_spectral_spectrum_say_so():
