@@ -1,6 +1,6 @@
 """Benchmark of the spinning-top billiard kernel (coinwall.forward.dynamics.top).
 
-Run:  PYTHONPATH=. python tests/benchmarks/bench_coin3d.py [--impacts N] [--smoke]
+Run:  python tests/benchmarks/bench_coin3d.py [--impacts N] [--smoke]
 
 Three timings of the same orbits in one process (compile time excluded by a warm-up run; best of 3):
 

@@ -92,7 +92,7 @@ def main(argv=None) -> int:
                     log.write(f"{name}: skipped (no --base-python)\n")
                 continue
             extra = [args.base_python if a == "{base}" else a for a in extra]
-        env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
+        env = {**os.environ, "MPLBACKEND": "Agg"}  # coinwall as installed (a PYTHONPATH would reach the baseline too)
         if one_thread:
             env["OMP_NUM_THREADS"] = "1"
         command = [sys.executable, str(HERE / script), *extra]
