@@ -49,7 +49,9 @@ ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
 def run(python, argv):
     """One fresh process: (seconds end to end, peak MB, JSON document)."""
     start = time.perf_counter()
-    done = subprocess.run([python, "-c", CHILD, *argv], capture_output=True, text=True, env=ENV)
+    # -P: the current folder is not put on sys.path, so each Python imports its own tree's coinwall wherever
+    # the benchmark is started (from a checkout's root, `-c` would import that checkout for both)
+    done = subprocess.run([python, "-P", "-c", CHILD, *argv], capture_output=True, text=True, env=ENV)
     seconds = time.perf_counter() - start
     if done.returncode != 0:
         raise RuntimeError(f"{python} coinwall {' '.join(argv)} exited {done.returncode}: {done.stderr[-2000:]}")
