@@ -202,13 +202,82 @@ def _least_squares_point(theta, h):
     return point
 
 
+def _through_point(theta, h, tol):
+    """A point within ``tol_k`` of every line ``x·n(θ_k) = h_k``, or None if there is none.
+
+    The least-squares point first (microseconds); where it misses a line's tolerance, the region of all
+    such points (:func:`_strip_region`) decides, and its centroid is checked here.
+    """
+    point = _least_squares_point(theta, h)
+    c, s = np.cos(theta), np.sin(theta)
+    if np.all(np.abs(h - c * point[0] - s * point[1]) <= tol):
+        return point
+    region = _strip_region(theta, h, tol)
+    if region is None:
+        return None
+    candidate = region.mean(axis=0)
+    if np.all(np.abs(h - c * candidate[0] - s * candidate[1]) <= tol):
+        return candidate
+    return None
+
+
+def _strip_region(theta, h, tol):
+    """The vertices of the convex region ``|x·n(θ_k) − h_k| ≤ tol_k`` for every k, or None if it is empty.
+
+    Written by hand because the merges ask it once per candidate vertex (thousands of times for dense
+    rounded data), and a general linear-programming call (~1 ms each in scipy's HiGHS) made solving 3,600
+    rounded samples take 3 s: the strips of the two lines farthest apart in angle make a parallelogram,
+    which every other strip clips (Sutherland–Hodgman on a convex polygon of a few vertices).
+    """
+    order = np.argsort(theta)
+    first, last = int(order[0]), int(order[-1])
+    # the pair farthest from parallel: the line at the median angle against the first, or the last
+    mid = int(order[order.size // 2])
+    a, b = (first, mid) if abs(math.sin(theta[mid] - theta[first])) >= abs(math.sin(theta[last] - theta[first])) \
+        else (first, last)
+    if abs(math.sin(theta[b] - theta[a])) < 1e-9:
+        return None  # all lines (nearly) parallel: no bounded region to speak of
+    corners = []
+    for sa in (-1.0, 1.0):
+        for sb in ((-1.0, 1.0) if sa < 0 else (1.0, -1.0)):
+            corners.append(_intersections(np.array([theta[a]]), np.array([h[a] + sa * tol[a]]),
+                                          np.array([theta[b]]), np.array([h[b] + sb * tol[b]]))[0])
+    polygon = [tuple(v) for v in corners]
+    for k in range(theta.size):
+        if k in (a, b):
+            continue
+        nx, ny = math.cos(theta[k]), math.sin(theta[k])
+        for sign in (1.0, -1.0):  # x·n ≤ h + tol and −x·n ≤ −(h − tol)
+            limit = sign * h[k] + tol[k]
+            polygon = _clip(polygon, sign * nx, sign * ny, limit)
+            if not polygon:
+                return None
+    return np.array(polygon)
+
+
+def _clip(polygon, nx, ny, limit):
+    """The convex ``polygon`` (a list of points) cut by the half-plane ``nx·x + ny·y ≤ limit``."""
+    out = []
+    count = len(polygon)
+    for i in range(count):
+        px, py = polygon[i]
+        qx, qy = polygon[(i + 1) % count]
+        dp = nx * px + ny * py - limit
+        dq = nx * qx + ny * qy - limit
+        if dp <= 0.0:
+            out.append((px, py))
+        if (dp < 0.0 < dq) or (dq < 0.0 < dp):
+            f = dp / (dp - dq)
+            out.append((px + f * (qx - px), py + f * (qy - py)))
+    return out
+
+
 def _concurrent(theta, h, rounding, scale) -> bool:
-    """Whether the lines ``x·n(θ_k) = h_k`` pass through one point within their rounding."""
+    """Whether the lines ``x·n(θ_k) = h_k`` pass through one point within their rounding: a point lies
+    within each line's interval ``h_k ± rounding_k`` (so the merged vertex is a body the data allow)."""
     if theta.size <= 2:
         return True
-    point = _least_squares_point(theta, h)
-    standoff = h - np.cos(theta) * point[0] - np.sin(theta) * point[1]
-    return bool(np.all(np.abs(standoff) <= 4.0 * rounding + 16.0 * _EPS * scale))
+    return _through_point(theta, h, rounding + 16.0 * _EPS * scale) is not None
 
 
 def support_polygon(theta, h, rounding, rho) -> SampledBody:
@@ -292,19 +361,28 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
             rho_at[k] = 0.5 * (rho[i] + rho[j])
             continue
         corner[k] = True
-        through_tol = 4.0 * rounding[idx] + 16.0 * _EPS * scale
-        # the lines that made this vertex (merged within rounding) pass through it: fit the point to
-        # them, then to every line of the window within rounding of it (a vertex window)
+        # a line passes through the vertex if the vertex lies within the line's interval h ± rounding
+        through_tol = rounding[idx] + 16.0 * _EPS * scale
+        # the lines that made this vertex (merged within rounding) pass through it: a point within every
+        # one's interval (it exists: the merge found it), then one within every line of the window that
+        # passes through that point (a vertex window), where such a point exists
         made = np.unique(np.concatenate([active[groups[k]], nxt[groups[k]]]))
         meet = vertices[k].copy()  # where the window's lines meet: under every line of it, within rounding
-        if made.size >= 2:
-            vertices[k] = _least_squares_point(theta[made], h[made])
-        for _ in range(2):
+        whole = _through_point(theta[idx], h[idx], through_tol)  # every line of the window through one point
+        if whole is not None:
+            vertices[k] = whole
+        elif made.size >= 2:
+            fitted = _through_point(theta[made], h[made], rounding[made] + 16.0 * _EPS * scale)
+            vertices[k] = fitted if fitted is not None else _least_squares_point(theta[made], h[made])
+        for _ in range(0 if whole is not None else 2):
             standoff = h[idx] - normals[idx] @ vertices[k]
             through = np.abs(standoff) <= through_tol
             if through.sum() < 2:
                 break
-            vertices[k] = _least_squares_point(theta[idx[through]], h[idx[through]])
+            fitted = _through_point(theta[idx[through]], h[idx[through]], through_tol[through])
+            if fitted is None:
+                break
+            vertices[k] = fitted
         standoff = h[idx] - normals[idx] @ vertices[k]
         crossed = standoff < -through_tol
         if crossed.any():
