@@ -280,8 +280,12 @@ def _concurrent(theta, h, rounding, scale) -> bool:
     return _through_point(theta, h, rounding + 16.0 * _EPS * scale) is not None
 
 
-def support_polygon(theta, h, rounding, rho) -> SampledBody:
+def support_polygon(theta, h, rounding, rho, centre=None) -> SampledBody:
     """The body under the support lines ``x·n(θ_i) ≤ h_i`` (all ``h_i >= 0``).
+
+    ``rounding`` is the half-width of each line's interval ``centre_i ± rounding_i`` (``centre`` defaults to
+    ``h``; lines raised above their intervals' centres pass the centres here): vertices merge, and lines pass
+    through a vertex, only where the point lies within every such interval.
 
     The active lines are the vertices of the convex hull of the dual points ``n_i / h_i`` (Qhull):
     a line is active iff its dual point is extreme.  Consecutive active lines meet at the vertices.
@@ -293,6 +297,7 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
 
     theta = np.asarray(theta, dtype=float)
     h = np.asarray(h, dtype=float)
+    mid = h if centre is None else np.asarray(centre, dtype=float)
     n = theta.size
     normals = np.column_stack([np.cos(theta), np.sin(theta)])
     scale = float(np.max(np.abs(h)))
@@ -317,7 +322,7 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
     # rounding of the run's common point (a chain of close vertices along an arc is not one vertex)
     m = len(points)
     same_as_next = np.hypot(*(np.roll(points, -1, axis=0) - points).T) <= np.maximum(slack, np.roll(slack, -1))
-    if same_as_next.all() and _concurrent(theta[active], h[active], rounding[active], scale):
+    if same_as_next.all() and _concurrent(theta[active], mid[active], rounding[active], scale):
         raise InvalidWall("samples: every support line passes through one point; the body would be a point")
     breaks = np.flatnonzero(~np.roll(same_as_next, 1))
     first = int(breaks[0]) if breaks.size else 0  # a vertex that does not continue a run
@@ -326,7 +331,7 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
         j = (first + k) % m
         if same_as_next[(j - 1) % m] and len(current) < m - 1:
             lines = np.append(active[current], nxt[j])
-            if _concurrent(theta[lines], h[lines], rounding[lines], scale):
+            if _concurrent(theta[lines], mid[lines], rounding[lines], scale):
                 current.append(j)
                 continue
         groups.append(current)
@@ -368,33 +373,33 @@ def support_polygon(theta, h, rounding, rho) -> SampledBody:
         # passes through that point (a vertex window), where such a point exists
         made = np.unique(np.concatenate([active[groups[k]], nxt[groups[k]]]))
         meet = vertices[k].copy()  # where the window's lines meet: under every line of it, within rounding
-        whole = _through_point(theta[idx], h[idx], through_tol)  # every line of the window through one point
+        whole = _through_point(theta[idx], mid[idx], through_tol)  # every line of the window through one point
         if whole is not None:
             vertices[k] = whole
         elif made.size >= 2:
-            fitted = _through_point(theta[made], h[made], rounding[made] + 16.0 * _EPS * scale)
-            vertices[k] = fitted if fitted is not None else _least_squares_point(theta[made], h[made])
+            fitted = _through_point(theta[made], mid[made], rounding[made] + 16.0 * _EPS * scale)
+            vertices[k] = fitted if fitted is not None else _least_squares_point(theta[made], mid[made])
         for _ in range(0 if whole is not None else 2):
-            standoff = h[idx] - normals[idx] @ vertices[k]
+            standoff = mid[idx] - normals[idx] @ vertices[k]
             through = np.abs(standoff) <= through_tol
             if through.sum() < 2:
                 break
-            fitted = _through_point(theta[idx[through]], h[idx[through]], through_tol[through])
+            fitted = _through_point(theta[idx[through]], mid[idx[through]], through_tol[through])
             if fitted is None:
                 break
             vertices[k] = fitted
-        standoff = h[idx] - normals[idx] @ vertices[k]
+        standoff = mid[idx] - normals[idx] @ vertices[k]
         crossed = standoff < -through_tol
         if crossed.any():
             # the fitted point lies beyond a line of the window (in a wide corner window many lines pass near
             # the vertex, and their least-squares point can cross the window's edge lines): move it back towards
             # where the lines meet, just far enough that no line of the window is crossed
-            at_meet = h[idx] - normals[idx] @ meet
+            at_meet = mid[idx] - normals[idx] @ meet
             need = (-through_tol[crossed] - standoff[crossed]) / np.maximum(at_meet[crossed] - standoff[crossed],
                                                                               1e-300)
             s = min(1.0, float(np.max(need)))
             vertices[k] = vertices[k] + s * (meet - vertices[k])
-            standoff = h[idx] - normals[idx] @ vertices[k]
+            standoff = mid[idx] - normals[idx] @ vertices[k]
         standoff[np.abs(standoff) <= through_tol] = 0.0
         worst = int(np.argmax(standoff))
         deficit[k] = max(float(standoff[worst]), 0.0)
