@@ -87,10 +87,13 @@ def _root_step(g0, g1, K):
     if g1 < 0.0 and K <= 0.0:
         # a convex parabola (K ≤ 0, x = 2|K| g0 ≤ a² = g1² when it has a root): sqrt(a² − x) ≤ a − x/(2a)
         # (concavity of sqrt) makes the same expression a lower bound of its root 2 g0/(a + sqrt(a² − x)),
-        # without a square root: between Newton's step g0/a and the root, at least 2/3 of the root
+        # without a square root: between Newton's step g0/a and the root, at least 2/3 of the root (the
+        # denominator is ≥ ¾ a² > 0 unless a² underflows: then the general formula below)
         if disc < 0.0:
             return INF
-        return g0 * (-g1) / (g1 * g1 + 0.5 * K * g0)
+        den = g1 * g1 + 0.5 * K * g0
+        if den > 0.0:
+            return g0 * (-g1) / den
     if disc < 0.0:
         return INF
     if g1 < 0.0:

@@ -200,9 +200,9 @@ def test_mean_free_time_is_santalo(name, H):
     islands.  Statistical error: the 16 orbits are independent, so the spread of their means
     gives the standard error; agreement within 4 standard errors, standard error < 0.5 %.  Each orbit runs
     10⁵ collisions (2·10⁴ before): a change of the kernel's rounding makes every orbit a new sample after
-    ~30 collisions, and with 2·10⁴ one such sample of the coin came out 4.3 standard errors high (ten
-    neighbouring samples and twelve other seeds within 2.9, runs of 2·10⁵ within 1.4): the longer orbits
-    make the test sharper (standard error ~2× smaller) and less at the mercy of one draw."""
+    ~30 collisions, and with 2·10⁴ one such sample of the coin came out 4.3 standard errors high (nine
+    neighbouring samples within 2.9, twelve other seeds within 2.2, runs of 2·10⁵ within 1.4): the longer
+    orbits make the test sharper (standard error ~2× smaller) and less at the mercy of one draw."""
     wall = WALLS[name][0]
     table = Billiard(wall, H)
     area, perimeter = _quad_area_perimeter(wall, H)
