@@ -50,6 +50,7 @@ INV_TWO_PI = 1.0 / TWO_PI
 PI = math.pi
 INF = math.inf
 ROUND_T = 1e-15  # a time interval this small (relative) is rounding
+SIXTH = 1.0 / 6.0
 # columns of the cell table (one row per cell, see cellbounds.cell_table)
 (LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS,
  RUN_FWD, NEXT_FWD, RUN_BWD, NEXT_BWD) = range(20)
@@ -83,6 +84,16 @@ def _root_step(g0, g1, K):
         # least 0.8 of it when x ≤ a² (near a tangency, a → 0, it would stall: exact root there)
         return g0 * (-g1) / (g1 * g1 + 0.5 * K * g0)
     disc = g1 * g1 + 2.0 * K * g0
+    if g1 < 0.0 and K <= 0.0:
+        # a convex parabola (K ≤ 0, x = 2|K| g0 ≤ a² = g1² when it has a root): sqrt(a² − x) ≤ a − x/(2a)
+        # (concavity of sqrt) makes the same expression a lower bound of its root 2 g0/(a + sqrt(a² − x)),
+        # without a square root: between Newton's step g0/a and the root, at least 2/3 of the root (the
+        # denominator is ≥ ¾ a² > 0 unless a² underflows: then the general formula below)
+        if disc < 0.0:
+            return INF
+        den = g1 * g1 + 0.5 * K * g0
+        if den > 0.0:
+            return g0 * (-g1) / den
     if disc < 0.0:
         return INF
     if g1 < 0.0:
@@ -91,6 +102,21 @@ def _root_step(g0, g1, K):
         return (g1 + math.sqrt(disc)) / K
     return INF
 
+
+@njit(inline='always', **OPTIONS)
+def _next_cell(j, m, off, phi0, forward):
+    # the next cell of the walk, its whole turns and its start (off − phi0), across the seam of the period
+    if forward:
+        j += 1
+        if j == m:
+            j = 0
+            off += TWO_PI
+    else:
+        j -= 1
+        if j < 0:
+            j = m - 1
+            off -= TWO_PI
+    return j, off, off - phi0
 
 @njit(inline='always', **OPTIONS)
 def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, lookup, tol):
@@ -133,6 +159,7 @@ def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, loo
     edge = RIGHT if forward else LEFT
     start = off - phi0
     t_in = t_lo
+    l_in = A + B * t_in - hq * t_in * t_in  # L at t_in (after the first cell: the previous cell's l_out)
     at_edge = False
     walked = 0
     # the vertex of a convex L (the ceiling under gravity), where its minimum over a cell may lie
@@ -162,138 +189,142 @@ def _search(phi0, A, B, Q, vt, ivt, t_lo, t_hi, leaving, g1_leave, c, cells, loo
             j = jn
             start = off - phi0
             at_edge = True
+            l_in = A + B * t_in - hq * t_in * t_in
     while True:
-        walked += 1
-        if walked > CELL_BUDGET:
-            return -3.0, 0.0
-        t_out = (cells[j, edge] + start) * ivt
-        t_out = min(t_out, t_hi)
-        # box test: L above max b (+ tol) over the whole cell: no contact in it (L's minimum over the cell is at
-        # an end, or for a convex L at its vertex)
-        lmin = min(A + B * t_in - hq * t_in * t_in, A + B * t_out - hq * t_out * t_out)
-        if t_in < t_vertex < t_out:
-            lmin = min(lmin, A + B * t_vertex - hq * t_vertex * t_vertex)
-        if lmin <= cells[j, BMAX] + tol and t_out >= t_in:
-            t = t_in
-            clear = False
-            if leaving and t == 0.0:
-                # on the wall just left: g = 0 there (the collision already processed), g' > 0;
-                # the certified step 2 g'/K away from it
-                t = _root_step(0.0, g1_start, Q + vt2 * cells[j, CMAX])
-                clear = not (t < t_out)
-            if not clear:
-                # proxy stage: f − tol ≥ G = L − p_j − e_j − tol; conservative steps on G (curvature bound
-                # Q + vt² max p_j'', rigorous for the polynomial) certify [t, t + τ) contact-free
-                a = cells[j, LEFT] + start
-                e = cells[j, PERR]
-                Kp = Q + vt2 * cells[j, P2MAX]
-                Ka = vt2 * cells[j, P2ABS] + max(0.0, -Q)
-                c0 = cells[j, P0]
-                c1 = cells[j, P1]
-                c2 = cells[j, P2]
-                c3 = cells[j, P3]
-                c4 = cells[j, P4]
-                c5 = cells[j, P5]
-                c2d = 2.0 * c2
-                c3d = 3.0 * c3
-                c4d = 4.0 * c4
-                c5d = 5.0 * c5
-                for it in range(64):
-                    # Estrin's scheme for p and p' (this loop is bound by the latency of the chain)
-                    s = vt * t - a
-                    s2 = s * s
-                    p = (c0 + c1 * s) + s2 * ((c2 + c3 * s) + s2 * (c4 + c5 * s))
-                    G = A + B * t - hq * t * t - p - e - tol
-                    if G <= e:
-                        break  # a contact may be near: the exact stage decides
-                    dp = (c1 + c2d * s) + s2 * ((c3d + c4d * s) + s2 * c5d)
-                    G1 = B - Q * t - vt * dp
-                    tau = _root_step(G, G1, Kp)
-                    if not (t + tau < t_out):
-                        clear = True
-                        break
-                    t += tau
-                    if G + G1 * tau + 0.5 * Ka * tau * tau <= e:
-                        # Taylor: G(t + τ) ≤ G + G'τ + ½ Ka τ² ≤ e, so the test above would stop at
-                        # once (the usual last step before a contact): skip evaluating the proxy
-                        break
-            if not clear:
-                # exact stage: conservative steps on the exact f (curvature bound Q + vt² c_j)
-                K = Q + vt2 * cells[j, CMAX]
-                D3 = abs(vt) * vt2 * cells[j, D3MAX]
-                for it in range(1000):
-                    b, d1, d2 = wall_b2(phi0 + vt * t, c)
-                    second = True  # b'' at t belongs to this cell's smooth piece
-                    if it == 0 and at_edge and t == t_in:
-                        # entering through a kink: its one-sided slope, never the other side's
-                        slope = cells[j, SLOPE_FWD] if forward else cells[j, SLOPE_BWD]
-                        if not math.isnan(slope):
-                            d1 = slope
-                            second = False
-                    g0 = A + B * t - hq * t * t - b
-                    g1 = B - Q * t - vt * d1
-                    if not (abs(g0) < INF and abs(g1) < INF):
-                        return -2.0, 0.0  # the wall is nan or infinite here: stop, never skip silently
-                    if second and g1 < 0.0:
-                        # the second-order step to the root, δ = δN + ½ f'' δN²/|f'| with Newton's δN;
-                        # |f(t + δ)| ≤ |model residual| + D3 |δ|³/6 (Taylor; |f⁽³⁾| ≤ |vt|³ max|b⁽³⁾|: the
-                        # field adds no third derivative) and b' there is d1 + b'' vt δ to ½ max|b⁽³⁾| (vt δ)²:
-                        # when both are below rounding scale, no confirming evaluation is needed
-                        dn = g0 / (-g1)
-                        g2 = -Q - vt2 * d2
-                        dh = dn + 0.5 * g2 * dn * dn / (-g1)
-                        rem = D3 * dh * dh * abs(dh) / 6.0
-                        res = abs(g0 + dh * (g1 + 0.5 * g2 * dh)) + rem
-                        slope_err = 0.5 * D3 * dh * dh / abs(vt)
-                        if (res <= POS_TOL * tol and rem <= 1e-17 * abs(g1) and slope_err <= 1e-17 * (1.0 + abs(d1))
-                                and t + dh < t_out):
-                            if g0 <= tol:
-                                return t + dh, d1 + vt * d2 * dh
-                            tau = _root_step(g0, g1, K)
-                            if (t + dh) - (t + tau) <= ROUND_T * (1.0 + t):
-                                # the certified step reaches the root to rounding: it is the first contact
-                                return t + dh, d1 + vt * d2 * dh
-                    if g0 <= tol:
-                        if g1 < 0.0:  # one Newton step on the exact wall
-                            tn = t + g0 / (-g1)
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) < abs(g0) or g0 < 0.0:
-                                return tn, dn
-                        return t, d1
-                    tau = _root_step(g0, g1, K)
-                    if not (t + tau < t_out):
-                        break
-                    if t + tau == t and g0 <= -g1 * 4.5e-16 * t:
-                        return t, d1  # the crossing is within rounding of t (a very long, shallow flight)
-                    if g1 < 0.0:
-                        # Newton's iterate lies beyond the certified step by O(K g²/|g'|³); once that is
-                        # below rounding of t, Newton's point *is* the conservative limit: take it and
-                        # confirm it on the exact wall (saves the last certified step and the polish)
+        # the walk over cells whose box test passes is a tight loop of its own: in one loop with the stages
+        # below (many live values) the compiler reloaded a dozen registers from the stack at every cell
+        while True:
+            walked += 1
+            if walked > CELL_BUDGET:
+                return -3.0, 0.0
+            t_out = (cells[j, edge] + start) * ivt
+            t_out = min(t_out, t_hi)
+            # box test: L above max b (+ tol) over the whole cell: no contact in it (L's minimum over the cell is at
+            # an end, or for a convex L at its vertex)
+            l_out = A + B * t_out - hq * t_out * t_out
+            lmin = min(l_in, l_out)
+            if t_in < t_vertex < t_out:
+                lmin = min(lmin, A + B * t_vertex - hq * t_vertex * t_vertex)
+            if lmin <= cells[j, BMAX] + tol and t_out >= t_in:
+                break
+            if t_out >= t_hi:
+                return INF, 0.0
+            j, off, start = _next_cell(j, m, off, phi0, forward)
+            t_in = t_out
+            l_in = l_out
+            at_edge = True
+        # the box test failed in cell j: the proxy and exact stages decide
+        t = t_in
+        clear = False
+        if leaving and t == 0.0:
+            # on the wall just left: g = 0 there (the collision already processed), g' > 0;
+            # the certified step 2 g'/K away from it
+            t = _root_step(0.0, g1_start, Q + vt2 * cells[j, CMAX])
+            clear = not (t < t_out)
+        if not clear:
+            # proxy stage: f − tol ≥ G = L − p_j − e_j − tol; conservative steps on G (curvature bound
+            # Q + vt² max p_j'', rigorous for the polynomial) certify [t, t + τ) contact-free
+            a = cells[j, LEFT] + start
+            e = cells[j, PERR]
+            Kp = Q + vt2 * cells[j, P2MAX]
+            Ka = vt2 * cells[j, P2ABS] + max(0.0, -Q)
+            c0 = cells[j, P0]
+            c1 = cells[j, P1]
+            c2 = cells[j, P2]
+            c3 = cells[j, P3]
+            c4 = cells[j, P4]
+            c5 = cells[j, P5]
+            c2d = 2.0 * c2
+            c3d = 3.0 * c3
+            c4d = 4.0 * c4
+            c5d = 5.0 * c5
+            for it in range(64):
+                # Estrin's scheme for p and p' (this loop is bound by the latency of the chain)
+                s = vt * t - a
+                s2 = s * s
+                p = (c0 + c1 * s) + s2 * ((c2 + c3 * s) + s2 * (c4 + c5 * s))
+                G = A + B * t - hq * t * t - p - e - tol
+                if G <= e:
+                    break  # a contact may be near: the exact stage decides
+                dp = (c1 + c2d * s) + s2 * ((c3d + c4d * s) + s2 * c5d)
+                G1 = B - Q * t - vt * dp
+                tau = _root_step(G, G1, Kp)
+                if not (t + tau < t_out):
+                    clear = True
+                    break
+                t += tau
+                if G + G1 * tau + 0.5 * Ka * tau * tau <= e:
+                    # Taylor: G(t + τ) ≤ G + G'τ + ½ Ka τ² ≤ e, so the test above would stop at
+                    # once (the usual last step before a contact): skip evaluating the proxy
+                    break
+        if not clear:
+            # exact stage: conservative steps on the exact f (curvature bound Q + vt² c_j)
+            K = Q + vt2 * cells[j, CMAX]
+            D3 = abs(vt) * vt2 * cells[j, D3MAX]
+            for it in range(1000):
+                b, d1, d2 = wall_b2(phi0 + vt * t, c)
+                second = True  # b'' at t belongs to this cell's smooth piece
+                if it == 0 and at_edge and t == t_in:
+                    # entering through a kink: its one-sided slope, never the other side's
+                    slope = cells[j, SLOPE_FWD] if forward else cells[j, SLOPE_BWD]
+                    if not math.isnan(slope):
+                        d1 = slope
+                        second = False
+                g0 = A + B * t - hq * t * t - b
+                g1 = B - Q * t - vt * d1
+                if not (abs(g0) < INF and abs(g1) < INF):
+                    return -2.0, 0.0  # the wall is nan or infinite here: stop, never skip silently
+                if second and g1 < 0.0:
+                    # the second-order step to the root, δ = δN + ½ f'' δN²/|f'| with Newton's δN;
+                    # |f(t + δ)| ≤ |model residual| + D3 |δ|³/6 (Taylor; |f⁽³⁾| ≤ |vt|³ max|b⁽³⁾|: the
+                    # field adds no third derivative) and b' there is d1 + b'' vt δ to ½ max|b⁽³⁾| (vt δ)²:
+                    # when both are below rounding scale, no confirming evaluation is needed
+                    dn = g0 / (-g1)
+                    g2 = -Q - vt2 * d2
+                    dh = dn + 0.5 * g2 * dn * dn / (-g1)
+                    # (the tests are written without divisions: they are on the critical path)
+                    rem = D3 * dh * dh * abs(dh) * SIXTH
+                    res = abs(g0 + dh * (g1 + 0.5 * g2 * dh)) + rem
+                    slope_err_vt = 0.5 * D3 * dh * dh  # the slope remainder times |vt|
+                    if (res <= POS_TOL * tol and rem <= 1e-17 * abs(g1)
+                            and slope_err_vt <= 1e-17 * (1.0 + abs(d1)) * abs(vt) and t + dh < t_out):
+                        if g0 <= tol:
+                            return t + dh, d1 + vt * d2 * dh
+                        tau = _root_step(g0, g1, K)
+                        if (t + dh) - (t + tau) <= ROUND_T * (1.0 + t):
+                            # the certified step reaches the root to rounding: it is the first contact
+                            return t + dh, d1 + vt * d2 * dh
+                if g0 <= tol:
+                    if g1 < 0.0:  # one Newton step on the exact wall
                         tn = t + g0 / (-g1)
-                        if tn - (t + tau) <= ROUND_T * (1.0 + t) and tn < t_out:
-                            bn, dn = wall_b1(phi0 + vt * tn, c)
-                            gn = A + B * tn - hq * tn * tn - bn
-                            if abs(gn) <= tol:
-                                return tn, dn
-                    t += tau
-                else:
-                    return -1.0, 0.0
+                        bn, dn = wall_b1(phi0 + vt * tn, c)
+                        gn = A + B * tn - hq * tn * tn - bn
+                        if abs(gn) < abs(g0) or g0 < 0.0:
+                            return tn, dn
+                    return t, d1
+                tau = _root_step(g0, g1, K)
+                if not (t + tau < t_out):
+                    break
+                if t + tau == t and g0 <= -g1 * 4.5e-16 * t:
+                    return t, d1  # the crossing is within rounding of t (a very long, shallow flight)
+                if g1 < 0.0:
+                    # Newton's iterate lies beyond the certified step by O(K g²/|g'|³); once that is
+                    # below rounding of t, Newton's point *is* the conservative limit: take it and
+                    # confirm it on the exact wall (saves the last certified step and the polish)
+                    tn = t + g0 / (-g1)
+                    if tn - (t + tau) <= ROUND_T * (1.0 + t) and tn < t_out:
+                        bn, dn = wall_b1(phi0 + vt * tn, c)
+                        gn = A + B * tn - hq * tn * tn - bn
+                        if abs(gn) <= tol:
+                            return tn, dn
+                t += tau
+            else:
+                return -1.0, 0.0
         if t_out >= t_hi:
             return INF, 0.0
-        if forward:
-            j += 1
-            if j == m:
-                j = 0
-                off += TWO_PI
-                start = off - phi0
-        else:
-            j -= 1
-            if j < 0:
-                j = m - 1
-                off -= TWO_PI
-                start = off - phi0
+        j, off, start = _next_cell(j, m, off, phi0, forward)
         t_in = t_out
+        l_in = l_out
         at_edge = True
 
 
