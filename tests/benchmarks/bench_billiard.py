@@ -262,6 +262,38 @@ def interleaved(table, collisions, rounds=5, seed=1):
     return max(kernel_rates), max(base_rates), float(np.median(ratios)), kernel_rates, mft, mft_base
 
 
+def ensemble_line(table, collisions, rounds):
+    """An ensemble on every core against one orbit on one thread: wall-clock time per collision, alternately.
+
+    ``ensemble`` runs its orbits on numba's threads (one orbit per thread at a time); 16 orbits share the
+    collisions of the single orbit, so both do the same work.
+    """
+    import numba
+
+    from coinwall.forward.dynamics.billiard import ensemble
+
+    cores = numba.config.NUMBA_NUM_THREADS
+    orbits = 16
+    states = random_states(table, orbits, seed=5)
+    per_orbit = max(collisions // orbits, 1000)
+    ensemble(table, states, 100, workers=cores)  # compile or load the parallel kernel
+    single, many = [], []
+    for _ in range(rounds):
+        numba.set_num_threads(1)
+        start = time.perf_counter()
+        simulate(table, states[0], per_orbit * orbits)
+        single.append((time.perf_counter() - start) / (per_orbit * orbits))
+        numba.set_num_threads(cores)
+        start = time.perf_counter()
+        ensemble(table, states, per_orbit, workers=cores)
+        many.append((time.perf_counter() - start) / (per_orbit * orbits))
+    numba.set_num_threads(1)
+    ratio = float(np.median(np.array(many) / np.array(single)))
+    print(f"ensemble of {orbits} orbits on {cores} threads against one orbit on one thread (wall clock, "
+          f"{rounds} alternating rounds): {1e9 * np.median(many):.0f} against {1e9 * np.median(single):.0f} "
+          f"ns/collision, ratio {ratio:.2f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--collisions", type=int, default=2_000_000)
@@ -305,6 +337,7 @@ def main(argv=None):
         wall = Wall.from_fourier(1.0, amp * rng.uniform(-1, 1, harmonics), amp * rng.uniform(-1, 1, harmonics))
         r, mft = rate_kernel(Billiard(wall, 3.0), n // 4)
         print(f"  {harmonics:3d} harmonics: {r / 1e6:.2f} M coll/s, {1e9 / r:.0f} ns/collision")
+    ensemble_line(table, n, rounds)
     bd = _compiled(table).bounds
     print(f"(cells per period: {bd['edges'].size - 1})")
     if args.count or args.smoke:
