@@ -66,6 +66,23 @@ def _edges(values, log):
     return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
 
 
+#: at most this many cells along an axis are labelled one by one, at their centres
+MAX_CELL_TICKS = 12
+
+
+def _cell_ticks(axis, values):
+    """Ticks at the computed values (the cells' centres) when there are few: the cells' edges lie halfway
+    to the neighbours, and an axis ticked at round numbers past the last value reads as data that is not
+    there (restitution 1.0 on a grid that ends at 0.9)."""
+    from matplotlib.ticker import FixedLocator, NullLocator
+
+    v = np.asarray(values, dtype=float)
+    if v.size <= MAX_CELL_TICKS:
+        axis.set_major_locator(FixedLocator(v))
+        axis.set_minor_locator(NullLocator())
+        axis.set_ticklabels([f"{x:.3g}" for x in v])
+
+
 def _is_log(values):
     v = np.asarray(values, dtype=float)
     if v.size < 3 or np.any(v <= 0):
@@ -118,6 +135,8 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     if log:
         plain_log_axis(ax.yaxis)
     ax.grid(False)  # the cells are the picture
+    _cell_ticks(ax.xaxis, H)
+    _cell_ticks(ax.yaxis, p)
     toss = dataset.attrs.get("quantity") == "toss"  # its H is the launch height; restitution is not of the wall
     ax.set_xlabel(f"{'launch height' if toss else 'wall distance'} H ({_units(dataset['H'])})")
     ax.set_ylabel(f"{'' if toss and name == 'restitution' else 'wall parameter '}{name} ({_units(dataset[name])})")

@@ -350,3 +350,28 @@ def test_cells_too_large_are_refused_before_any_work(options, text):
 
     with pytest.raises(InvalidArgument, match=text):
         check_options("chaotic-fraction", options)
+
+
+def test_a_small_phase_diagram_is_ticked_at_its_cells():
+    """A 4 × 4 grid is labelled at the values computed, not at round numbers past the last one (restitution
+    1.0 on a grid that ends at 0.9 read as a value that was never computed); a fine grid keeps round ticks."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    from coinwall.cases.scan.figures import plot_phase_diagram
+
+    def dataset(rows):
+        e, H = np.linspace(0.3, 0.9, rows), np.linspace(2.5, 6.0, 4)
+        shape = (e.size, H.size)
+        return xr.Dataset({"heads": (("restitution", "H"), np.full(shape, 0.5)),
+                           "cell_status": (("restitution", "H"), np.ones(shape, int))},
+                          coords={"restitution": e, "H": H}, attrs={"quantity": "toss", "wall": "1"})
+
+    ax = plot_phase_diagram(dataset(4))
+    np.testing.assert_allclose(ax.get_yticks(), np.linspace(0.3, 0.9, 4))
+    np.testing.assert_allclose(ax.get_xticks(), np.linspace(2.5, 6.0, 4))
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["0.3", "0.5", "0.7", "0.9"]
+    plt.close(ax.figure)
+    ax = plot_phase_diagram(dataset(40))
+    assert len(ax.get_yticks()) < 40
+    plt.close(ax.figure)
