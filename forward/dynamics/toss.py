@@ -129,12 +129,16 @@ class BasinMap:
 
     def plot(self, title: str = "", keller: bool = True):
         """Two panels: the outcome (heads/tails coloured, undecided grey) with Keller's hyperbolas
-        ω0·v0/g = π(n + ¼), π(n + ¾) dashed, and the number of floor impacts before the outcome was decided."""
+        ω0·v0/g = π(n + ¼), π(n + ¾) dashed, and the number of floor impacts before the outcome was decided.
+        A caught toss has the first panel only (it is decided at its one floor contact, everywhere)."""
         from matplotlib.colors import BoundaryNorm, ListedColormap
 
         from ..formats.figure import new_figure
 
-        fig, (ax, bx) = new_figure(1, 2, figsize=(12, 5), constrained_layout=True)
+        if self.catch:
+            fig, ax = new_figure(1, 1, figsize=(6.5, 5), constrained_layout=True)
+        else:
+            fig, (ax, bx) = new_figure(1, 2, figsize=(12, 5), constrained_layout=True)
         k = len(self.names)
         palette = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]
         colours = ["#bbbbbb"] + [palette[i % len(palette)] for i in range(k)]
@@ -162,6 +166,8 @@ class BasinMap:
         ax.set_ylabel("spin ω0 (rad/s)")
         mode = "caught at the floor" if self.catch else f"e = {self.table.e:g}"
         ax.set_title(f"{title + ': ' if title else ''}outcome, g = {self.table.g:g} κ/s², {mode}", fontsize=9)
+        if self.catch:
+            return ax
         decided = self.bounces[self.outcome != UNDECIDED]
         top = max(1, int(np.percentile(decided, 99))) if decided.size else 1
         im = bx.pcolormesh(self.v0, self.omega0, np.where(self.outcome == UNDECIDED, np.nan, self.bounces),

@@ -342,6 +342,22 @@ def test_basin_map_csv_holds_plain_numbers():
     assert len(rows) == 4 and all(float(r[0]) in (0.5, 1.0) and float(r[1]) in (1.0, 2.0) for r in rows)
 
 
+def test_a_caught_basin_map_has_no_bounce_panel():
+    """Caught at the floor every launch is decided at its first contact: the bounce panel would be one colour,
+    so the figure has the outcome only; a bouncing toss keeps both panels (and the bounces' colour bar)."""
+    import matplotlib.pyplot as plt
+
+    from coinwall.forward.dynamics.toss import basin_map
+
+    table = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=0.6)
+    grid = (np.linspace(0.5, 1.0, 3), np.linspace(1.0, 2.0, 3), 1.2)
+    caught = basin_map(table, *grid, catch=True).plot()
+    assert len(caught.figure.axes) == 1 and "caught" in caught.get_title()
+    bounced = basin_map(table, *grid).plot()
+    assert len(bounced.figure.axes) == 3  # outcome, bounces, the bounces' colour bar
+    plt.close("all")
+
+
 def test_a_disc_has_no_outcome():
     """b constant: every angle is a rest state; the toss used to report 'rest θ=0' after one impact."""
     from coinwall.forward.dynamics.toss import launch_states
