@@ -261,7 +261,7 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
         A key of :data:`METHODS`, or ``"auto"`` (default): the fastest accurate solver for the strip, as the
         command line picks it (:func:`.choice.default_solver`): the spectral method for a smooth wall on a
         strip open at every angle, degree-4 elements otherwise.  The spectral method gives no eigenvectors:
-        for |ψ|² or splittings pass ``method="fem"`` (``"auto"`` with ``cells`` or ``order`` given is ``"fem"``
+        for ``|ψ|²`` or splittings pass ``method="fem"`` (``"auto"`` with ``cells`` or ``order`` given is ``"fem"``
         too).
     cells : int, optional
         FEM: rows of cells across the strip (even), default :func:`default_cells`; spectral: sine modes
