@@ -2,8 +2,11 @@
 
 Run:  python tests/benchmarks/bench_solve.py [--smoke]
 Both timings are taken in the same run, interleaved (eval, solve, eval, solve, ...) so that load
-from other processes hits both alike; medians of the repeats.  The ratio is what we track,
-because the machines are shared and noisy.  Target: ratio ≤ 5, absolute < 0.5 s, round trip ≤ 1e-10.
+from other processes hits both alike; medians of the repeats.  Targets: absolute < 0.5 s, round trip
+≤ 1e-10.  The ratio to the evaluation was tracked against "≤ 5" while the wall was evaluated by casadi's
+block calls; since it is evaluated by numpy replaying casadi's algorithm (7–8× faster) the ratio measures
+the evaluation's speed-up more than the solver's overhead (21–27 in docs/performance.md), and is printed,
+not targeted.
 ``--smoke``: 1,000 nodes, 2 repeats (a few seconds: checks the script, not the numbers).
 """
 
