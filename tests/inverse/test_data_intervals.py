@@ -355,7 +355,7 @@ def test_the_body_stays_inside_the_samples_intervals(eps, digits, noise, b0):
     """The ellipse wall at 1°, rounded to 3, 4 or 6 decimals (half-width: half the last digit) or with Gaussian
     noise σ declared as ±3σ: the body's wall lies within every sample's interval (to 1e-9 of the size, the
     half-plane geometry's rounding), outside the windows of corners that cut the data.  Measured before this
-    was checked: 3.8 half-widths outside at 4 decimals, 3.6 with noise (the vertices were fitted to their lines
+    was checked: 3.8 half-widths from the samples at 4 decimals, 3.6 with noise (the vertices were fitted to their lines
     within 4 half-widths); now the check is part of the solve, and a body that leaves the intervals warns."""
     theta = np.radians(np.arange(360.0))
     b = np.sqrt((1 + eps * np.cos(theta) ** 2) / (1 + eps))
