@@ -279,6 +279,16 @@ def test_workers_are_bounded_by_the_machine(monkeypatch):
 
     from coinwall.cases.scan import driver
 
+    # Ctrl-C as in a terminal (a shell starts background jobs with SIGINT ignored, and the driver rightly
+    # restores "ignored" there)
+    original = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _workers_are_bounded(monkeypatch, distributed, driver)
+    finally:
+        signal.signal(signal.SIGINT, original)
+
+
+def _workers_are_bounded(monkeypatch, distributed, driver):
     made = {}
 
     class Cluster:
@@ -305,8 +315,9 @@ def test_ctrl_c_during_a_scan_is_one_line(tmp_path):
     """Ctrl-C goes to the whole process group; it used to print 67-76 lines of dask and tornado tracebacks."""
     command = [sys.executable, "-m", "coinwall", "scan", "chaotic-fraction", ELLIPSE, "--param", "eps=2:8:20",
                "--H", "2,3", "--orbits", "40", "--collisions", "3000", "--workers", "2", "-o", str(tmp_path / "c.zarr")]
+    # the child gets Ctrl-C as in a terminal, even when the tests run as a background job (SIGINT ignored)
     proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-                            cwd=tmp_path)
+                            cwd=tmp_path, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.time() + 60
         while not os.path.exists(tmp_path / "c.zarr" / "cell_status") and time.time() < deadline:
