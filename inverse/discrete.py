@@ -224,35 +224,55 @@ def _through_point(theta, h, tol):
 def _strip_region(theta, h, tol):
     """The vertices of the convex region ``|x·n(θ_k) − h_k| ≤ tol_k`` for every k, or None if it is empty.
 
-    Written by hand because the merges ask it once per candidate vertex (thousands of times for dense
+    Written by hand because the merges ask it for every candidate vertex (thousands of times for dense
     rounded data), and a general linear-programming call (~1 ms each in scipy's HiGHS) made solving 3,600
-    rounded samples take 3 s: the strips of the two lines farthest apart in angle make a parallelogram,
-    which every other strip clips (Sutherland–Hodgman on a convex polygon of a few vertices).
+    rounded samples take 3 s: the strips of the first line and of the line least parallel to it make a
+    parallelogram, which every other strip clips (Sutherland–Hodgman on a convex polygon of a few vertices).
     """
-    order = np.argsort(theta)
-    first, last = int(order[0]), int(order[-1])
-    # the pair farthest from parallel: the line at the median angle against the first, or the last
-    mid = int(order[order.size // 2])
-    a, b = (first, mid) if abs(math.sin(theta[mid] - theta[first])) >= abs(math.sin(theta[last] - theta[first])) \
-        else (first, last)
-    if abs(math.sin(theta[b] - theta[a])) < 1e-9:
+    a = 0
+    b = int(np.argmax(np.abs(np.sin(theta - theta[a]))))
+    polygon = _parallelogram(theta[a], h[a], tol[a], theta[b], h[b], tol[b])
+    if polygon is None:
         return None  # all lines (nearly) parallel: no bounded region to speak of
-    corners = []
-    for sa in (-1.0, 1.0):
-        for sb in ((-1.0, 1.0) if sa < 0 else (1.0, -1.0)):
-            corners.append(_intersections(np.array([theta[a]]), np.array([h[a] + sa * tol[a]]),
-                                          np.array([theta[b]]), np.array([h[b] + sb * tol[b]]))[0])
-    polygon = [tuple(v) for v in corners]
     for k in range(theta.size):
-        if k in (a, b):
-            continue
-        nx, ny = math.cos(theta[k]), math.sin(theta[k])
-        for sign in (1.0, -1.0):  # x·n ≤ h + tol and −x·n ≤ −(h − tol)
-            limit = sign * h[k] + tol[k]
-            polygon = _clip(polygon, sign * nx, sign * ny, limit)
+        if k not in (a, b):
+            polygon = _clip_strip(polygon, theta[k], h[k], tol[k])
             if not polygon:
                 return None
     return np.array(polygon)
+
+
+def _parallelogram(theta_a, h_a, tol_a, theta_b, h_b, tol_b):
+    """The corners (a list, in order around it) of the intersection of two lines' strips, or None if the lines
+    are (nearly) parallel."""
+    if abs(math.sin(theta_b - theta_a)) < 1e-9:
+        return None
+    corners = []
+    for sa, sb in ((-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)):
+        corners.append(tuple(_intersections(np.array([theta_a]), np.array([h_a + sa * tol_a]),
+                                            np.array([theta_b]), np.array([h_b + sb * tol_b]))[0]))
+    return corners
+
+
+#: most vertices a strips' region keeps (see :func:`_clip_strip`)
+MAX_REGION_VERTICES = 24
+
+
+def _clip_strip(polygon, theta, h, tol):
+    """The convex ``polygon`` cut by the strip ``|x·n(θ) − h| ≤ tol`` (its two half-planes).
+
+    The strips of many lines of slowly turning angle cut a region of as many vertices, and clipping it again
+    and again would be quadratic in the lines: beyond :data:`MAX_REGION_VERTICES` every other vertex is
+    dropped.  Their hull lies inside the region (it is convex), so a point found in it is still within every
+    strip; the price is only that a region too thin for the hull may be declared empty (a merge not made).
+    """
+    nx, ny = math.cos(theta), math.sin(theta)
+    polygon = _clip(polygon, nx, ny, h + tol)  # x·n ≤ h + tol
+    if polygon:
+        polygon = _clip(polygon, -nx, -ny, tol - h)  # −x·n ≤ −(h − tol)
+    if len(polygon) > MAX_REGION_VERTICES:
+        polygon = polygon[::2]
+    return polygon
 
 
 def _clip(polygon, nx, ny, limit):
@@ -326,16 +346,33 @@ def support_polygon(theta, h, rounding, rho, centre=None) -> SampledBody:
         raise InvalidWall("samples: every support line passes through one point; the body would be a point")
     breaks = np.flatnonzero(~np.roll(same_as_next, 1))
     first = int(breaks[0]) if breaks.size else 0  # a vertex that does not continue a run
+    # a run grows while the region of points within every interval of its lines is not empty: the region is
+    # kept and clipped by each new line's strip (linear in the run's length; from scratch it was quadratic)
+    merge_tol = rounding + 16.0 * _EPS * scale
+
+    def start_region(j):
+        return _parallelogram(theta[active[j]], mid[active[j]], merge_tol[active[j]],
+                              theta[nxt[j]], mid[nxt[j]], merge_tol[nxt[j]])
+
     groups, current = [], [first]
+    region = start_region(first)
     for k in range(1, m):
         j = (first + k) % m
         if same_as_next[(j - 1) % m] and len(current) < m - 1:
-            lines = np.append(active[current], nxt[j])
-            if _concurrent(theta[lines], mid[lines], rounding[lines], scale):
+            line = nxt[j]
+            if region is not None:
+                grown = _clip_strip(region, theta[line], mid[line], merge_tol[line])
+                joins = bool(grown)
+            else:  # the run's first two lines are parallel: decide from all its lines (rare)
+                lines = np.append(active[current], line)
+                grown, joins = None, _concurrent(theta[lines], mid[lines], rounding[lines], scale)
+            if joins:
                 current.append(j)
+                region = grown
                 continue
         groups.append(current)
         current = [j]
+        region = start_region(j)
     groups.append(current)
 
     vertices, cone_start, cone_end, first_line, last_line = [], [], [], [], []

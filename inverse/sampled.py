@@ -170,8 +170,7 @@ def _polygon_body(polygon, regimes, bound, theta, b, w, b0, lifted=False):
         # a vertex window is a corner only where the data, at the spacing that resolves their curvature (the
         # samples b_c was certified on), allow zero curvature; one corner per such run of samples
         # the interval of the line that stands farthest off each vertex (its deficit's angle)
-        at = np.argmin(np.abs(np.mod(polygon.deficit_angle[:, None] - theta[None, :] + np.pi, TWO_PI) - np.pi), axis=1)
-        within = w[at] * (2.0 if lifted else 1.0)
+        within = w[_nearest_sample(theta, polygon.deficit_angle)] * (2.0 if lifted else 1.0)
         polygon = _corners_where_allowed(polygon, theta[bound.used], b[bound.used], w[bound.used], b0, within)
     corners = []
     for k in np.flatnonzero(polygon.corner):
@@ -181,7 +180,7 @@ def _polygon_body(polygon, regimes, bound, theta, b, w, b0, lifted=False):
         start = float(np.mod(lo, TWO_PI))
         deficit = float(polygon.deficit[k])
         if lifted and deficit > 0:  # said from the sample's value, not from its upper end
-            deficit -= float(w[np.argmin(np.abs(np.mod(polygon.deficit_angle[k] - theta + np.pi, TWO_PI) - np.pi))])
+            deficit -= float(w[_nearest_sample(theta, polygon.deficit_angle[k:k + 1])[0]])
         corners.append(Corner(0.0 if direction >= TWO_PI else direction, 0.5 * (hi - lo), float(math.hypot(px, py)),
                               deficit, (start, start + hi - lo), float(polygon.deficit_angle[k])))
     windows = [c.window for c in corners if c.max_deficit > 0]
@@ -189,9 +188,25 @@ def _polygon_body(polygon, regimes, bound, theta, b, w, b0, lifted=False):
     return polygon, tuple(corners), Outline.from_polygon(polygon.vertices), convex, valid, windows
 
 
+def _nearest_sample(theta, angles):
+    """Index of the sample nearest each of ``angles`` (``theta`` ascending in [0, 2π); by bisection, so the
+    cost is n log n, never a vertices × samples table)."""
+    angles = np.mod(np.asarray(angles, dtype=float), TWO_PI)
+    n = theta.size
+    after = np.searchsorted(theta, angles) % n
+    before = (after - 1) % n
+    gap = lambda k: np.abs(np.mod(angles - theta[k] + np.pi, TWO_PI) - np.pi)  # noqa: E731
+    return np.where(gap(after) <= gap(before), after, before)
+
+
+def _widened_note(excess, used, count, accuracy):
+    return (f"dense data: the body, built from {used} of the {count} samples, keeps within their intervals "
+            f"widened by {excess:.2g} (the body's accuracy is {accuracy:.2g}; every sample is checked)")
+
+
 def _outside_warning(excess, where):
-    return (f"the body's wall leaves the samples' intervals by up to {excess:.3g} (at θ = {where:.6g}): no body "
-            "of this kind lies within them here")
+    return (f"the body's wall leaves the samples' intervals by up to {excess:.3g} (at θ = {where:.6g}); the "
+            "construction found no body inside all of them")
 
 
 def _owner(polygon, theta):
@@ -222,6 +237,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
     # the geometry uses every sample up to MAX_GEOMETRY_SAMPLES (exact at each); denser data the samples the
     # certified interval was narrowest on, and every sample is still checked against the body at the end
     used = np.arange(all_theta.size) if all_theta.size <= MAX_GEOMETRY_SAMPLES else bound.used
+    thinned = used.size < all_theta.size  # the interval check then allows the chords' sag (see below)
     theta, b = all_theta[used], all_b[used]
     h = b0 + b
     support = discrete_support(theta, b, all_w[used])
@@ -272,7 +288,10 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         warnings = body_warnings(error, body.cross_check, body.convex, body.valid, accuracy)
         excess, where = interval_excess(body.outline, all_theta, all_h, all_w, windows, body.convex and body.valid)
         if excess > WALL_ACCURACY * scale:  # the smooth solvers' own accuracy
-            warnings = (*warnings, _outside_warning(excess, where))
+            if thinned and excess <= accuracy:
+                notes = (*notes, _widened_note(excess, used.size, all_theta.size, accuracy))
+            else:
+                warnings = (*warnings, _outside_warning(excess, where))
         if not warnings:
             return dataclasses.replace(
                 body, wall=wall, max_wall_error=error, notes=notes, seconds=time.perf_counter() - started,
@@ -285,10 +304,12 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
 
     polygon = support_polygon(theta, h, support.rounding, support.rho + b0)
     if used.size < all_theta.size:
-        # the lines left out by thinning may cut what the used ones leave (an edge's sliver): add the ones
-        # the polygon crosses, and build it again
+        # the lines left out by thinning may cut what the used ones leave (an edge's sliver), or the used ones'
+        # vertex windows and edges may pass inside them (a wall below their intervals): add the lines the
+        # polygon crosses or misses, and build it again
         for _ in range(4):
-            excess = _polygon_support(polygon, all_theta) - (all_h + all_w)
+            wall_here = _polygon_support(polygon, all_theta)
+            excess = np.maximum(wall_here - (all_h + all_w), (all_h - all_w) - wall_here)
             crossing = np.flatnonzero(excess > 0.5 * WALL_ACCURACY * scale)
             if crossing.size == 0:
                 break
@@ -335,7 +356,12 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
                 break
     max_wall_error = _closure(outline, all_theta, all_h, windows, convex)
     excess, where = interval_excess(outline, all_theta, all_h, all_w, windows, convex)
-    outside = () if excess <= tiny else (_outside_warning(excess, where),)
+    outside = ()
+    if excess > tiny:
+        if thinned and excess <= accuracy:
+            notes_data.append(_widened_note(excess, used.size, all_theta.size, accuracy))
+        else:
+            outside = (_outside_warning(excess, where),)
 
     cross = None
     if cross_check:
