@@ -88,18 +88,6 @@ def interpolant_agrees(wall, support, bound=None) -> bool:
     return bound.lower - slack <= own <= bound.upper + slack
 
 
-def _closure(outline, theta, h, windows, convex=False):
-    """Largest wall error on the samples: ``|h_body − h_i|`` outside the cut windows, and inside them
-    only how far the body's wall *exceeds* the samples (a cut lowers the wall, never raises it)."""
-    body_wall = outline_support(outline, theta, convex=convex)
-    inside = np.zeros(theta.size, bool)
-    for lo, hi in windows:
-        inside |= np.mod(theta - lo, TWO_PI) <= hi - lo
-    error = np.abs(body_wall - h)[~inside]
-    excess = (body_wall - h)[inside]
-    return max(float(np.max(error)) if error.size else 0.0, float(np.max(excess)) if excess.size else 0.0)
-
-
 def _corners_where_allowed(polygon, theta, b, w, b0, within):
     """``polygon`` with its corner flags kept only on vertices whose window meets a run of samples where zero
     curvature is within the data's tolerance (``ρ_i + b0 ≤ tol_i``), or that cut the data (a deficit: Case
@@ -146,13 +134,25 @@ def interval_excess(outline, theta, h, w, windows, convex=False):
     """How far the body's wall leaves the samples' intervals ``h_i ± w_i``: ``(largest excess, its angle)``,
     ≤ 0 when it stays inside every one.  Inside the cut windows (Case III corners) only an excess above the
     interval counts (a cut lowers the wall, never raises it)."""
+    _, excess, where = _wall_errors(outline, theta, h, w, windows, convex)
+    return excess, where
+
+
+def _wall_errors(outline, theta, h, w, windows, convex=False):
+    """``(closure, interval excess, its angle)`` from one evaluation of the body's wall at the samples.
+
+    The closure is the largest wall error, ``|h_body − h_i|`` outside the cut windows and inside them only how
+    far the body's wall *exceeds* the samples (a cut lowers the wall, never raises it); the interval excess is
+    the same less each sample's half-width ``w_i`` (see :func:`interval_excess`).
+    """
     body_wall = outline_support(outline, theta, convex=convex)
     inside = np.zeros(theta.size, bool)
     for lo, hi in windows:
         inside |= np.mod(theta - lo, TWO_PI) <= hi - lo
-    excess = np.where(inside, body_wall - h, np.abs(body_wall - h)) - w
+    error = np.where(inside, body_wall - h, np.abs(body_wall - h))
+    excess = error - w
     worst = int(np.argmax(excess))
-    return float(excess[worst]), float(theta[worst])
+    return max(float(np.max(error)), 0.0), float(excess[worst]), float(theta[worst])
 
 
 def _polygon_body(polygon, regimes, bound, theta, b, w, b0, lifted=False):
@@ -195,8 +195,9 @@ def _nearest_sample(theta, angles):
     n = theta.size
     after = np.searchsorted(theta, angles) % n
     before = (after - 1) % n
-    gap = lambda k: np.abs(np.mod(angles - theta[k] + np.pi, TWO_PI) - np.pi)  # noqa: E731
-    return np.where(gap(after) <= gap(before), after, before)
+    gap_after = np.abs(np.mod(angles - theta[after] + np.pi, TWO_PI) - np.pi)
+    gap_before = np.abs(np.mod(angles - theta[before] + np.pi, TWO_PI) - np.pi)
+    return np.where(gap_after <= gap_before, after, before)
 
 
 def _widened_note(excess, used, count, accuracy):
@@ -280,13 +281,13 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
                               "built from the sampled lines instead")
     if body is not None:
         windows = [c.window for c in body.corners if c.max_deficit > 0]
-        error = max(body.max_wall_error, _closure(body.outline, all_theta, all_h, windows,
-                                                  body.convex and body.valid))
+        closure, excess, where = _wall_errors(body.outline, all_theta, all_h, all_w, windows,
+                                              body.convex and body.valid)
+        error = max(body.max_wall_error, closure)
         notes = (*body.notes, *notes_data,
                  "the samples are smooth: their trigonometric interpolant agrees with the discrete curvature, "
                  "and the body was solved from it")
         warnings = body_warnings(error, body.cross_check, body.convex, body.valid, accuracy)
-        excess, where = interval_excess(body.outline, all_theta, all_h, all_w, windows, body.convex and body.valid)
         if excess > WALL_ACCURACY * scale:  # the smooth solvers' own accuracy
             if thinned and excess <= accuracy:
                 notes = (*notes, _widened_note(excess, used.size, all_theta.size, accuracy))
@@ -341,21 +342,23 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         # whenever any convex body is: such a body lies under every upper line, so the upper body's wall is
         # at least its wall, at least h − w.  Whichever is taken, the check below looks at every sample.
         w_used = all_w[used]
-        for label, lifted, raised in (
-                ("merged where one point lies within every interval of a window", False,
-                 lambda: support_polygon(theta, h + w_used, w_used, support.rho + b0, centre=h)),
-                ("unmerged", True, lambda: support_polygon(theta, h + w_used, np.zeros(used.size), support.rho + b0))):
-            result = _polygon_body(raised(), regimes, bound, all_theta, all_b, all_w, b0, lifted)
+        upper = h + w_used
+        # (label, merge within each line's interval about its value, or no merge: then the deficits are
+        # measured from the upper ends, "lifted")
+        for label, rounding, centre, lifted in (
+                ("merged where one point lies within every interval of a window", w_used, h, False),
+                ("unmerged", np.zeros(used.size), None, True)):
+            raised = support_polygon(theta, upper, rounding, support.rho + b0, centre=centre)
+            result = _polygon_body(raised, regimes, bound, all_theta, all_b, all_w, b0, lifted)
             if interval_excess(result[2], all_theta, all_h, all_w, [], result[3])[0] <= tiny:
                 polygon, corners, outline, convex, valid, windows = result
-                h = h + w_used
+                h = upper
                 exact_for = f"the intervals' upper ends ({label})"
                 notes_data.append(f"the body under the samples' values left their intervals (by up to "
                                   f"{strict:.2g}); it is the body under the intervals' upper ends, {label}, inside "
                                   "every interval")
                 break
-    max_wall_error = _closure(outline, all_theta, all_h, windows, convex)
-    excess, where = interval_excess(outline, all_theta, all_h, all_w, windows, convex)
+    max_wall_error, excess, where = _wall_errors(outline, all_theta, all_h, all_w, windows, convex)
     outside = ()
     if excess > tiny:
         if thinned and excess <= accuracy:
