@@ -55,7 +55,8 @@ def register(subparsers):
                              "modes, else fem of degree 4), fem (Lagrange elements on a mesh that follows the walls) "
                              "or spectral (Fourier × Legendre modes, smooth walls only, exponentially convergent; no "
                              "eigenvectors, so no --splittings or |ψ|² figure)")
-    parser.add_argument("--order", type=int, default=None, choices=(2, 3, 4), help="element degree (default 4)")
+    parser.add_argument("--order", type=int, default=None, choices=(2, 3, 4),
+                        help="element degree (default 4; given, --method auto uses the elements)")
     parser.add_argument("--cells", type=count, default=None,
                         help="fem: rows of cells across the strip (default: from --levels, ~1e-4 relative at the top); "
                              "spectral: polynomial modes across (default ~1e-8)")
@@ -96,14 +97,10 @@ def _solve(args, wall, H, bar):
     from coinwall.forward.quantum import make_strip, quantum_spectrum, splitting_of
 
     strip = make_strip(wall, H, args.b0)
-    method, order = args.method, args.order or 4
-    if method == "auto":
-        from coinwall.forward.quantum.choice import default_solver
-
-        # --cells means rows of elements: a given --cells keeps the finite elements
-        choice = default_solver(strip, args.levels, eigenvectors=args.splittings or args.cells is not None)
-        method = choice.method
-    spectrum = quantum_spectrum(strip, levels=args.levels, method=method, cells=args.cells, order=order,
+    # --method auto picks the solver as the library does: the elements when --cells or --order is given or
+    # --splittings needs eigenvectors, else the fastest accurate one for the strip
+    spectrum = quantum_spectrum(strip, levels=args.levels, method=args.method, cells=args.cells, order=args.order,
+                                eigenvectors=args.splittings,
                                 progress=(lambda n: bar.update(n)) if bar is not None else None)
     splittings = None
     if args.splittings and strip.periodic and spectrum.symmetry_names:

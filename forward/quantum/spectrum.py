@@ -125,8 +125,8 @@ def default_cells(strip: Strip, levels: int, order: int = 2) -> int:
 
     Weyl's law with its boundary term puts the ``levels``-th level near λ ≈ 1.5·4π·levels/A.  On flat
     walls (exact values; tests/forward/quantum/test_quantum.py) the largest relative error of degree p with
-    cells of side h is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3), 3.4e-7 at 1.24 (P4);
-    h√λ = 0.5, 1.4, 2.5 for p = 2, 3, 4 gives ~1e-4.
+    cells of side h is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3),
+    3.4e-7 at 1.24 (P4); h√λ = 0.5, 1.4, 2.5 for p = 2, 3, 4 gives ~1e-4.
     """
     lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2
     target = {2: 0.5, 3: 1.4, 4: 2.5}.get(order, 0.5)
@@ -246,7 +246,8 @@ METHODS = {"fem": _fem, "spectral": _spectral}
 
 
 def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method: str = "auto", cells=None,
-                     order: int | None = None, symmetry: bool = True, progress=None) -> Spectrum:
+                     order: int | None = None, eigenvectors: bool = False, symmetry: bool = True,
+                     progress=None) -> Spectrum:
     """The lowest ``levels`` eigenvalues of the Dirichlet Laplacian on the strip of ``wall`` at distance ``H``.
 
     Parameters
@@ -261,13 +262,16 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
         A key of :data:`METHODS`, or ``"auto"`` (default): the fastest accurate solver for the strip, as the
         command line picks it (:func:`.choice.default_solver`): the spectral method for a smooth wall on a
         strip open at every angle, degree-4 elements otherwise.  The spectral method gives no eigenvectors:
-        for ``|ψ|²`` or splittings pass ``method="fem"`` (``"auto"`` with ``cells`` or ``order`` given is ``"fem"``
-        too).
+        for ``|ψ|²`` or splittings pass ``eigenvectors=True`` or ``method="fem"`` (``"auto"`` with ``cells`` or
+        ``order`` given is ``"fem"`` too).
     cells : int, optional
         FEM: rows of cells across the strip (even), default :func:`default_cells`; spectral: sine modes
         across (the Fourier modes follow, :func:`.spectral.spectral_modes`), default :func:`default_modes`.
     order : int, optional
         Element degree, 2 to 4; default 4 (at the default mesh faster and more accurate than 2 or 3).
+    eigenvectors : bool
+        With ``method="auto"``: the eigenvectors are needed (``|ψ|²``, P(θ), splittings), so the finite
+        elements, which give them, are chosen.
     symmetry : bool
         Solve class by class (default) — False solves the whole problem at once (for checks).
     progress : callable, optional
@@ -292,7 +296,7 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
     if method == "auto":
         from .choice import default_solver
 
-        method = "fem" if elements else default_solver(strip, levels).method
+        method = "fem" if elements else default_solver(strip, levels, eigenvectors=eigenvectors).method
     if cells is None:
         cells = default_modes(strip, levels) if method == "spectral" else default_cells(strip, levels, order)
     cells = check_count("cells", cells, minimum=2, maximum=4096)

@@ -102,3 +102,14 @@ def test_eigenvector_uses_of_a_spectral_spectrum_say_so():
                 lambda: splitting_of(spectrum)):
         with pytest.raises(InvalidArgument, match='needs eigenvectors.*method="fem"'):
             use()
+
+
+def test_eigenvectors_asked_for_get_the_elements(monkeypatch, capsys):
+    # the library and the command line choose in one place: eigenvectors=True (what --splittings passes)
+    # and --order given both mean the elements
+    spectrum = quantum_spectrum(ellipse(), 2.5, levels=2, eigenvectors=True)
+    assert spectrum.method == "fem" and len(spectrum.vectors) == 2
+    status = run_cli(monkeypatch, ["quantum", ELLIPSE, "--param", "eps=0.55", "--H", "2.5", "--levels", "2",
+                                   "--order", "3", "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert status == 0 and (data["method"], data["order"]) == ("fem", 3)
