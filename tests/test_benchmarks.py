@@ -35,3 +35,26 @@ def test_the_full_run_covers_every_benchmark():
     assert done.returncode == 0, done.stderr
     listed = {line.split("tests/benchmarks/")[1].split()[0] for line in done.stdout.splitlines()}
     assert listed == {s.name for s in SCRIPTS}
+
+
+def test_the_kernel_count_reads_callgrind_as_written(tmp_path):
+    # count_kernel.py runs for ~12 minutes under valgrind, outside the default run; its reading of callgrind's
+    # output is checked here on a file written by hand in callgrind's format (name and position compression,
+    # a call's inclusive cost on the line after calls=), the counts known by construction
+    sys.path.insert(0, str(ROOT / "tests" / "benchmarks"))
+    try:
+        from count_kernel import tally
+    finally:
+        sys.path.pop(0)
+    profile = tmp_path / "callgrind.out"
+    profile.write_text(
+        "positions: instr line\nevents: Ir Bc Bcm Bi Bim\n"
+        "ob=(1) ???\nfl=(1) ???\nfn=(1) 0x1000\n"
+        "0x1000 0 5 1 1\n+4 0 3\n*  0 2 1\n"             # own code of the kernel at 0x1000: Ir 10, Bc 2, Bcm 1
+        "cfn=(2) __sincos_fma\ncalls=7 0x9000 0\n+2 0 140\n"  # 7 calls, 140 instructions inside them
+        "fn=(3) elsewhere\n0x90000 0 1000 50 5\n"         # another function's code: not the kernel's
+        "cfn=(2)\ncalls=1 0x9000 0\n+1 0 20\n",           # a call from outside: not the kernel's either
+        encoding="utf-8")
+    own, calls = tally(str(profile), {0x1000: "kernel"})
+    assert own["kernel"] == [10, 2, 1, 0, 0]
+    assert dict(calls["kernel"]) == {"__sincos_fma": [7, 140]}
