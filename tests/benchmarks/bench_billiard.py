@@ -121,6 +121,12 @@ def today_module(wall):
     return load_module(HEADER + source + body, "coinwall_bench_today")
 
 
+def today_args(comp, table):
+    """The run-time arguments of today's kernel: the kernel's, with the first 16 columns of its cell table."""
+    args = comp.args(table)
+    return args[:3] + (np.ascontiguousarray(comp.cells[:, :16]),) + args[4:]
+
+
 def _cpu_run(module, state, collisions, args):
     # one orbit through a kernel module's _run; CPU seconds and the six output columns
     out = [np.empty(collisions) for _ in range(5)] + [np.empty(collisions, dtype=np.int8)]
@@ -146,7 +152,7 @@ def versus_today(table, collisions, rounds=7, seed=1):
     today = today_module(table.wall)
     state = np.ascontiguousarray(random_states(table, 1, seed)[0])
     args = comp.args(table)
-    old_args = args[:3] + (np.ascontiguousarray(comp.cells[:, :16]),) + args[4:]
+    old_args = today_args(comp, table)
     for module, a in ((today, old_args), (comp.module, args)):  # compile or load, then record the cache files
         _cpu_run(module, state, 10, a)
         seal(module)

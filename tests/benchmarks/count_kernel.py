@@ -27,10 +27,8 @@ CODE_SPAN = 16384  # bytes after a kernel's entry counted as its own code (its _
 
 def child(collisions, addresses):
     # under valgrind: run both kernels, after writing where each one's compiled _run starts
-    import numpy as np
-
     sys.path.insert(0, str(HERE))
-    from bench_billiard import _cpu_run, today_module
+    from bench_billiard import _cpu_run, today_args, today_module
 
     from coinwall.cases.ellipse import ellipse_wall
     from coinwall.forward.dynamics.billiard import Billiard, random_states
@@ -40,7 +38,7 @@ def child(collisions, addresses):
     comp = compiled(table)
     state = random_states(table, 1, 1)[0]
     args = comp.args(table)
-    old_args = args[:3] + (np.ascontiguousarray(comp.cells[:, :16]),) + args[4:]
+    old_args = today_args(comp, table)
     kernels = (("today's kernel", today_module(table.wall), old_args), ("the kernel", comp.module, args))
     with open(addresses, "w", encoding="utf-8") as out:
         for name, module, a in kernels:
