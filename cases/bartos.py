@@ -2,7 +2,7 @@
 
 The counts per tosser ship with coinwall (``cases/data/coin-flips-bartos2023.csv``, provenance in
 ``cases/data/README.md``).  :func:`bartos_fits` turns them into the angle ψ between the angular momentum and
-the coin's normal that the DHM model needs to produce them (:func:`coinwall.forward.dynamics.caught.fit_psi`:
+the coin's normal that the DHM model needs to produce them (:func:`coinwall.forward.dynamics.coin3d.caught.fit_psi`:
 one ψ, or a spread of ψ about 90° with its σ; 95 % likelihood-ratio intervals), overall and per tosser, and
 tests whether the tossers share one proportion (the likelihood-ratio test of 48 binomials against one, χ²
 with 47 degrees of freedom).  :func:`plot_bartos` draws the data against the model.
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.display import safe_repr
-from coinwall.forward.dynamics.caught import PsiFit, dhm_same_side, fit_psi, likelihood_interval
+from coinwall.forward.dynamics.coin3d.caught import PsiFit, dhm_same_side, fit_psi, likelihood_interval
 
 __all__ = ["BartosFits", "bartos_counts", "bartos_fits", "plot_bartos"]
 

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from coinwall.forward import Outline, Wall
-from coinwall.forward.dynamics.islands import ELLIPSE_WALL
+from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL
 
 from .catalog import Case, Reference
 

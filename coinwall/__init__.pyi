@@ -6,12 +6,12 @@ same lines (go-to-definition).
 
 __version__: str
 from .cases.catalog import all_cases, get_case
-from .forward.dynamics.billiard import Billiard, Trajectory, ensemble, random_states, simulate
-from .forward.dynamics.correlation import correlation
-from .forward.dynamics.kam import kam_boundary
-from .forward.dynamics.lyapunov import chaotic_fraction, lyapunov
-from .forward.dynamics.poincare import poincare_section
-from .forward.dynamics.rigidbody import RigidBody, simulate_rigid_body
+from .forward.dynamics.billiard.table import Billiard, Trajectory, ensemble, random_states, simulate
+from .forward.dynamics.analysis.correlation import correlation
+from .forward.dynamics.analysis.kam import kam_boundary
+from .forward.dynamics.analysis.lyapunov import chaotic_fraction, lyapunov
+from .forward.dynamics.analysis.poincare import poincare_section
+from .forward.dynamics.billiard.rigidbody import RigidBody, simulate_rigid_body
 from .forward.errors import (
     CoinwallError,
     InvalidArgument,

@@ -7,7 +7,7 @@ The paper fits the boundary beyond which no regular motion is seen as :math:`\\v
 Liouville-random orbits are regular (Lyapunov exponent below 3 ln N/N after N collisions). This example
 uses a coarse criterion (30 orbits × 400 collisions, 3 bisection steps in [0.15, 15]) to stay fast, so
 the brackets are wide; the closed-form
-curve ε*(H), where the vertical period-2 orbit turns unstable (:mod:`coinwall.forward.dynamics.islands`), is
+curve ε*(H), where the vertical period-2 orbit turns unstable (:mod:`coinwall.forward.dynamics.analysis.islands`), is
 drawn for comparison. :doc:`/dynamics` explains why the measured boundary moves with the criterion.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.ticker import NullFormatter
 
 from coinwall import kam_boundary
-from coinwall.forward.dynamics.islands import eps_star
+from coinwall.forward.dynamics.analysis.islands import eps_star
 
 boundary = kam_boundary(
     [3.0, 5.0, 8.0], bracket=(0.15, 15.0), steps=3, orbits=30, collisions=400, seed=0

@@ -4,13 +4,13 @@ Each name is imported from the module named here on first use; editors and type 
 same lines (go-to-definition).
 """
 
-from .dynamics.billiard import Billiard, Trajectory, ensemble, random_states, simulate
-from .dynamics.correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
-from .dynamics.islands import paper_boundary
-from .dynamics.kam import KamBoundary, kam_boundary
-from .dynamics.lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
-from .dynamics.poincare import PoincareSection, incidence_angle, poincare_section
-from .dynamics.rigidbody import (
+from .dynamics.billiard.table import Billiard, Trajectory, ensemble, random_states, simulate
+from .dynamics.analysis.correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
+from .dynamics.analysis.islands import paper_boundary
+from .dynamics.analysis.kam import KamBoundary, kam_boundary
+from .dynamics.analysis.lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
+from .dynamics.analysis.poincare import PoincareSection, incidence_angle, poincare_section
+from .dynamics.billiard.rigidbody import (
     EllipseShape,
     PolygonShape,
     RigidBody,

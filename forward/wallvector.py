@@ -7,7 +7,7 @@ polar cross-check's Newton iterations) spent seconds there.
 
 :class:`ArrayProgram` reads the function's own algorithm (its instruction list: ``n_instructions``,
 ``instruction_id``, ``instruction_input``, ``instruction_output``, ``instruction_constant``, the
-interface :mod:`coinwall.forward.dynamics.wallcode` translates for numba) and replays it with one
+interface :mod:`coinwall.forward.dynamics.billiard.wallcode` translates for numba) and replays it with one
 numpy call per instruction on the whole array of angles.  The operations are casadi's (same
 derivative rules, ``sign(0) = 0``, ``fmin``/``fmax`` ignoring a NaN, ``if_else_zero`` giving 0
 even where its value is not finite); only the elementary functions are numpy's instead of the C

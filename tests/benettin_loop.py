@@ -1,7 +1,7 @@
 """Benettin's method the straightforward way, as a second method for ``lyapunov_many``.
 
 One Python loop over the orbits in every renormalisation round, built on the public API only: every
-round :func:`~coinwall.forward.dynamics.billiard.ensemble` follows each orbit and its companion (checking
+round :func:`~coinwall.forward.dynamics.billiard.table.ensemble` follows each orbit and its companion (checking
 every state), and each orbit's state at t* is found from its own :class:`Trajectory` with
 ``searchsorted``.  This was the library's implementation before the bookkeeping moved into arrays; it
 stays here so that the array version is compared with an independent loop (tests/cases/scan/test_scan.py and
@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.dynamics.billiard import ensemble
+from coinwall.forward.dynamics.billiard.table import ensemble
 
 __all__ = ["lyapunov_loop"]
 

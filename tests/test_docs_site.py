@@ -15,8 +15,8 @@ errors) into a temporary folder and checks the gallery's thumbnails and the API 
 from __future__ import annotations
 
 import ast
-import os
 import importlib
+import os
 import re
 import runpy
 import shutil

@@ -78,7 +78,7 @@ def test_wheel_has_exactly_one_top_level_name(tmp_path):
     names = zipfile.ZipFile(wheels[0]).namelist()
     top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")}
     assert top == {"coinwall"}
-    for module in ("coinwall/forward/wall.py", "coinwall/forward/dynamics/billiard.py",
+    for module in ("coinwall/forward/wall.py", "coinwall/forward/dynamics/billiard/table.py",
                    "coinwall/forward/formats/__init__.py", "coinwall/inverse/solve.py",
                    "coinwall/inverse/export/__init__.py", "coinwall/cases/cli/__init__.py",
                    "coinwall/cases/paper/__init__.py"):

@@ -95,7 +95,7 @@ def _cmd_coin3d(args):
 
 
 def _caught(args):
-    from coinwall.forward.dynamics.caught import dhm_same_side, simulate_caught
+    from coinwall.forward.dynamics.coin3d.caught import dhm_same_side, simulate_caught
     from coinwall.forward.errors import InvalidArgument
 
     if args.psi is None:
@@ -148,7 +148,7 @@ def _fit(args):
 
 def _bounce(args):
     from coinwall.cases.bartos import bartos_fits
-    from coinwall.forward.dynamics.bounced import same_side_by_bounce
+    from coinwall.forward.dynamics.coin3d.bounced import same_side_by_bounce
     from coinwall.forward.errors import InvalidArgument
 
     if not 0 < args.e <= 1:

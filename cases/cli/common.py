@@ -187,7 +187,7 @@ def load_table(args):
     With ``--kappa`` the wall, ``--H`` and ``--b0`` are lengths in the unit of κ's value and are
     divided by it: the billiard is always in units of κ (η = y/κ, paper eq. 8).
     """
-    from coinwall.forward.dynamics.billiard import Billiard
+    from coinwall.forward.dynamics.billiard.table import Billiard
     from coinwall.forward.errors import InvalidArgument
 
     for name, value in (("--H", args.H), ("--b0", args.b0)):

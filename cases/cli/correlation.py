@@ -49,7 +49,7 @@ def register(subparsers):
 
 
 def _cmd_correlation(args):
-    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.dynamics.analysis.correlation import correlation
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all

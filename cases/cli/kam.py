@@ -48,7 +48,7 @@ def _floats(text, name):
 
 
 def _cmd_kam(args):
-    from coinwall.forward.dynamics.kam import kam_boundary
+    from coinwall.forward.dynamics.analysis.kam import kam_boundary
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all

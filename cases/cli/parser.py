@@ -11,8 +11,25 @@ import argparse
 import re
 
 # each module imports only argparse-level things at the top; the library is imported when a command runs
-from . import (cases, coin3d, correlation, critical, explore, export, fit, kam, mass, quantum, scan, section, simulate,
-               solve, toss, verify, wall)
+from . import (
+    cases,
+    coin3d,
+    correlation,
+    critical,
+    explore,
+    export,
+    fit,
+    kam,
+    mass,
+    quantum,
+    scan,
+    section,
+    simulate,
+    solve,
+    toss,
+    verify,
+    wall,
+)
 
 __all__ = ["SUBCOMMANDS", "CommandParser", "build_parser"]
 

@@ -45,7 +45,7 @@ def register(subparsers):
 
 
 def _cmd_section(args):
-    from coinwall.forward.dynamics.poincare import poincare_section
+    from coinwall.forward.dynamics.analysis.poincare import poincare_section
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 

@@ -58,8 +58,8 @@ def _duration(seconds: float) -> str:
 
 
 def _cmd_simulate(args):
-    from coinwall.forward.dynamics.billiard import compile_kernel, random_states
-    from coinwall.forward.dynamics.orbitstats import CHUNK, MAX_COLLISIONS, orbit_statistics
+    from coinwall.forward.dynamics.analysis.orbitstats import CHUNK, MAX_COLLISIONS, orbit_statistics
+    from coinwall.forward.dynamics.billiard.table import compile_kernel, random_states
     from coinwall.forward.validation import check_count
 
     check_positive_count("--collisions", args.collisions)

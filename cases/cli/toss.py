@@ -123,8 +123,8 @@ def register(subparsers):
 def _cmd_toss(args):
     import numpy as np
 
-    from coinwall.forward.dynamics.field import FieldTable
-    from coinwall.forward.dynamics.toss import basin_map, heads_fraction, launch_states
+    from coinwall.forward.dynamics.floor.field import FieldTable
+    from coinwall.forward.dynamics.floor.toss import basin_map, heads_fraction, launch_states
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
@@ -231,7 +231,7 @@ def _cmd_toss(args):
 def _uncertainty(args, table, height, g):
     import numpy as np
 
-    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
     from coinwall.forward.errors import InvalidArgument
 
     if not (args.v0[1] > args.v0[0] and args.omega[1] > args.omega[0]):

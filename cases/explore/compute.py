@@ -399,7 +399,7 @@ def export(spec: dict) -> dict:
 
 
 def _table(spec):
-    from coinwall.forward.dynamics.billiard import Billiard
+    from coinwall.forward.dynamics.billiard.table import Billiard
 
     wall = get_wall(spec)
     with field("H"):
@@ -417,8 +417,8 @@ def beam(spec: dict) -> dict:
     between them) and the bottom-wall Poincaré section (θ_c, φ_c) of the central orbit, followed for
     ``section_collisions`` collisions.
     """
-    from coinwall.forward.dynamics.billiard import ensemble
-    from coinwall.forward.dynamics.poincare import poincare_section
+    from coinwall.forward.dynamics.analysis.poincare import poincare_section
+    from coinwall.forward.dynamics.billiard.table import ensemble
     from coinwall.forward.validation import check_count, check_range
 
     table = _table(spec)

@@ -14,15 +14,15 @@ __all__ = ["caught_coin_against_flips", "three_d_billiard"]
 
 def three_d_billiard(resolution, *, impacts: int, restitution: float) -> dict:
     """Sec. V: "the motion of a rigid body in three dimensions ... a new type of billiard motion".  For a body
-    of revolution it is the (θ, η) billiard with the top's potential (coinwall.forward.dynamics.top): the
+    of revolution it is the (θ, η) billiard with the top's potential (coinwall.forward.dynamics.coin3d.top): the
     direct 3-D simulation (quaternions, impulse at the 3-D contact point) is restarted from every impact of
     the reduced billiard and must reach the next one in the same state; a coin on a floor with gravity and
     restitution, and an ellipsoid between two walls.
 
     Returns ``error`` (largest state difference, ``inf`` if a wall differs), ``impacts`` compared, and
     ``momentum_drift`` (largest change of ℓz, ℓ3 in the 3-D simulation)."""
-    from coinwall.forward.dynamics.rigid3d import Rigid3D, from_reduced, simulate_3d
-    from coinwall.forward.dynamics.top import TopTable, top_run
+    from coinwall.forward.dynamics.coin3d.rigid3d import Rigid3D, from_reduced, simulate_3d
+    from coinwall.forward.dynamics.coin3d.top import TopTable, top_run
     from coinwall.forward.revolution import coin, ellipsoid
 
     n = impacts if resolution.fast else 4 * impacts
@@ -48,13 +48,13 @@ def three_d_billiard(resolution, *, impacts: int, restitution: float) -> dict:
 
 
 def caught_coin_against_flips(resolution, *, samples: int) -> dict:
-    """Beyond the paper: DHM's caught coin, simulated (the precessing coin of coinwall.forward.dynamics.top) at
+    """Beyond the paper: DHM's caught coin, simulated (the precessing coin of coinwall.forward.dynamics.coin3d.top) at
     the ψ fitted to the 350,757 flips of Bartoš et al. (2023); the simulated share must match the data's.
 
     Returns ``psi`` (degrees, fitted), ``p_data``, ``p_sim``, ``z`` (difference over the combined standard
     error) and ``dhm_error`` (|simulation − DHM's formula| in standard errors)."""
     from coinwall.cases.bartos import bartos_fits
-    from coinwall.forward.dynamics.caught import dhm_same_side, simulate_caught
+    from coinwall.forward.dynamics.coin3d.caught import dhm_same_side, simulate_caught
 
     n = samples if resolution.fast else 10 * samples
     fit = bartos_fits().overall

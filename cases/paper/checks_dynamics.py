@@ -26,7 +26,7 @@ def simulated_equivalence(resolution, *, H: float, ellipse_eps: float) -> dict:
         many collisions were compared.
     """
     from coinwall.forward import Billiard, EllipseShape, PolygonShape, RigidBody, Wall, simulate, simulate_rigid_body
-    from coinwall.forward.dynamics.rigidbody import billiard_to_body, body_to_billiard
+    from coinwall.forward.dynamics.billiard.rigidbody import billiard_to_body, body_to_billiard
 
     worst, count = 0.0, 0
     runs = [(PolygonShape.stick(1.0), "abs(cos(t))", {}, 1, resolution.stick_collisions),

@@ -25,8 +25,8 @@ def external_fields(resolution, *, eps: float, H: float, g: float, e: float) -> 
     dict
         ``error``: the largest state or time difference (``inf`` if a wall differs); ``impacts`` compared.
     """
-    from coinwall.forward.dynamics.field import FieldTable, field_run
-    from coinwall.forward.dynamics.rigidbody import EllipseShape, RigidBody, simulate_rigid_body
+    from coinwall.forward.dynamics.billiard.rigidbody import EllipseShape, RigidBody, simulate_rigid_body
+    from coinwall.forward.dynamics.floor.field import FieldTable, field_run
     from coinwall.forward.wall import Wall
 
     impacts = 60 if resolution.fast else 300
@@ -49,7 +49,7 @@ def external_fields(resolution, *, eps: float, H: float, g: float, e: float) -> 
 
 def casino_bounces(resolution, *, eps: float, g: float, height: float, mean, sigma, restitutions) -> dict:
     """Sec. III (end): bounces randomise the outcome.  The coin (ε) launched by a hand, (v0, ω0) Gaussian about
-    ``mean`` with ``sigma``, stopped at its n-th floor impact (:func:`coinwall.forward.dynamics.fairness.fairness`):
+    ``mean`` with ``sigma``, stopped at its n-th floor impact (:func:`coinwall.forward.dynamics.floor.fairness.fairness`):
     the bias of heads at n = 1 (caught on landing, Keller's coin) and after the last bounce, in units of their
     standard errors, and the bounce from which the toss is fair to 0.01 (2σ resolved), per restitution e.
 
@@ -60,8 +60,8 @@ def casino_bounces(resolution, *, eps: float, g: float, height: float, mean, sig
         the thresholds): ``bounced_bias``, ``bounced_sigmas`` (after the last bounce), ``fair_bounce`` (None
         if not shown), ``fair_found``, ``samples``, ``bounces``.
     """
-    from coinwall.forward.dynamics.fairness import fairness
-    from coinwall.forward.dynamics.field import FieldTable
+    from coinwall.forward.dynamics.floor.fairness import fairness
+    from coinwall.forward.dynamics.floor.field import FieldTable
     from coinwall.forward.wall import Wall
 
     samples, bounces = (20_000, 15) if resolution.fast else (100_000, 20)

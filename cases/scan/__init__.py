@@ -4,7 +4,7 @@ per cell, written cell by cell into an xarray/Zarr store that a restarted scan r
 One module per step: :mod:`.grid` (axes, cells, per-cell seeds), :mod:`.table` (the table as data a worker
 rebuilds), :mod:`.quantities` (the per-cell functions, calling the library), :mod:`.store` (the Zarr
 store), :mod:`.driver` (the dask map) and :mod:`.figures` (with the closed-form ε*(H), ε**(H) of
-:mod:`coinwall.forward.dynamics.islands`).  dask, xarray and
+:mod:`coinwall.forward.dynamics.analysis.islands`).  dask, xarray and
 zarr are imported only when a scan runs (the ``scan`` extra).
 """
 

@@ -273,7 +273,7 @@ def _close(client, cluster, interrupted) -> None:
 def _check_toss_grid(table, axes, options) -> None:
     """Refuse, before any store is made, the toss cells that could only fail: a restitution outside (0, 1] and a
     launch height H the body does not clear (checked on the first wall of the grid)."""
-    from coinwall.forward.dynamics.toss import launch_states
+    from coinwall.forward.dynamics.floor.toss import launch_states
 
     from .table import DEFAULT_RESTITUTION
 

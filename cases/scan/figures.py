@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coinwall.forward.dynamics.islands import eps_star, eps_star_star, paper_boundary
+from coinwall.forward.dynamics.analysis.islands import eps_star, eps_star_star, paper_boundary
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.formats.style import plain_log_axis, styled
 
@@ -105,7 +105,7 @@ def plot_phase_diagram(dataset, variable=None, ax=None, curves=True):
     curves : bool
         Draw 1/H + 17/H², ε*(H) and ε**(H) (only for the ellipse wall scanned over ``eps``).
     """
-    from coinwall.forward.dynamics.islands import ELLIPSE_WALL
+    from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL
     from coinwall.forward.formats.figure import axes_or_new
 
     variable = variable or _main_variable(dataset)

@@ -7,12 +7,12 @@ returns a dict of floats.  The same arguments give the same numbers on any worke
 
 ============================ ===================================================================================
 ``chaotic-fraction``         share of ``orbits`` Liouville-random orbits with λ/collision > 3 ln N/N over N =
-                             ``collisions`` (:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`'s numbers)
+                             ``collisions`` (:func:`coinwall.forward.dynamics.analysis.lyapunov.chaotic_fraction`'s numbers)
 ``lyapunov``                 mean, spread and median of λ over ``orbits`` orbits, per collision and per unit time
-``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.correlation.correlation`)
+``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.analysis.correlation.correlation`)
 ``splitting``                the lowest heads–tails doublet's splitting
                              (:func:`coinwall.forward.quantum.doublet_splitting`); not random
-``toss``                     the toss that lands on a floor (:func:`coinwall.forward.dynamics.toss.heads_fraction`):
+``toss``                     the toss that lands on a floor (:func:`coinwall.forward.dynamics.floor.toss.heads_fraction`):
                              outcome shares under a Gaussian hand about (``v0``, ``omega0``), relative spread
                              ``spread``, launched from the height H (κ), restitution from a ``restitution`` axis;
                              the toss energy level is ``H + (v0² + ω0²)/(2g)``
@@ -54,8 +54,8 @@ class Quantity:
 
 
 def _exponents(table, orbits, collisions, every, seed):
-    from coinwall.forward.dynamics.billiard import random_states
-    from coinwall.forward.dynamics.lyapunov import lyapunov_many
+    from coinwall.forward.dynamics.analysis.lyapunov import lyapunov_many
+    from coinwall.forward.dynamics.billiard.table import random_states
 
     # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
     states = random_states(table, orbits, seed)
@@ -64,7 +64,7 @@ def _exponents(table, orbits, collisions, every, seed):
 
 
 def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
-    from coinwall.forward.dynamics.lyapunov import default_threshold
+    from coinwall.forward.dynamics.analysis.lyapunov import default_threshold
 
     per_collision, _, _ = _exponents(table, orbits, collisions, every, seed)
     lam = per_collision[np.isfinite(per_collision)]
@@ -93,7 +93,7 @@ def _lyapunov(table, seed, orbits, collisions, every):
 
 
 def _tau(table, seed, bounces, max_lag, orbits, count):
-    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.dynamics.analysis.correlation import correlation
 
     result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1)
     return {"tau": result.tau, "tau_stderr": result.tau_stderr, "P1": float(result.P[1]),
@@ -110,7 +110,7 @@ def _splitting(table, seed, pair, cells, order):
 
 
 def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
-    from coinwall.forward.dynamics.toss import UNDECIDED, _outcomes, launch_states
+    from coinwall.forward.dynamics.floor.toss import UNDECIDED, _outcomes, launch_states
 
     table = table_spec.field_table_at(values, g)
     kappa = 1.0 if table_spec.kappa is None else float(table_spec.kappa)

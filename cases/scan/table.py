@@ -79,17 +79,17 @@ class TableSpec:
         return wall if self.kappa is None else wall.scaled(1.0 / self.kappa)
 
     def table_at(self, values: dict, H: float):
-        """The :class:`~coinwall.forward.dynamics.billiard.Billiard` of a cell (H in the wall's length unit)."""
-        from coinwall.forward.dynamics.billiard import Billiard
+        """The :class:`~coinwall.forward.dynamics.billiard.table.Billiard` of a cell (H in the wall's length unit)."""
+        from coinwall.forward.dynamics.billiard.table import Billiard
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         return Billiard(self.wall_at(values), float(H) / kappa, float(self.b0) / kappa)
 
     def field_table_at(self, values: dict, g: float):
-        """The :class:`~coinwall.forward.dynamics.field.FieldTable` of a toss cell: a floor only, the field ``g``
+        """The :class:`~coinwall.forward.dynamics.floor.field.FieldTable` of a toss cell: a floor only, the field ``g``
         (κ/s²) and the restitution ``restitution`` (a scanned axis or a fixed parameter; else
         :data:`DEFAULT_RESTITUTION`, as ``coinwall toss``)."""
-        from coinwall.forward.dynamics.field import FieldTable
+        from coinwall.forward.dynamics.floor.field import FieldTable
 
         kappa = 1.0 if self.kappa is None else float(self.kappa)
         restitution = {**dict(self.params), **values}.get("restitution", DEFAULT_RESTITUTION)

@@ -4,20 +4,13 @@ Each name is imported from the module named here on first use; editors and type 
 same lines (go-to-definition).
 """
 
-from .billiard import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
-from .bounced import BounceStudy, same_side_by_bounce
-from .caught import PsiFit, dhm_same_side, fit_psi, simulate_caught
-from .correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
-from .correlation3d import side_correlation
-from .fairness import Fairness, fairness, fairness_curve
-from .field import FieldTable, Flight, field_run, field_run_many
-from .islands import paper_boundary
-from .kam import KamBoundary, kam_boundary
-from .lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
-from .orbitstats import OrbitStatistics, orbit_statistics
-from .poincare import PoincareSection, incidence_angle, poincare_section
-from .rigid3d import Rigid3D, Trajectory3D, simulate_3d
-from .rigidbody import (
+from .analysis.correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
+from .analysis.islands import paper_boundary
+from .analysis.kam import KamBoundary, kam_boundary
+from .analysis.lyapunov import ChaoticFraction, LyapunovResult, chaotic_fraction, lyapunov, lyapunov_many
+from .analysis.orbitstats import OrbitStatistics, orbit_statistics
+from .analysis.poincare import PoincareSection, incidence_angle, poincare_section
+from .billiard.rigidbody import (
     EllipseShape,
     PolygonShape,
     RigidBody,
@@ -26,10 +19,17 @@ from .rigidbody import (
     body_to_billiard,
     simulate_rigid_body,
 )
-from .top import TopFlight, TopTable, top_run
-from .toss import BasinMap, basin_map, heads_fraction
-from .uncertainty import Uncertainty, uncertainty_exponent
-from .wedge import WedgeLyapunov, wedge_lyapunov
+from .billiard.table import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
+from .coin3d.bounced import BounceStudy, same_side_by_bounce
+from .coin3d.caught import PsiFit, dhm_same_side, fit_psi, simulate_caught
+from .coin3d.correlation3d import side_correlation
+from .coin3d.rigid3d import Rigid3D, Trajectory3D, simulate_3d
+from .coin3d.top import TopFlight, TopTable, top_run
+from .floor.fairness import Fairness, fairness, fairness_curve
+from .floor.field import FieldTable, Flight, field_run, field_run_many
+from .floor.toss import BasinMap, basin_map, heads_fraction
+from .floor.uncertainty import Uncertainty, uncertainty_exponent
+from .floor.wedge import WedgeLyapunov, wedge_lyapunov
 
 __all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlation", "EllipseShape", "Fairness",
            "FieldTable", "Flight", "KamBoundary", "LyapunovResult", "OrbitStatistics", "PoincareSection",

@@ -1,7 +1,7 @@
 """The quantum coin: the Dirichlet Laplacian on the billiard strip, periodic in θ.
 
 With η = y/κ the body's Hamiltonian is −(ħ²/2Mκ²)(∂²_θ + ∂²_η): the levels are the eigenvalues λ of −Δ on
-the strip lo(θ) < η < hi(θ) of :class:`coinwall.forward.dynamics.billiard.Billiard` (units 1/κ²;
+the strip lo(θ) < η < hi(θ) of :class:`coinwall.forward.dynamics.billiard.table.Billiard` (units 1/κ²;
 E = ħ²λ/(2Mκ²)).  One module per step: :mod:`.strip` (the domain), :mod:`.mesh`, :mod:`.fem`,
 :mod:`.symmetry`, :mod:`.spectrum` (the result and :func:`quantum_spectrum`), :mod:`.weyl`,
 :mod:`.statistics`, :mod:`.tunnelling`, :mod:`.figures`.  scikit-fem is imported only when a mesh is made.

@@ -4,7 +4,7 @@ With ``η = y/κ`` the body between the walls is a particle in the strip
 
     lo(θ) = b0 + b(θ)  <  η  <  hi(θ) = H − b0 − b(θ + π),        θ periodic with period 2π
 
-(the table of :class:`coinwall.forward.dynamics.billiard.Billiard`, which this module reuses: its
+(the table of :class:`coinwall.forward.dynamics.billiard.table.Billiard`, which this module reuses: its
 ``lower``/``upper`` are ``lo``/``hi`` and its ``area_perimeter`` gives the area and the wall length).
 The width ``w(θ) = hi − lo = H − 2 b0 − b(θ) − b(θ + π)`` is π-periodic, so the narrowest places
 (the *necks*) come in pairs θ_n, θ_n + π.  ``D = H − min w`` is the body's diameter.

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
-from coinwall.forward.dynamics.kernel import CompiledKernel
+from coinwall.forward.dynamics.billiard.kernel import CompiledKernel
 
 
 def log(*text):

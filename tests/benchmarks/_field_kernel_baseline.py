@@ -72,7 +72,7 @@ import numpy as np
 from numba import carray, njit, prange, types
 from numba.extending import intrinsic
 
-__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.field
+__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.floor.field
 
 CACHE = True
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
@@ -80,12 +80,12 @@ OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 def wall_b1(phi, c):
     """Stand-in for the generated ``wall_b1(phi, c) -> (b, b')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
+    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.floor.field")
 
 
 def wall_b2(phi, c):
     """Stand-in for the generated ``wall_b2(phi, c) -> (b, b', b'')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.field")
+    raise NotImplementedError("the kernel runs joined to a wall's generated code: see coinwall.forward.dynamics.floor.field")
 
 
 # ---- field kernel: the text from the line after this one to the end of the file is joined to the wall code ----

@@ -3,7 +3,7 @@
 Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count] [--smoke]
 
 The headline is the kernel against *today's* kernel: ``_kernel_baseline.py`` next to this file is a verbatim
-copy of ``forward/dynamics/_kernel.py`` as it was before the kernel was reworked (one file, its own search),
+copy of ``forward/dynamics/billiard/_kernel.py`` as it was before the kernel was reworked (one file, its own search),
 compiled here the same way against the same wall and cell table (its table has 16 columns, the new one 20: it
 reads only the first 16).  Both run the same orbit in the same process, one thread, alternately for R rounds;
 the time is CPU time (``time.process_time``: a slow phase of the shared machine that takes the CPU away is not
@@ -29,11 +29,11 @@ import time
 import numpy as np
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, random_states, simulate
-from coinwall.forward.dynamics.kernel import _MARKER, HEADER
-from coinwall.forward.dynamics.kernel import compiled as _compiled
-from coinwall.forward.dynamics.reference import sample_bounds as _sample_bounds
-from coinwall.forward.dynamics.wallcode import load_module, seal, wall_source
+from coinwall.forward.dynamics.billiard.kernel import _MARKER, HEADER
+from coinwall.forward.dynamics.billiard.kernel import compiled as _compiled
+from coinwall.forward.dynamics.billiard.reference import sample_bounds as _sample_bounds
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states, simulate
+from coinwall.forward.dynamics.billiard.wallcode import load_module, seal, wall_source
 
 HERE = pathlib.Path(__file__).resolve().parent
 
@@ -196,7 +196,7 @@ def count_work(table, collisions=20_000, seed=1):
     with counters added at fixed lines, so the counts are those of the compiled kernel's
     algorithm (not its timing).
     """
-    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE, SEARCH_SOURCE
+    from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE, SEARCH_SOURCE
 
     source, constants = wall_source(table.wall)
     counts = {"cells": 0, "box_failed": 0, "proxy_steps": 0, "wall_evaluations": 0}
@@ -276,7 +276,7 @@ def ensemble_line(table, collisions, rounds):
     """
     import numba
 
-    from coinwall.forward.dynamics.billiard import ensemble
+    from coinwall.forward.dynamics.billiard.table import ensemble
 
     cores = numba.config.NUMBA_NUM_THREADS
     orbits = 16

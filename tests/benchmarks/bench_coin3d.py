@@ -1,4 +1,4 @@
-"""Benchmark of the spinning-top billiard kernel (coinwall.forward.dynamics.top).
+"""Benchmark of the spinning-top billiard kernel (coinwall.forward.dynamics.coin3d.top).
 
 Run:  python tests/benchmarks/bench_coin3d.py [--impacts N] [--smoke]
 
@@ -8,7 +8,7 @@ Three timings of the same orbits in one process (compile time excluded by a warm
   without gravity, with precession (ℓz = 0.4, ℓ3 = 0.9);
 * its plain-numpy twin (``method="reference"``) and the direct 3-D simulation (rigid3d) on the first
   impacts of the same orbits: the ratios kernel / twin and kernel / 3-D are the headline numbers;
-* the planar limit ℓz = ℓ3 = 0 against the planar field kernel (coinwall.forward.dynamics.field) on the
+* the planar limit ℓz = ℓ3 = 0 against the planar field kernel (coinwall.forward.dynamics.floor.field) on the
   same coin section, a floor with gravity: how much the 3-D generality costs.
 """
 
@@ -16,9 +16,9 @@ import argparse
 import math
 import time
 
-from coinwall.forward.dynamics.field import FieldTable, field_run
-from coinwall.forward.dynamics.rigid3d import Rigid3D, from_reduced, simulate_3d
-from coinwall.forward.dynamics.top import TopTable, top_run
+from coinwall.forward.dynamics.coin3d.rigid3d import Rigid3D, from_reduced, simulate_3d
+from coinwall.forward.dynamics.coin3d.top import TopTable, top_run
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run
 from coinwall.forward.revolution import coin
 from coinwall.forward.wall import Wall
 

@@ -4,12 +4,12 @@ Run:  python tests/benchmarks/bench_correlation.py [--quick] [--orbits 100] [--s
 
 The table.  The paper's coin wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` with ε = 99 (an expression
 wall), diameter D = b(0) + b(π) = 2 (units of κ), H = 1.2 D = 2.4; n counts bottom collisions
-(the default of :func:`coinwall.forward.dynamics.correlation.correlation`), ``max_lag = 40``, ``orbits = 100``.
+(the default of :func:`coinwall.forward.dynamics.analysis.correlation.correlation`), ``max_lag = 40``, ``orbits = 100``.
 
 What is timed.  Every timed run is a fresh Python process (this file re-runs itself with
 ``--child``) that imports coinwall, builds the wall and the table, compiles the kernel, then calls
 ``correlation(table, bounces=N, max_lag=40, orbits=100, seed=1)`` on all cores (``workers=None``).
-"compile/load" is ``coinwall.forward.dynamics.billiard.compile_kernel`` plus one tiny ``ensemble`` call:
+"compile/load" is ``coinwall.forward.dynamics.billiard.table.compile_kernel`` plus one tiny ``ensemble`` call:
 compile_kernel warms only the serial kernel, the parallel one compiles on its first call; numba's
 disk cache makes both a load after the very first run.  "user pays" is the process's whole
 wall-clock time as measured by this parent process (interpreter start, imports, table, the
@@ -31,7 +31,7 @@ by about 1/√(2(k−1)) (0.24 for k = 10), and the lags share orbits, so poolin
 much less than √40.  Nothing is asserted: the ratio is reported.
 
 Baselines in the same run (in this process, warm, median of ``--repeat``, at each answer N):
-the kernel alone (``coinwall.forward.dynamics.billiard.ensemble`` over the same orbits and collisions, no analysis)
+the kernel alone (``coinwall.forward.dynamics.billiard.table.ensemble`` over the same orbits and collisions, no analysis)
 gives the cost of the analysis; ``correlation(..., workers=1)`` gives the parallel speed-up.
 
 ``--smoke``: each step once at 20,000 bounces of 4 orbits, one fresh run (seconds; checks the script, not the numbers).
@@ -57,7 +57,7 @@ LIMIT = 64_000_000  # give up doubling beyond this (would take minutes)
 
 def _table():
     from coinwall.forward import Wall
-    from coinwall.forward.dynamics.billiard import Billiard
+    from coinwall.forward.dynamics.billiard.table import Billiard
 
     wall = Wall.from_expression(COIN, {"eps": EPS})
     diameter = float(wall(0.0)) + float(wall(math.pi))
@@ -67,8 +67,8 @@ def _table():
 def _child(bounces, orbits, seed):
     """Run in a fresh process: print one JSON line with the timings of the stages."""
     start = time.perf_counter()
-    from coinwall.forward.dynamics.billiard import compile_kernel, ensemble, random_states
-    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.dynamics.analysis.correlation import correlation
+    from coinwall.forward.dynamics.billiard.table import compile_kernel, ensemble, random_states
 
     imported = time.perf_counter()
     table, diameter = _table()
@@ -142,7 +142,7 @@ def seed_check(bounces, orbits, seeds):
     """Spread of P(n) between seeds against the reported P_stderr (module docstring)."""
     import numpy as np
 
-    from coinwall.forward.dynamics.correlation import correlation
+    from coinwall.forward.dynamics.analysis.correlation import correlation
 
     table, _ = _table()
     runs = [correlation(table, bounces=bounces, max_lag=MAX_LAG, orbits=orbits, seed=s) for s in range(1, seeds + 1)]
@@ -161,8 +161,8 @@ def baselines(bounces, orbits, repeat):
     """Medians (s) of: the kernel alone, correlation on all cores, correlation on one core (warm, in process)."""
     import numpy as np
 
-    from coinwall.forward.dynamics.billiard import compile_kernel, ensemble, random_states
-    from coinwall.forward.dynamics.correlation import _CHUNK_COLLISIONS, correlation
+    from coinwall.forward.dynamics.analysis.correlation import _CHUNK_COLLISIONS, correlation
+    from coinwall.forward.dynamics.billiard.table import compile_kernel, ensemble, random_states
 
     table, _ = _table()
     compile_kernel(table)

@@ -4,7 +4,7 @@ Run:  python tests/benchmarks/bench_house.py [--smoke] [--orbits 100] [--collisi
 (after ``pip install -e ".[test]"``; ``--smoke`` runs every part at a size of a few seconds).
 
 1. Lyapunov exponents of ``orbits`` Liouville-random orbits of the ellipse wall (ε = 3, H = 3):
-   :func:`coinwall.forward.dynamics.lyapunov.lyapunov_many` (one kernel call per renormalisation round,
+   :func:`coinwall.forward.dynamics.analysis.lyapunov.lyapunov_many` (one kernel call per renormalisation round,
    bookkeeping on arrays) against the baseline, the same method with a Python loop over the orbits in
    every round (tests/benettin_loop.py, the library's implementation before), in the same process on the
    same states, one thread; the time inside the compiled kernel is measured by wrapping
@@ -30,9 +30,9 @@ sys.path.insert(0, os.path.join(ROOT, "tests"))  # the per-orbit loop, tests/ben
 from _clock import KernelClock, log  # noqa: E402
 from benettin_loop import lyapunov_loop  # noqa: E402
 
-from coinwall.forward.dynamics.billiard import Billiard, random_states  # noqa: E402
-from coinwall.forward.dynamics.islands import ELLIPSE_WALL  # noqa: E402
-from coinwall.forward.dynamics.lyapunov import lyapunov_many  # noqa: E402
+from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL  # noqa: E402
+from coinwall.forward.dynamics.analysis.lyapunov import lyapunov_many  # noqa: E402
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states  # noqa: E402
 from coinwall.forward.wall import Wall  # noqa: E402
 
 

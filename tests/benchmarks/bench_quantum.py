@@ -11,7 +11,7 @@ accuracy    The lowest 100 eigenvalues of the ε = 0.55 ellipse at H = 2.5.  Ref
             carry over the parent's peak through fork and exec).
 thousand    1000 levels of the same table (P4, default cells): time and peak memory in a fresh process.
 transition  Poisson → GOE along the ellipse family at H = 2.5: Brody q and KS distances of 400 levels per ε,
-            beside the classical chaotic fraction (coinwall.forward.dynamics.lyapunov.chaotic_fraction,
+            beside the classical chaotic fraction (coinwall.forward.dynamics.analysis.lyapunov.chaotic_fraction,
             100 orbits × 2000 collisions).
 splitting   The lowest doublet's splitting Δλ(H) of the ε = 0.55 ellipse as H → D = 2: direct, flux, WKB.
 figures     docs/figures/quantum-*.png.
@@ -87,8 +87,8 @@ def part_thousand(quick):
 
 
 def part_transition(quick):
-    from coinwall.forward.dynamics.billiard import Billiard
-    from coinwall.forward.dynamics.lyapunov import chaotic_fraction
+    from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction
+    from coinwall.forward.dynamics.billiard.table import Billiard
     from coinwall.forward.quantum import quantum_spectrum
 
     rows = []
@@ -169,8 +169,8 @@ def _smoke():
     """Each part's calls once, at tiny sizes; nothing written outside a temporary folder."""
     import tempfile
 
-    from coinwall.forward.dynamics.billiard import Billiard
-    from coinwall.forward.dynamics.lyapunov import chaotic_fraction
+    from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction
+    from coinwall.forward.dynamics.billiard.table import Billiard
     from coinwall.forward.formats.figure import new_figure
     from coinwall.forward.quantum import doublet_splitting, quantum_spectrum
     from coinwall.forward.quantum.figures import plot_density, plot_orientation

@@ -7,7 +7,7 @@ Parts (each prints its numbers; nothing is asserted, this is a measurement):
 1. Per-cell cost of one chaotic-fraction cell (ellipse wall, ε = 3, H = 3, 100 orbits): Benettin's method
    with a Python loop over orbits in every renormalisation round (tests/benettin_loop.py, the library's
    implementation until it moved into arrays) against
-   :func:`coinwall.forward.dynamics.lyapunov.lyapunov_many` (arrays), and the time spent inside the compiled
+   :func:`coinwall.forward.dynamics.analysis.lyapunov.lyapunov_many` (arrays), and the time spent inside the compiled
    ensemble kernel (``_run_many``, timed by wrapping ``CompiledKernel.call``).  Overhead = cell − kernel.
 2. GIL: the same cells on one worker process with 2 threads against 2 processes of 1 thread (the kernel is
    compiled without ``nogil``; if it held the GIL, 2 threads would take as long as 1).
@@ -34,9 +34,9 @@ from _clock import KernelClock, log  # noqa: E402
 from benettin_loop import lyapunov_loop  # noqa: E402
 
 from coinwall.cases.scan import TableSpec, check_options, compute_cell, scan
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.islands import ELLIPSE_WALL
-from coinwall.forward.dynamics.lyapunov import lyapunov_many
+from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL
+from coinwall.forward.dynamics.analysis.lyapunov import lyapunov_many
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states
 from coinwall.forward.wall import Wall
 
 

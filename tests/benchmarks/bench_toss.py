@@ -10,7 +10,7 @@ the per-round ratios.  Lines: the billiard kernel; the field kernel with g = 0, 
 cost of the field kernel's generality); the field kernel with g = 1, e = 1 and a start energy high enough to
 meet the ceiling (the toss set-up with both walls; the issue's target is this line within 1.5x the billiard);
 and *today's* field kernel on that same flight: ``_field_kernel_baseline.py`` next to this file is a verbatim
-copy of ``forward/dynamics/_field_kernel.py`` before the kernels shared their search, compiled here the same way
+copy of ``forward/dynamics/floor/_field_kernel.py`` before the kernels shared their search, compiled here the same way
 (it reads the first 16 columns of the cell table).
 """
 
@@ -21,10 +21,10 @@ import time
 
 import numpy as np
 
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.field import _MARKER, FieldTable, _kernel, field_run
-from coinwall.forward.dynamics.kernel import HEADER, compiled
-from coinwall.forward.dynamics.wallcode import load_module, seal, wall_source
+from coinwall.forward.dynamics.billiard.kernel import HEADER, compiled
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states
+from coinwall.forward.dynamics.billiard.wallcode import load_module, seal, wall_source
+from coinwall.forward.dynamics.floor.field import _MARKER, FieldTable, _kernel, field_run
 
 HERE = pathlib.Path(__file__).resolve().parent
 

@@ -31,8 +31,8 @@ def child(collisions, addresses):
     from bench_billiard import _cpu_run, today_args, today_module
 
     from coinwall.cases.ellipse import ellipse_wall
-    from coinwall.forward.dynamics.billiard import Billiard, random_states
-    from coinwall.forward.dynamics.kernel import compiled
+    from coinwall.forward.dynamics.billiard.kernel import compiled
+    from coinwall.forward.dynamics.billiard.table import Billiard, random_states
 
     table = Billiard(ellipse_wall(99.0), 3.0)
     comp = compiled(table)

@@ -7,10 +7,10 @@ Run:  python tests/benchmarks/kam_sensitivity.py [--quick] [--H 2,3]
 Full run: ~6 min per H value on 2 shared cores (default H = 2,3: 656 s wall, 930 s CPU); ``--quick`` (smaller samples,
 coarser bisection) ~1 min per H, for checking that the script runs, not for numbers.
 
-The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.islands.ELLIPSE_WALL``).
-The criterion of :func:`coinwall.forward.dynamics.kam.kam_boundary`: ``orbits`` Liouville-random orbits, each classified
+The table is the paper's ellipse wall ``sqrt((1+eps*cos(t)**2)/(1+eps))`` (``coinwall.forward.dynamics.analysis.islands.ELLIPSE_WALL``).
+The criterion of :func:`coinwall.forward.dynamics.analysis.kam.kam_boundary`: ``orbits`` Liouville-random orbits, each classified
 regular when its Lyapunov exponent per collision over N = ``collisions`` collisions is ≤ 3 ln N / N
-(:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`); fully chaotic when the regular fraction is < ``regular_max``.
+(:func:`coinwall.forward.dynamics.analysis.lyapunov.chaotic_fraction`); fully chaotic when the regular fraction is < ``regular_max``.
 
 Parts (each prints a markdown table):
 
@@ -34,7 +34,7 @@ Parts (each prints a markdown table):
    g = 1) and it turns unstable.  In between, a linearly stable periodic orbit is generically
    surrounded by KAM curves (Moser's twist theorem), i.e. a regular island of positive measure, so
    the true boundary of "no regular region at all" is at least ε**(H).  Checked numerically: the
-   tilted orbit returns to itself after 2 collisions; :func:`coinwall.forward.dynamics.lyapunov.lyapunov` on the orbit
+   tilted orbit returns to itself after 2 collisions; :func:`coinwall.forward.dynamics.analysis.lyapunov.lyapunov` on the orbit
    and 0.003 beside it is ≤ 3 ln N/N inside the window, and matches arccosh|g| outside it.
 1. Sensitivity of ε_c to the sampling: ``kam_boundary`` with a wide bracket (the regular fraction is
    not monotonic in ε, and at H = 2 regular orbits are found at ε = 12) and 7 bisection steps,
@@ -48,7 +48,7 @@ Parts (each prints a markdown table):
 2. The regular fraction on a grid of ε from 0.9 ε* to 1.4 ε** with the strictest sampling (400 orbits
    × 5000 collisions, seed 0), the paper's ε = 1/H + 17/H² included: fraction ± binomial stderr (so ε_c
    for any regular_max can be read off), and the mean θ_c of each regular orbit's bottom-wall section
-   (:func:`coinwall.forward.dynamics.poincare.poincare_section`) against the tilted orbit's θ_c = π/2 ± δ (mod π).
+   (:func:`coinwall.forward.dynamics.analysis.poincare.poincare_section`) against the tilted orbit's θ_c = π/2 ± δ (mod π).
 3. Artefact check: orbits classified regular, and borderline ones (λ up to 10× the threshold), at
    the paper's ε, at the largest grid ε with a regular orbit, and at the last ε where the default
    bisection (seed 0) found a regular orbit, are rerun 10× longer; an orbit stays regular if λ over
@@ -75,11 +75,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
-from coinwall.forward.dynamics.billiard import Billiard, simulate  # noqa: E402
-from coinwall.forward.dynamics.islands import ELLIPSE_WALL, paper_boundary  # noqa: E402
-from coinwall.forward.dynamics.kam import kam_boundary  # noqa: E402
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many  # noqa: E402
-from coinwall.forward.dynamics.poincare import poincare_section  # noqa: E402
+from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL, paper_boundary  # noqa: E402
+from coinwall.forward.dynamics.analysis.kam import kam_boundary  # noqa: E402
+from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many  # noqa: E402
+from coinwall.forward.dynamics.analysis.poincare import poincare_section  # noqa: E402
+from coinwall.forward.dynamics.billiard.table import Billiard, simulate  # noqa: E402
 from coinwall.forward.wall import Wall  # noqa: E402
 
 BRACKETS = {2.0: (2.0, 100.0), 3.0: (1.0, 30.0), 8.0: (0.2, 2.0)}

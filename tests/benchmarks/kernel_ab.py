@@ -2,7 +2,7 @@
 
 Run:  python tests/benchmarks/kernel_ab.py REV_A REV_B [--collisions N] [--rounds R]
 
-For work on the kernel: the texts of ``forward/dynamics/_kernel.py`` and ``_search.py`` at each revision (``git
+For work on the kernel: the texts of ``forward/dynamics/billiard/_kernel.py`` and ``_search.py`` at each revision (``git
 show``; a revision is anything git names: a commit, a branch, ``HEAD``) are compiled against the coin's wall (ε =
 99) like the kernel and run on the same orbit at H = 3, alternately for R rounds, after one warm-up run each.  It
 prints the median ns per collision of each and the median of the per-round ratios B / A.  On this shared machine a
@@ -18,29 +18,37 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-FILES = ("forward/dynamics/_kernel.py", "forward/dynamics/_search.py")
+# the kernel's room, and where its files lay before forward/dynamics/ was divided into rooms
+FOLDERS = ("forward/dynamics/billiard", "forward/dynamics")
 
 
-def _git(*args):
-    done = subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, text=True)
-    if done.returncode != 0:
-        raise SystemExit(f"kernel_ab: git {' '.join(args)}: {done.stderr.strip() or 'failed'}")
-    return done.stdout
+def _show(revision, name):
+    """The text of the kernel file ``name`` at ``revision``, wherever the kernel's room was then."""
+    for folder in FOLDERS:
+        done = subprocess.run(["git", "-C", str(ROOT), "show", f"{revision}:{folder}/{name}"], capture_output=True,
+                              text=True)
+        if done.returncode == 0:
+            return done.stdout
+    raise SystemExit(f"kernel_ab: {revision} has no {name} in {' or '.join(FOLDERS)}")
+
+
+def _code(text):
+    """A module's text without its relative imports (they changed when the kernel moved into its room)."""
+    return [line for line in text.splitlines() if not line.startswith("from .")]
 
 
 def kernel_text(revision):
     """The compiled part of the kernel and the search at ``revision``: the search's text, then the kernel's."""
-    from coinwall.forward.dynamics.kernel import _MARKER, _SEARCH_MARKER
+    from coinwall.forward.dynamics.billiard.kernel import _MARKER, _SEARCH_MARKER
 
     if subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{revision}^{{commit}}"],
                       capture_output=True).returncode != 0:
         raise SystemExit(f"kernel_ab: {revision!r} names no commit of this repository")
-    if subprocess.run(["git", "-C", str(ROOT), "diff", "--quiet", revision, "--", "forward/dynamics/cellbounds.py"]
-                      ).returncode != 0:
+    if _code(_show(revision, "cellbounds.py")) != _code((ROOT / FOLDERS[0] / "cellbounds.py").read_text(encoding="utf-8")):
         raise SystemExit(f"kernel_ab: {revision} has another cellbounds.py than the working tree: its kernel "
                          "would read a cell table it was not written for")
-    kernel = _git("show", f"{revision}:{FILES[0]}").partition(_MARKER)[2]
-    search = _git("show", f"{revision}:{FILES[1]}").partition(_SEARCH_MARKER)[2]
+    kernel = _show(revision, "_kernel.py").partition(_MARKER)[2]
+    search = _show(revision, "_search.py").partition(_SEARCH_MARKER)[2]
     if not kernel or not search:
         raise SystemExit(f"kernel_ab: {revision}'s kernel files have no marker line")
     return search + kernel
@@ -58,9 +66,9 @@ def main(argv=None):
     from bench_billiard import _cpu_run
 
     from coinwall.cases.ellipse import ellipse_wall
-    from coinwall.forward.dynamics.billiard import Billiard, random_states
-    from coinwall.forward.dynamics.kernel import HEADER, compiled
-    from coinwall.forward.dynamics.wallcode import load_module, seal, wall_source
+    from coinwall.forward.dynamics.billiard.kernel import HEADER, compiled
+    from coinwall.forward.dynamics.billiard.table import Billiard, random_states
+    from coinwall.forward.dynamics.billiard.wallcode import load_module, seal, wall_source
 
     table = Billiard(ellipse_wall(99.0), 3.0)
     run_args = compiled(table).args(table)

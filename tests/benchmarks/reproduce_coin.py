@@ -20,8 +20,8 @@ import math
 import time
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard
-from coinwall.forward.dynamics.correlation import correlation, fit_tau_law
+from coinwall.forward.dynamics.analysis.correlation import correlation, fit_tau_law
+from coinwall.forward.dynamics.billiard.table import Billiard
 
 EPS = 99.0
 WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))/k"

@@ -4,8 +4,8 @@ Run:  PYTHONPATH=. python tests/benchmarks/reproduce_coin3d.py [--smoke]
 
 The body is the ellipsoid of revolution with semi-axes 1 (across) and 0.1 (along the axis, the coin's
 normal): its meridian section is the paper's ε = 99 ellipse, in units of the ellipsoid's κ₁.  For
-H = 1.2, 1.5, 2 D the planar P(n) of the section (coinwall.forward.dynamics.correlation, 40 orbits, 400,000
-bottom collisions) is printed beside the 3-D coin's (coinwall.forward.dynamics.correlation3d, the same 40
+H = 1.2, 1.5, 2 D the planar P(n) of the section (coinwall.forward.dynamics.analysis.correlation, 40 orbits, 400,000
+bottom collisions) is printed beside the 3-D coin's (coinwall.forward.dynamics.coin3d.correlation3d, the same 40
 Liouville-random starts, 25,000 impacts each) at ℓz = ℓ3 = 0, 0.2, 0.5 rad/s (speed 1 in (θ, η)).  The numbers
 are in docs/coin3d.md.
 """
@@ -15,10 +15,10 @@ import time
 
 import numpy as np
 
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.correlation import correlation
-from coinwall.forward.dynamics.correlation3d import side_correlation
-from coinwall.forward.dynamics.top import TopTable
+from coinwall.forward.dynamics.analysis.correlation import correlation
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states
+from coinwall.forward.dynamics.coin3d.correlation3d import side_correlation
+from coinwall.forward.dynamics.coin3d.top import TopTable
 from coinwall.forward.revolution import ellipsoid
 from coinwall.forward.wall import Wall
 

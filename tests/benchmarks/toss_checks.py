@@ -15,10 +15,10 @@ import time
 import numpy as np
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.fairness import fairness, plot_fairness
-from coinwall.forward.dynamics.field import FieldTable
-from coinwall.forward.dynamics.uncertainty import plot_uncertainty, uncertainty_exponent
-from coinwall.forward.dynamics.wedge import plot_wedge, wedge_lyapunov
+from coinwall.forward.dynamics.floor.fairness import fairness, plot_fairness
+from coinwall.forward.dynamics.floor.field import FieldTable
+from coinwall.forward.dynamics.floor.uncertainty import plot_uncertainty, uncertainty_exponent
+from coinwall.forward.dynamics.floor.wedge import plot_wedge, wedge_lyapunov
 from coinwall.forward.formats.figure import figure_bytes
 
 COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from coinwall.cases.bartos import bartos_counts, bartos_fits
-from coinwall.forward.dynamics.caught import (
+from coinwall.forward.dynamics.coin3d.caught import (
     dhm_same_side,
     fit_psi,
     psi_from_same_side,

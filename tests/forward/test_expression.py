@@ -4,7 +4,6 @@ import math
 import re
 
 import casadi as ca
-
 import numpy as np
 import pytest
 from hypothesis import given, settings

@@ -68,7 +68,7 @@ def test_steep_but_finite_walls_pass(text):
 def test_every_path_benefits_critical_solve_and_the_billiard():
     """The check lives in Wall construction, which critical, solve, fit (samples), wall --polar and the
     billiard's wall all go through."""
-    from coinwall.forward.dynamics.billiard import Billiard
+    from coinwall.forward.dynamics.billiard.table import Billiard
 
     for build in (lambda: critical_offset(Wall.from_expression("2+tan(t)")),
                   lambda: solve_body(Wall.from_expression(NAN_WALL), 0.0, points=2000),

@@ -337,7 +337,7 @@ TINY = "from numba import njit\n\n\n@njit(cache=CACHE)\ndef shift(x):\n    retur
 
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
-    from coinwall.forward.dynamics import wallcode
+    from coinwall.forward.dynamics.billiard import wallcode
 
     monkeypatch.setenv("COINWALL_CACHE_DIR", str(tmp_path / "cache"))
     monkeypatch.setattr(wallcode, "_MODULES", {})

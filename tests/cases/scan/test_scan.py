@@ -28,9 +28,9 @@ from coinwall.cases.scan import (
     scan,
 )
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, random_states
-from coinwall.forward.dynamics.islands import ELLIPSE_WALL, eps_star, eps_star_star
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction, lyapunov_many
+from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL, eps_star, eps_star_star
+from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction, lyapunov_many
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states
 from coinwall.forward.errors import InvalidArgument
 
 TABLE = TableSpec(ELLIPSE_WALL)

@@ -11,10 +11,10 @@ import pytest
 
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard
-from coinwall.forward.dynamics.correlation import correlation, fit_tau_law, heads
-from coinwall.forward.dynamics.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many
-from coinwall.forward.dynamics.poincare import incidence_angle, poincare_section
+from coinwall.forward.dynamics.analysis.correlation import correlation, fit_tau_law, heads
+from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction, default_threshold, lyapunov, lyapunov_many
+from coinwall.forward.dynamics.analysis.poincare import incidence_angle, poincare_section
+from coinwall.forward.dynamics.billiard.table import Billiard
 from coinwall.forward.errors import InvalidArgument
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
@@ -26,8 +26,8 @@ def ellipse(eps, H):
 
 # ---------------------------------------------------------------------------------------------------- heads
 def test_heads_convention_matches_rigid_body_axis():
-    """heads ⇔ arrow x-component −sin θ > 0 (module docstring of coinwall.forward.dynamics.correlation; ψ = −θ − π/2 in rigidbody)."""
-    from coinwall.forward.dynamics.rigidbody import billiard_to_body
+    """heads ⇔ arrow x-component −sin θ > 0 (module docstring of coinwall.forward.dynamics.analysis.correlation; ψ = −θ − π/2 in rigidbody)."""
+    from coinwall.forward.dynamics.billiard.rigidbody import billiard_to_body
 
     theta = np.array([0.3, 1.0, 2.0, 3.5, 4.5, 6.0])
     body = billiard_to_body(np.column_stack([theta, np.ones_like(theta), np.zeros_like(theta), np.ones_like(theta)]))
@@ -104,7 +104,7 @@ def test_section_in_groups_equals_one_ensemble_and_reports_progress(monkeypatch)
     Reference: the same call with every orbit in one ``ensemble`` call (a chunk larger than the
     whole run). Each orbit is computed from its own start state, so grouping must not change a bit.
     """
-    import coinwall.forward.dynamics.poincare as poincare
+    import coinwall.forward.dynamics.analysis.poincare as poincare
 
     table = Billiard(Wall.from_expression("1 + 0.2*cos(t) + 0.1*sin(2*t)", {}), 3.0)
     whole = poincare_section(table, 5, 400, seed=2)
@@ -152,7 +152,7 @@ def test_lyapunov_regular_near_stable_orbit_vs_chaotic_stick():
     regular = lyapunov(ellipse(0.003, 3.0), [math.pi / 2, 1.5, 0.03, 1.0], collisions=N)
     assert regular.per_collision[0] < default_threshold(N)
     stick = Billiard(Wall.from_expression("abs(cos(t))", {}), 2.2)
-    from coinwall.forward.dynamics.billiard import random_states
+    from coinwall.forward.dynamics.billiard.table import random_states
 
     chaotic = lyapunov_many(stick, random_states(stick, 4, seed=3), collisions=N)
     assert np.all(chaotic.per_collision > 10 * default_threshold(N))

@@ -18,8 +18,8 @@ import pytest
 from scipy.integrate import quad
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard import Billiard, ensemble, random_states, simulate
-from coinwall.forward.dynamics.wallcode import python_wall
+from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states, simulate
+from coinwall.forward.dynamics.billiard.wallcode import python_wall
 from coinwall.forward.errors import CoinwallError, InvalidArgument, InvalidWall
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
@@ -386,7 +386,7 @@ def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
     """The kernel skips time intervals using b ≤ p_j + e_j (quintic proxy per cell) and b ≤ bmax_j.
     Check both on a grid the bounds were not built from (random points, 200 per cell), with the
     wall evaluated by Wall.__call__ (casadi / Fourier backend), not by the kernel's code."""
-    from coinwall.forward.dynamics.cellbounds import cell_bounds as _cell_bounds
+    from coinwall.forward.dynamics.billiard.cellbounds import cell_bounds as _cell_bounds
 
     wall = WALLS[name][0]
     bd = _cell_bounds(wall)

@@ -1,9 +1,9 @@
 """The coin in three dimensions: bodies of revolution, the spinning top's billiard, the direct 3-D simulation.
 
 Reference values: the closed forms of the cylinder and the ellipsoid (derived in forward/revolution.py) are
-held to independent quadratures written here; the reduced billiard (forward/dynamics/top.py) is held to
-its plain-numpy twin, to the direct 3-D simulation (forward/dynamics/rigid3d.py, which never uses the
-reduction) and, in the planar limit ℓz = ℓ3 = 0, to the planar field billiard (forward/dynamics/field.py).
+held to independent quadratures written here; the reduced billiard (forward/dynamics/coin3d/top.py) is held to
+its plain-numpy twin, to the direct 3-D simulation (forward/dynamics/coin3d/rigid3d.py, which never uses the
+reduction) and, in the planar limit ℓz = ℓ3 = 0, to the planar field billiard (forward/dynamics/floor/field.py).
 """
 
 import math
@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from coinwall.forward.dynamics.field import FieldTable, field_run
-from coinwall.forward.dynamics.rigid3d import Rigid3D, from_reduced, simulate_3d, to_reduced
-from coinwall.forward.dynamics.top import TopTable, energy, potential, state_after, top_run
+from coinwall.forward.dynamics.coin3d.rigid3d import Rigid3D, from_reduced, simulate_3d, to_reduced
+from coinwall.forward.dynamics.coin3d.top import TopTable, energy, potential, state_after, top_run
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.revolution import coin, ellipsoid, from_meridian
 from coinwall.forward.wall import Wall
@@ -282,7 +282,7 @@ def test_to_reduced_round_trip():
 def test_bounce_sides_match_single_orbits_and_settled_coins_keep_their_side():
     """The parallel bounce statistics against single orbits of the same tosses, and the equator's barrier:
     a toss marked settled, followed 300 impacts further, never shows the other side."""
-    from coinwall.forward.dynamics.top import sides_at_bounces
+    from coinwall.forward.dynamics.coin3d.top import sides_at_bounces
 
     body = coin(1.0, 0.15)
     table = TopTable(body, g=50.0, e=0.5)
@@ -311,7 +311,7 @@ def _section_starts(H, n, seed):
     """Liouville-random starts of the planar ε = 99 ellipse section, as 3-D states of the ellipsoid (a = 1,
     c = 0.1): the planar angle θp (from the downward normal to the long axis) gives the normal's tilt
     cos θ = −sin θp (the normal is the long axis turned by 90°)."""
-    from coinwall.forward.dynamics.billiard import Billiard, random_states
+    from coinwall.forward.dynamics.billiard.table import Billiard, random_states
 
     body = ellipsoid(1.0, 0.1)
     wall = Wall.from_expression("sqrt(a**2*cos(t)**2 + c**2*sin(t)**2)/k", {"a": 1.0, "c": 0.1, "k": body.kappa1})
@@ -323,7 +323,7 @@ def _section_starts(H, n, seed):
 
 
 def test_side_correlation_plateau_and_bias():
-    from coinwall.forward.dynamics.correlation3d import side_correlation
+    from coinwall.forward.dynamics.coin3d.correlation3d import side_correlation
 
     body, _, states = _section_starts(1.5 * 2 / ellipsoid(1.0, 0.1).kappa1, 6, 3)
     table = TopTable(body, g=0.0, e=1.0, H=1.5 * 2 / body.kappa1)
@@ -340,8 +340,8 @@ def test_side_correlation_plateau_and_bias():
 @pytest.mark.slow
 def test_side_correlation_planar_limit_is_the_papers_correlation():
     """ℓz = ℓ3 = 0: the 3-D ellipsoid's side-up P(n) is the planar P(n) of its section (the paper's heads)."""
-    from coinwall.forward.dynamics.correlation import correlation
-    from coinwall.forward.dynamics.correlation3d import side_correlation
+    from coinwall.forward.dynamics.analysis.correlation import correlation
+    from coinwall.forward.dynamics.coin3d.correlation3d import side_correlation
 
     H = 1.5 * 2 / ellipsoid(1.0, 0.1).kappa1
     body, bil, states = _section_starts(H, 30, 1)

@@ -115,8 +115,8 @@ def test_kernel_is_a_real_module_and_its_tail_is_what_is_compiled():
     """``_kernel.py`` imports on its own (stubs for the wall functions) and the compiled text is its tail."""
     from pathlib import Path
 
-    import coinwall.forward.dynamics._kernel as source
-    from coinwall.forward.dynamics.kernel import KERNEL_SOURCE
+    import coinwall.forward.dynamics.billiard._kernel as source
+    from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
 
     assert callable(source._run) and callable(source.wall_b1)
     assert Path(source.__file__).read_text(encoding="utf-8").endswith(KERNEL_SOURCE)

@@ -26,9 +26,10 @@ import pytest
 
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
-from coinwall.forward.dynamics import orbitstats, wallcode
-from coinwall.forward.dynamics.billiard import Billiard, random_states, simulate
-from coinwall.forward.dynamics.kernel import NOTES, compiled, run
+from coinwall.forward.dynamics.analysis import orbitstats
+from coinwall.forward.dynamics.billiard import wallcode
+from coinwall.forward.dynamics.billiard.kernel import NOTES, compiled, run
+from coinwall.forward.dynamics.billiard.table import Billiard, random_states, simulate
 from coinwall.forward.errors import InvalidArgument
 
 COIN = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99})
@@ -173,7 +174,7 @@ def test_kernel_in_memory_gives_the_same_numbers(tmp_path, monkeypatch, capsys):
 
 _LOAD_TINY = """
 import sys
-from coinwall.forward.dynamics import wallcode
+from coinwall.forward.dynamics.billiard import wallcode
 module = wallcode.load_module(sys.argv[1], "coinwall_test_race")
 print(module.shift(1.0))
 wallcode.seal(module)
@@ -318,7 +319,7 @@ def test_billiard_refuses_heights_outside_the_float64_range(H, b0, needle):
 def test_random_states_has_a_budget(monkeypatch):
     """A strip open only on a sliver narrower than the sampling grid (the grid's estimate of the inside,
     2e-4 of the box, is 100 times the truth): a message naming an H that works, not an endless loop."""
-    from coinwall.forward.dynamics import billiard
+    from coinwall.forward.dynamics.billiard import table as billiard
 
     monkeypatch.setattr(billiard, "_DRAW_BUDGET_MIN", 1e4)
     table = Billiard(COIN, 0.2 + 2e-9)

@@ -13,9 +13,9 @@ import pytest
 
 from coinwall.forward import Wall
 from coinwall.forward.angles import TWO_PI
-from coinwall.forward.dynamics.billiard import Billiard, simulate
-from coinwall.forward.dynamics.cellbounds import cell_bounds, concave_runs
-from coinwall.forward.dynamics.field import FieldTable, field_run
+from coinwall.forward.dynamics.billiard.cellbounds import cell_bounds, concave_runs
+from coinwall.forward.dynamics.billiard.table import Billiard, simulate
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run
 
 COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 CORNERS = "1.5*abs(cos(t)) + 0.3*abs(sin(t))"

@@ -1,8 +1,8 @@
-"""The direct rigid-body simulation (forward/dynamics/rigidbody.py) and its cross-check against the billiard.
+"""The direct rigid-body simulation (forward/dynamics/billiard/rigidbody.py) and its cross-check against the billiard.
 
 Part A tests the rigid-body simulator on its own (invariants, the paper's
 closed-form impulse, units, input checks).  Part B holds it to the billiard of
-forward/dynamics/billiard.py: the paper's theorem (sections II A–B, eq. 2–8 and 13),
+forward/dynamics/billiard/table.py: the paper's theorem (sections II A–B, eq. 2–8 and 13),
 derived for this project's conventions in docs/equivalence.md.
 """
 
@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from coinwall.forward.dynamics.rigidbody import (
+from coinwall.forward.dynamics.billiard.rigidbody import (
     EllipseShape,
     PolygonShape,
     RigidBody,
@@ -32,7 +32,7 @@ EGG = EllipseShape(1.0, 0.9, centre=(0.05, -0.03))                # off-centre: 
 SHAPES = {"stick": STICK, "ellipse": ELLIPSE, "triangle": PolygonShape(TRIANGLE), "egg": EGG}
 
 # Billiard walls written from the closed-form support functions of the same bodies
-# (not from forward/dynamics/rigidbody.py): b(θ) = max_i p_i·(cos θ, sin θ) for a vertex list (the stick:
+# (not from forward/dynamics/billiard/rigidbody.py): b(θ) = max_i p_i·(cos θ, sin θ) for a vertex list (the stick:
 # |cos θ|, paper eq. 5), the paper's eq. 18 for the ellipse, and for an ellipse with centre c:
 # sqrt(a² cos²θ + b² sin²θ) + c·(cos θ, sin θ).
 WALLS = {
@@ -216,9 +216,9 @@ def test_bad_input_raises(make):
 
 # ====================================================================== Part B: against the billiard
 def _billiard_module():
-    """coinwall.forward.dynamics.billiard if it exposes the contract's Billiard and simulate, else None."""
+    """coinwall.forward.dynamics.billiard.table if it exposes the contract's Billiard and simulate, else None."""
     try:
-        module = importlib.import_module("coinwall.forward.dynamics.billiard")
+        module = importlib.import_module("coinwall.forward.dynamics.billiard.table")
     except ImportError:
         return None
     if not (hasattr(module, "Billiard") and hasattr(module, "simulate")):
@@ -228,7 +228,7 @@ def _billiard_module():
 
 billiard = _billiard_module()
 needs_billiard = pytest.mark.skipif(
-    billiard is None, reason="forward/dynamics/billiard.py does not (yet) expose Billiard and simulate")
+    billiard is None, reason="forward/dynamics/billiard/table.py does not (yet) expose Billiard and simulate")
 
 
 def _compare(name, H, start, collisions, restart, method):

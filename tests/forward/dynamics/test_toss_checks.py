@@ -1,7 +1,7 @@
 """The toss that lands, checked against independent references: the direct rigid-body simulation in gravity,
 the fairness of a bouncing toss, and the uncertainty exponent of the basin boundary.
 
-References that do not share the code under test: forward/dynamics/rigidbody.py (the body's own outline, the
+References that do not share the code under test: forward/dynamics/billiard/rigidbody.py (the body's own outline, the
 lab impulse at the contact point, its own certified collision search) for the field kernel; closed forms
 derived in the docstrings for the fairness and the exponent.
 """
@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.field import FieldTable, field_run
-from coinwall.forward.dynamics.rigidbody import (
+from coinwall.forward.dynamics.billiard.rigidbody import (
     EllipseShape,
     PolygonShape,
     RigidBody,
     body_to_billiard,
     simulate_rigid_body,
 )
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run
 
 # The bodies, and their walls written from the closed-form support functions (b = h/κ), not from rigidbody.py:
 # a vertex list has h(θ) = max_i p_i·(cos θ, sin θ); the ellipse x²/a² + y²/b² = 1 with a = κ, b = κ/sqrt(1+ε)
@@ -122,8 +122,8 @@ def test_fairness_follows_the_uninterrupted_kernel_toss_by_toss():
     free time) is the valley of the n-th impact of one uninterrupted ``field_run`` of the same toss (or its
     settled outcome), for 300 tosses and n ≤ 10 (rounding differences grow ~4× per impact: 1e-16·4¹⁰ ≈ 1e-10,
     far from deciding a valley)."""
-    from coinwall.forward.dynamics.fairness import fairness
-    from coinwall.forward.dynamics.toss import launch_states
+    from coinwall.forward.dynamics.floor.fairness import fairness
+    from coinwall.forward.dynamics.floor.toss import launch_states
 
     coin = Wall.from_expression(COIN, {"eps": 99.0})
     table = FieldTable(coin, g=1.0, e=0.6)
@@ -156,7 +156,7 @@ def test_fairness_of_the_caught_thin_coin_is_kellers():
     """n = 1 for a thin coin caught at the floor (the ε = 99 ellipse scaled to semi-axes 1e-4 and 1e-5,
     launched flat just above the floor): heads exactly when ω v/g is within π/4 of a multiple of π (Keller), for
     the same Gaussian draws, except for draws within 1% of a boundary (the coin's size moves it by ≤ 2e-3)."""
-    from coinwall.forward.dynamics.fairness import fairness
+    from coinwall.forward.dynamics.floor.fairness import fairness
 
     wall = Wall.from_expression(COIN, {"eps": 99.0}).scaled(1e-4)
     table = FieldTable(wall, g=1.0, e=0.5)
@@ -177,7 +177,7 @@ def test_bounces_randomise_the_toss():
     """The caught toss (n = 1) is biased for this hand; with e = 0.9 the bias after 30 floor bounces is zero
     within its error and the toss is fair to 0.01 from some bounce on; ``fair_after`` refuses to claim 0.001
     with 20 000 tosses (its 2σ band is 0.007)."""
-    from coinwall.forward.dynamics.fairness import fairness
+    from coinwall.forward.dynamics.floor.fairness import fairness
 
     coin = Wall.from_expression(COIN, {"eps": 99.0})
     result = fairness(FieldTable(coin, g=1.0, e=0.9), (2.0, 5.0), (0.05, 0.2), 1.2, bounces=30, samples=20_000)
@@ -208,7 +208,7 @@ def test_uncertainty_exponent_of_the_smooth_keller_boundary_is_one():
     f(ε) = (4/π) L ε with L their length in the scaled box (the uncertainty module's docstring): each count
     within 3 of its Poisson standard deviations √(expected) of N·(4/π)Lε (ε ≤ 3e-3, a thirtieth of the
     curves' smallest spacing, where the O(ε²) terms are below 1%)."""
-    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
 
     wall = Wall.from_expression(COIN, {"eps": 99.0}).scaled(1e-4)
     table = FieldTable(wall, g=1.0, e=0.5)
@@ -222,7 +222,7 @@ def test_uncertainty_exponent_of_the_smooth_keller_boundary_is_one():
 
 def test_uncertainty_exponent_of_the_bouncing_toss_is_fractal():
     """With bounces (e = 0.6) the boundary is far from smooth on these scales: α well below 1."""
-    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
 
     coin = Wall.from_expression(COIN, {"eps": 99.0})
     result = uncertainty_exponent(FieldTable(coin, g=1.0, e=0.6), (0.0, 3.0), (0.0, 8.0), 1.2,
@@ -254,7 +254,7 @@ def test_toss_scan_cells_are_heads_fraction(tmp_path):
     pytest.importorskip("zarr")
     from coinwall.cases.scan import TableSpec, scan
     from coinwall.cases.scan.grid import cell_seed
-    from coinwall.forward.dynamics.toss import heads_fraction
+    from coinwall.forward.dynamics.floor.toss import heads_fraction
 
     spec = TableSpec(COIN, (("eps", 99.0),))
     store = str(tmp_path / "toss.zarr")
@@ -274,8 +274,8 @@ def test_toss_scan_cells_are_heads_fraction(tmp_path):
 
 
 def test_bad_toss_inputs_are_refused(tmp_path):
-    from coinwall.forward.dynamics.fairness import fairness
-    from coinwall.forward.dynamics.uncertainty import uncertainty_exponent
+    from coinwall.forward.dynamics.floor.fairness import fairness
+    from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
     from coinwall.forward.errors import InvalidArgument
 
     coin = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=0.6)
@@ -309,7 +309,7 @@ def test_toss_scan_checks_its_grid_before_any_store_and_records_e(tmp_path, caps
 
     from coinwall.cases.cli.main import main
     from coinwall.cases.scan.table import DEFAULT_RESTITUTION
-    from coinwall.forward.dynamics.toss import heads_fraction
+    from coinwall.forward.dynamics.floor.toss import heads_fraction
 
     base = ["scan", "toss", COIN, "--param", "eps=99", "--tosses", "50", "--scheduler", "synchronous"]
     for extra, needle in [(["--param", "restitution=0.5,1.5", "--H", "1.2"], "restitution must be in (0, 1]"),
@@ -334,7 +334,7 @@ def test_toss_scan_checks_its_grid_before_any_store_and_records_e(tmp_path, caps
 
 
 def test_basin_map_csv_holds_plain_numbers():
-    from coinwall.forward.dynamics.toss import basin_map
+    from coinwall.forward.dynamics.floor.toss import basin_map
 
     table = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=1.0)
     text = basin_map(table, np.linspace(0.5, 1.0, 2), np.linspace(1.0, 2.0, 2), 1.2, catch=True).to_csv()
@@ -347,7 +347,7 @@ def test_a_caught_basin_map_has_no_bounce_panel():
     so the figure has the outcome only; a bouncing toss keeps both panels (and the bounces' colour bar)."""
     import matplotlib.pyplot as plt
 
-    from coinwall.forward.dynamics.toss import basin_map
+    from coinwall.forward.dynamics.floor.toss import basin_map
 
     table = FieldTable(Wall.from_expression(COIN, {"eps": 99.0}), g=1.0, e=0.6)
     grid = (np.linspace(0.5, 1.0, 3), np.linspace(1.0, 2.0, 3), 1.2)
@@ -360,7 +360,7 @@ def test_a_caught_basin_map_has_no_bounce_panel():
 
 def test_a_disc_has_no_outcome():
     """b constant: every angle is a rest state; the toss used to report 'rest θ=0' after one impact."""
-    from coinwall.forward.dynamics.toss import launch_states
+    from coinwall.forward.dynamics.floor.toss import launch_states
     from coinwall.forward.errors import InvalidArgument
 
     with pytest.raises(InvalidArgument, match="no valleys"):

@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from coinwall.forward.dynamics.field import FieldTable, field_run
-from coinwall.forward.dynamics.wedge import (
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run
+from coinwall.forward.dynamics.floor.wedge import (
     WEDGE_CAP,
     wedge_flight,
     wedge_lyapunov,

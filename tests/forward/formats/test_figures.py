@@ -245,7 +245,7 @@ def test_quantum_cli_figure_and_splittings_name_the_wall(spectrum):
 # ------------------------------------------------------------------------------------------------ scans
 def _store(eps_values, H_values):
     xr = pytest.importorskip("xarray")
-    from coinwall.forward.dynamics.islands import ELLIPSE_WALL
+    from coinwall.forward.dynamics.analysis.islands import ELLIPSE_WALL
 
     shape = (len(eps_values), len(H_values))
     values = np.linspace(0.1, 0.9, shape[0] * shape[1]).reshape(shape)

@@ -2,7 +2,7 @@
 
 Criterion (stated, adjustable): at a given (ε, H), ``orbits`` Liouville-random
 orbits are classified by their largest Lyapunov exponent
-(:func:`coinwall.forward.dynamics.lyapunov.chaotic_fraction`, threshold ``3·log(N)/N`` per
+(:func:`coinwall.forward.dynamics.analysis.lyapunov.chaotic_fraction`, threshold ``3·log(N)/N`` per
 collision over N collisions).  The motion counts as *fully chaotic* when the
 regular fraction is below ``regular_max`` (default 1 %; with the default 100
 orbits that means no regular orbit at all).  ε_c(H) is found by bisection in
@@ -28,11 +28,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import json_numbers, safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count
-from ..wall import Wall
-from .billiard import Billiard
+from ...display import json_numbers, safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count
+from ...wall import Wall
+from ..billiard.table import Billiard
 from .islands import ELLIPSE_WALL, paper_boundary
 from .lyapunov import chaotic_fraction
 
@@ -103,8 +103,8 @@ class KamBoundary:
         matplotlib Axes
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
-        from ..formats.figure import axes_or_new
-        from ..formats.style import house_style, plain_log_axis
+        from ...formats.figure import axes_or_new
+        from ...formats.style import house_style, plain_log_axis
 
         with house_style():
             ax, own = axes_or_new(ax, (6.4, 4.4))

@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from ..wall import Wall
+from ...wall import Wall
 from .cellbounds import cell_bounds, cell_table
 
 __all__ = ["HEADER", "KERNEL_SOURCE", "NOTES", "SEARCH_SOURCE", "CompiledKernel", "compiled", "kernel_module",
@@ -27,11 +27,13 @@ _MARKER = "# ---- kernel: the text from the line after this one to the end of th
 _SEARCH_MARKER = "# ---- search: the text from the line after this one to the end of the file is joined to the wall code ----\n"  # noqa: E501 -- matched byte for byte in _search.py
 
 
-def source_after_marker(filename: str, marker: str) -> str:
-    """The part of the kernel source file ``filename`` (in this package) that is compiled: all after ``marker``.
+def source_after_marker(package: str, filename: str, marker: str) -> str:
+    """The part of the kernel source file ``filename`` in ``package`` that is compiled: all after ``marker``.
 
     Parameters
     ----------
+    package : str
+        The package that holds the file (a module's ``__package__``).
     filename : str
         ``"_kernel.py"``, ``"_search.py"`` or ``"_field_kernel.py"``.
     marker : str
@@ -42,15 +44,15 @@ def source_after_marker(filename: str, marker: str) -> str:
     str
         The text after the marker line.
     """
-    text = importlib.resources.files(__package__).joinpath(filename).read_text(encoding="utf-8")
+    text = importlib.resources.files(package).joinpath(filename).read_text(encoding="utf-8")
     _head, found, kernel = text.partition(marker)
     if not found:  # a guard for whoever edits the file: without the marker the join is undefined
         raise RuntimeError(f"{filename} has lost its marker line; the kernel's text cannot be found")
     return kernel
 
 
-KERNEL_SOURCE = source_after_marker("_kernel.py", _MARKER)
-SEARCH_SOURCE = source_after_marker("_search.py", _SEARCH_MARKER)
+KERNEL_SOURCE = source_after_marker(__package__, "_kernel.py", _MARKER)
+SEARCH_SOURCE = source_after_marker(__package__, "_search.py", _SEARCH_MARKER)
 # the imports and options the kernel's text expects (_kernel.py has the same lines above its marker);
 # CACHE is set by wallcode.load_module before the text runs (False: compiled in memory, nothing on disk)
 HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, prange, types\n"
@@ -114,7 +116,7 @@ class CompiledKernel:
         self.cells = cell_table(self.bounds)
         if not np.all(np.isfinite(self.constants)) or np.any(np.isinf(self.cells)):
             # (NaN in the table marks "no kink at this edge"; cellbounds refuses NaN bounds of a wall)
-            from ..errors import InvalidWall
+            from ...errors import InvalidWall
 
             raise InvalidWall(f"wall {wall.description!r}: its constants or cell bounds are not finite numbers")
         self.sealed = set()  # kernel functions whose numba cache files were recorded (wallcode.seal)

@@ -51,7 +51,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = []  # called through coinwall.forward.dynamics.top
+__all__ = []  # called through coinwall.forward.dynamics.coin3d.top
 
 OPTIONS = {"cache": True, "error_model": "numpy"}
 INF = math.inf

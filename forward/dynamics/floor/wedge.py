@@ -35,10 +35,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count
-from ..wall import Wall
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count
+from ...wall import Wall
 
 __all__ = ["WEDGE_CAP", "WedgeLyapunov", "plot_wedge", "wedge_flight", "wedge_lyapunov", "wedge_slope", "wedge_wall"]
 
@@ -296,7 +296,7 @@ def wedge_lyapunov(half_angle: float, orbits: int = 8, impacts: int = 20_000, ev
 def plot_wedge(results, title: str = ""):
     """λ per impact against the half-angle (house style): one series per method among ``results`` (a list of
     :class:`WedgeLyapunov`), error bars 2σ over the orbits, and the regular orbits' 3·log(N)/N.  Returns the axes."""
-    from ..formats.figure import new_figure
+    from ...formats.figure import new_figure
 
     _, ax = new_figure(figsize=(6.4, 4.8), constrained_layout=True)
     labels = {"map": "numpy wedge", "kernel": "field kernel, exact wedge", "dumbbell": "field kernel, c|cos θ| body"}

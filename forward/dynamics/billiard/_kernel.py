@@ -136,7 +136,7 @@ from ._search import (
     wall_b1,
 )
 
-__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.kernel
+__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.billiard.kernel
 
 CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}

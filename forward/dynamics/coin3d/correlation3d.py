@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from ..errors import InvalidArgument
-from ..validation import check_count
+from ...errors import InvalidArgument
+from ...validation import check_count
 
 __all__ = ["side_correlation"]
 
@@ -32,7 +32,7 @@ def side_correlation(table, states, lz, l3, impacts: int, max_lag: int = 10, bur
     orbits; nan when a fit fails), ``orbits``,
     ``floor_impacts`` (counted in all).
     """
-    from .correlation import fit_decay
+    from ..analysis.correlation import fit_decay
     from .top import TopTable, top_run
 
     if not isinstance(table, TopTable) or table.H is None:

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import json_number, safe_repr
-from ..validation import check_count
-from .billiard import Billiard, simulate
+from ...display import json_number, safe_repr
+from ...validation import check_count
+from ..billiard.table import Billiard, simulate
 
 __all__ = ["MAX_COLLISIONS", "OrbitStatistics", "orbit_statistics"]
 

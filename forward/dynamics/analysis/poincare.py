@@ -27,11 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count, check_memory
-from .billiard import Billiard, ensemble, random_states, simulate
+from ...angles import TWO_PI
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count, check_memory
+from ..billiard.table import Billiard, ensemble, random_states, simulate
 
 __all__ = ["PoincareSection", "incidence_angle", "poincare_section"]
 
@@ -144,8 +144,8 @@ class PoincareSection:
         """
         import matplotlib.pyplot as plt
 
-        from ..formats.figure import axes_or_new
-        from ..formats.style import house_style, wall_label
+        from ...formats.figure import axes_or_new
+        from ...formats.style import house_style, wall_label
 
         with house_style():
             ax, own = axes_or_new(ax, (7, 5))
@@ -199,11 +199,11 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     collisions : int
         Collisions (either wall) per orbit; about half are bottom collisions.
     seed : int, optional
-        Seed of :func:`~coinwall.forward.dynamics.billiard.random_states` (Liouville-uniform starts).
+        Seed of :func:`~coinwall.forward.dynamics.billiard.table.random_states` (Liouville-uniform starts).
     states : array_like (k, 4), optional
         Explicit start states instead of random ones.
     workers : int, optional
-        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
+        Threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
     progress : callable, optional
         Called with the number of orbits finished so far, after each group.
 

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidOutline
-from ..validation import check_positive
+from ...display import safe_repr
+from ...errors import InvalidOutline
+from ...validation import check_positive
 
 __all__ = ["EllipseShape", "PolygonShape"]
 

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import json_number, safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count
+from ...display import json_number, safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count
 from .field import FieldTable
 
 __all__ = ["Uncertainty", "plot_uncertainty", "uncertainty_exponent"]
@@ -171,7 +171,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
 def plot_uncertainty(results, title: str = ""):
     """f(ε) against ε (log–log, house style) for each :class:`Uncertainty` of ``results``, with its fitted
     power law and α in the legend, and the slope 1 of a smooth boundary for reference.  Returns the axes."""
-    from ..formats.figure import new_figure
+    from ...formats.figure import new_figure
 
     _, ax = new_figure(figsize=(6.4, 4.8), constrained_layout=True)
     for r in results:

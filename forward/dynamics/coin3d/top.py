@@ -36,10 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..revolution import Revolution
-from ..validation import check_count, check_finite
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...revolution import Revolution
+from ...validation import check_count, check_finite
 
 __all__ = ["STATUS", "TopFlight", "TopTable", "energy", "first_root", "potential", "reference_run", "sides_at_bounces",
            "state_after", "top_run"]

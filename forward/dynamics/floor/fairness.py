@@ -35,9 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import json_numbers, safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count
+from ...display import json_numbers, safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count
 from .field import FieldTable, field_run_many
 
 __all__ = ["Fairness", "fairness", "fairness_curve", "plot_fairness"]
@@ -142,7 +142,7 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
     workers : int, optional
         Threads of the compiled kernel.
     """
-    from .reference import sample_bounds
+    from ..billiard.reference import sample_bounds
     from .toss import launch_states
 
     if not isinstance(table, FieldTable):
@@ -228,7 +228,7 @@ def plot_fairness(results, tolerance: float = 1e-3, title: str = ""):
     """Two panels (house style): |bias| after n floor bounces for each :class:`Fairness` of ``results`` (a list,
     one per e; error bars 2σ, the tolerance dashed), and the bounce from which each is fair to 0.01 and to
     ``tolerance`` against e (open markers: not shown within the bounces computed).  Returns the first axes."""
-    from ..formats.figure import new_figure
+    from ...formats.figure import new_figure
 
     fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
     for r in results:

@@ -5,7 +5,7 @@ Heads and tails
 The paper (section III) puts an arrow along the coin's long axis and calls
 "heads" the arrow pointing to the right.  The project's angle θ is measured
 *clockwise from the downward wall normal to the body axis* (the arrow); the
-rigid-body map in :mod:`coinwall.forward.dynamics.rigidbody` makes the axis' lab angle
+rigid-body map in :mod:`coinwall.forward.dynamics.billiard.rigidbody` makes the axis' lab angle
 ``ψ = −θ − π/2``, so the arrow is the lab vector
 
     (cos ψ, sin ψ) = (−sin θ, −cos θ).
@@ -46,10 +46,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import json_number, safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_choice, check_count, check_memory, is_integer
-from .billiard import Billiard, ensemble, random_states, simulate
+from ...display import json_number, safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_choice, check_count, check_memory, is_integer
+from ..billiard.table import Billiard, ensemble, random_states, simulate
 
 __all__ = ["COUNTS", "Correlation", "TauLaw", "correlation", "fit_decay", "fit_tau_law", "heads"]
 
@@ -215,8 +215,8 @@ class Correlation:
         matplotlib Axes
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
-        from ..formats.figure import axes_or_new
-        from ..formats.style import PALETTE, house_style, plain_log_axis, wall_label
+        from ...formats.figure import axes_or_new
+        from ...formats.style import PALETTE, house_style, plain_log_axis, wall_label
 
         with house_style():
             ax, own = axes_or_new(ax, (6.4, 4.4))
@@ -313,7 +313,7 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     burn : int
         Collisions dropped at the start of each orbit.
     workers : int, optional
-        Threads for :func:`~coinwall.forward.dynamics.billiard.ensemble`.
+        Threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
     progress : callable, optional
         Called with the number of counted collisions finished so far.
 

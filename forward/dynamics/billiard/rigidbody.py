@@ -69,9 +69,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count, check_positive
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count, check_positive
 from .shapes import EllipseShape, PolygonShape
 
 __all__ = [

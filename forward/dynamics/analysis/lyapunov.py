@@ -3,7 +3,7 @@
 Method (Benettin's two-orbit renormalisation).
 A reference orbit and a companion started a distance ``d0`` away in the 4-d
 state space (θ, η, v_θ, v_η) are followed by the compiled ensemble kernel
-(the one :func:`~coinwall.forward.dynamics.billiard.ensemble` runs).  Every ``every`` collisions of the
+(the one :func:`~coinwall.forward.dynamics.billiard.table.ensemble` runs).  Every ``every`` collisions of the
 reference orbit the two are compared *at the same time* t*, chosen in the
 middle of the reference's next free flight (so neither orbit is at a wall and
 the states are smooth functions of the start; the companion's state at t* is
@@ -30,7 +30,7 @@ reaches — linear growth ``d ∝ n`` gives ``log(N)/N``).
 Bookkeeping in arrays.  All orbits and their companions go through the kernel together, one call per
 renormalisation round on preallocated arrays, and the states at t* are found on whole arrays: a loop
 over the orbits in Python cost about 8 times the kernel's own time (docs/performance.md).  The start
-states are checked once, as :func:`~coinwall.forward.dynamics.billiard.ensemble` checks them; the
+states are checked once, as :func:`~coinwall.forward.dynamics.billiard.table.ensemble` checks them; the
 states between rounds lie in the middle of a free flight, inside the strip by construction, and need no
 check.  Both walls are evaluated in one call where a companion is placed: a casadi call costs about
 0.4 ms whatever its length, as much as the kernel spends on 100 orbits.
@@ -43,11 +43,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..display import json_number, json_numbers, safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count, check_memory
-from .billiard import Billiard, random_states
+from ...angles import TWO_PI
+from ...display import json_number, json_numbers, safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count, check_memory
+from ..billiard.table import Billiard, random_states
 
 __all__ = [
     "ChaoticFraction",
@@ -174,8 +174,8 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     """
     import numba
 
-    from .billiard import _check_states, _check_table
-    from .kernel import NOTES, compiled
+    from ..billiard.kernel import NOTES, compiled
+    from ..billiard.table import _check_states, _check_table
 
     _check_table(table)
     transient = check_count("transient", transient, minimum=0)
@@ -342,7 +342,7 @@ def chaotic_fraction(table: Billiard, orbits: int = 100, collisions: int = 2000,
     ----------
     table : Billiard
     orbits : int
-        Number of orbits sampled with :func:`~coinwall.forward.dynamics.billiard.random_states`.
+        Number of orbits sampled with :func:`~coinwall.forward.dynamics.billiard.table.random_states`.
     collisions : int
         Collisions per orbit.
     threshold : float, optional

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count, check_finite
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count, check_finite
 
 __all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "psi_from_same_side", "sigma_from_same_side",
            "simulate_caught", "spread_same_side"]
@@ -151,7 +151,7 @@ def simulate_caught(psi: float, samples: int, seed=None, omega: float = 240.0, f
     spin rate ``omega`` (rad/s; ≈ 38 rev/s, DHM's measured rate), flight times uniform in ``flight`` (s;
     default 0.4 s to 0.4 s + 8 periods 2π/Ω, so that the phase Ωt is exactly uniform, as DHM's long-flight
     limit assumes).  The body does not matter (the axis motion depends on ℓ only)."""
-    from ..revolution import coin
+    from ...revolution import coin
     from .top import TopTable, state_after
 
     psi = check_finite("psi", psi)

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count, check_finite
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count, check_finite
 
 __all__ = ["BounceStudy", "plot_studies", "same_side_by_bounce"]
 
@@ -67,7 +67,7 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
                         speed=(2.2, 2.7), spin=(240.0, 20.0), g: float = 9.81, ceiling: float | None = None):
     """Simulate ``samples`` tosses (see the module docstring); lengths in metres, speeds in m/s, spin in rad/s.
     ``ceiling``: a second wall that high above the floor (m; the paper's two walls), else none."""
-    from ..revolution import coin
+    from ...revolution import coin
     from .top import STATUS, TopTable, sides_at_bounces
 
     psi = math.radians(check_finite("psi_degrees", psi_degrees))
@@ -111,8 +111,8 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
 def plot_studies(studies, caught: float | None = None):
     """P(same side) against the bounce for each study (one curve per restitution / setting), with ±2 standard
     errors; ``caught``: the caught share (a horizontal line)."""
-    from ..formats.figure import new_figure
-    from ..formats.style import house_style
+    from ...formats.figure import new_figure
+    from ...formats.style import house_style
 
     with house_style():
         fig, ax = new_figure(figsize=(7, 4.2), constrained_layout=True)

@@ -53,13 +53,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..display import safe_repr
-from ..errors import InvalidArgument, InvalidWall
-from ..validation import check_count, check_memory, is_integer
-from ..wall import Wall
-from .billiard import HEIGHT_MAX, HIT_TOL, Billiard
-from .kernel import source_after_marker
+from ...angles import TWO_PI
+from ...display import safe_repr
+from ...errors import InvalidArgument, InvalidWall
+from ...validation import check_count, check_memory, is_integer
+from ...wall import Wall
+from ..billiard.kernel import source_after_marker
+from ..billiard.table import HEIGHT_MAX, HIT_TOL, Billiard
 
 __all__ = ["CHATTER_HEIGHT", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "FieldTable", "Flight", "Landscape",
            "compile_field_kernel", "field_run", "field_run_many", "landscape", "reference_run"]
@@ -84,7 +84,7 @@ FIELD_NOTES = {
 }
 
 
-FIELD_SOURCE = source_after_marker("_field_kernel.py", _MARKER)
+FIELD_SOURCE = source_after_marker(__package__, "_field_kernel.py", _MARKER)
 
 
 # ---------------------------------------------------------------------------------------------------- landscape
@@ -337,7 +337,7 @@ class Flight:
 # ---------------------------------------------------------------------------------------------------- kernel
 class _FieldKernel:
     def __init__(self, wall: Wall):
-        from .kernel import compiled, kernel_module
+        from ..billiard.kernel import compiled, kernel_module
 
         base = compiled(_WallHolder(wall))  # the billiard's constants and cell bounds of this wall (kept per wall)
         # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
@@ -348,7 +348,7 @@ class _FieldKernel:
     def call(self, name, *args):
         result = getattr(self.module, name)(*args)
         if name not in self.sealed:
-            from .wallcode import seal
+            from ..billiard.wallcode import seal
 
             self.sealed.add(name)
             seal(self.module)
@@ -531,7 +531,7 @@ def reference_run(table: FieldTable, state, leaving: int, impacts: int, catch: b
     """
     from scipy.optimize import brentq
 
-    from .reference import sample_bounds
+    from ..billiard.reference import sample_bounds
 
     wall = table.wall
     lip, curv, kinks = sample_bounds(wall)
@@ -656,7 +656,7 @@ def slide(table: FieldTable, state, duration=None):
     scale = max(1.0, wall.scale)
     T = duration if duration is not None else 30.0 * math.sqrt(scale / g)
 
-    from .wallcode import python_wall
+    from ..billiard.wallcode import python_wall
 
     d = python_wall(wall, order=2)  # the generated plain-Python b, b', b'' of one angle (no casadi call per step)
 

@@ -25,11 +25,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..display import safe_repr
-from ..errors import InvalidArgument, InvalidWall
-from ..validation import check_choice, check_count, check_memory, check_range, is_integer
-from ..wall import Wall
+from ...angles import TWO_PI
+from ...display import safe_repr
+from ...errors import InvalidArgument, InvalidWall
+from ...validation import check_choice, check_count, check_memory, check_range, is_integer
+from ...wall import Wall
 from .cellbounds import CELLS, SAMPLES
 from .kernel import compiled, run, run_many
 from .reference import reference_run

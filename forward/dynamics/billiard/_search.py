@@ -27,7 +27,7 @@ import math
 from numba import njit, types
 from numba.extending import intrinsic
 
-__all__ = []  # nothing public: the search is compiled into the kernels of coinwall.forward.dynamics.kernel
+__all__ = []  # nothing public: the search is compiled into the kernels of coinwall.forward.dynamics.billiard.kernel
 
 CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
@@ -35,12 +35,12 @@ OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 def wall_b1(phi, c):
     """Stand-in for the generated ``wall_b1(phi, c) -> (b, b')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.kernel")
+    raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.billiard.kernel")
 
 
 def wall_b2(phi, c):
     """Stand-in for the generated ``wall_b2(phi, c) -> (b, b', b'')`` (see :func:`.wallcode.wall_source`)."""
-    raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.kernel")
+    raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.billiard.kernel")
 
 
 # ---- search: the text from the line after this one to the end of the file is joined to the wall code ----

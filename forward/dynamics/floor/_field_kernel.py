@@ -80,7 +80,7 @@ import math
 import numpy as np
 from numba import carray, njit, prange
 
-from ._search import (
+from ..billiard._search import (
     INF,
     PI,
     TWO_PI,
@@ -94,7 +94,7 @@ from ._search import (
     wall_b1,
 )
 
-__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.field
+__all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.floor.field
 
 CACHE = True
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}

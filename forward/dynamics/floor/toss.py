@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..validation import check_count
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...validation import check_count
 from .field import STATUS, FieldTable, settle_many
 
 __all__ = ["BasinMap", "Spread", "basin_map", "heads_fraction", "launch_states"]
@@ -133,7 +133,7 @@ class BasinMap:
         A caught toss has the first panel only (it is decided at its one floor contact, everywhere)."""
         from matplotlib.colors import BoundaryNorm, ListedColormap
 
-        from ..formats.figure import new_figure
+        from ...formats.figure import new_figure
 
         if self.catch:
             fig, ax = new_figure(1, 1, figsize=(6.5, 5), constrained_layout=True)

@@ -17,7 +17,7 @@ wall as ordinary code.  This module writes that code:
   the coefficients in ``c``.
 
 The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, db, d2b)``
-(the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics._kernel`);
+(the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics.billiard._kernel`);
 it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
 
@@ -42,7 +42,7 @@ import types
 
 import numpy as np
 
-from ..errors import InvalidWall
+from ...errors import InvalidWall
 
 __all__ = ["cache_dir", "discard", "load_module", "python_wall", "seal", "wall_source"]
 
@@ -287,7 +287,7 @@ def _write_atomic(folder: str, name: str, data: bytes) -> None:
     compiling the same wall) see the old file or the whole new one, never a part.  The temporary has a
     marked name (:func:`coinwall.forward.formats.output.marked_name`), so that only temporaries this program
     made are ever swept (:func:`_sweep_temporaries`)."""
-    from ..formats.output import marked_name
+    from ...formats.output import marked_name
 
     _clear_name(os.path.join(folder, name))
     temp = marked_name(folder, "part")
@@ -392,7 +392,7 @@ def _sweep_temporaries(folder: str, age: float = 3600.0) -> int:
     ``__pycache__``, and the exact form of coinwall's earlier temporaries; regular files owned by this user."""
     import time
 
-    from ..formats.output import sweep_stale
+    from ...formats.output import sweep_stale
 
     if folder in _SWEPT:
         return 0

@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..errors import InvalidWall
-from ..wall import Wall
+from ...angles import TWO_PI
+from ...errors import InvalidWall
+from ...wall import Wall
 
 __all__ = ["CELLS", "SAMPLES", "cell_bounds", "cell_proxies", "cell_table", "concave_runs"]
 

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from ..angles import TWO_PI
-from ..wall import Wall
+from ...angles import TWO_PI
+from ...wall import Wall
 
 __all__ = ["reference_run", "sample_bounds"]
 

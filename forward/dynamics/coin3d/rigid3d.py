@@ -27,10 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..display import safe_repr
-from ..errors import InvalidArgument
-from ..revolution import Revolution
-from ..validation import check_count, check_finite
+from ...display import safe_repr
+from ...errors import InvalidArgument
+from ...revolution import Revolution
+from ...validation import check_count, check_finite
 from .top import first_root  # a quadratic's root: nothing of the reduction
 
 __all__ = ["Rigid3D", "Trajectory3D", "from_reduced", "simulate_3d", "to_reduced"]
