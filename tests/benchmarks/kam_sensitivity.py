@@ -28,7 +28,7 @@ Parts (each prints a markdown table):
 
    Both hit the walls at normal incidence, so the optical-resonator rule applies: with g = 1 − L/R
    the orbit is linearly stable iff 0 < g² < 1, and otherwise its exponent per collision is
-   arccosh|g| (the defocusing case arccosh(1 + L/R) is tested in tests/forward/dynamics/test_analysis.py).
+   arccosh|g| (the defocusing case arccosh(1 + L/R) is tested in tests/forward/dynamics/analysis/test_analysis.py).
    ε*(H): the vertical orbit turns unstable (L = 2R, g = −1; the tilted pair is born, pitchfork).
    ε**(H): the tilted orbit's contact point reaches the wall's inflection point (b'' = 0, R = ∞,
    g = 1) and it turns unstable.  In between, a linearly stable periodic orbit is generically

@@ -9,13 +9,13 @@ list, or an ellipse given by its semi-axes and centre) rotated into the lab
 frame, finds the first instant at which the lowest (highest) point of the
 body reaches the floor (ceiling), and applies the impulse computed from the
 actual contact point, lever arm included (paper eq. 2 and 13), with
-restitution 1 along the wall normal.  ``tests/forward/dynamics/test_rigidbody.py`` holds it to
+restitution 1 along the wall normal.  ``tests/forward/dynamics/billiard/test_rigidbody.py`` holds it to
 the billiard of :mod:`.billiard`; ``docs/equivalence.md`` derives why
 they must agree.
 
 The toss that lands: the same body in a field ``g`` (physical length/s², along −y), with a floor only
 (``H=None``) or floor and ceiling, and Newton's restitution ``e`` on the normal velocity of the contact point
-(``v_c⁺·n = −e v_c⁻·n``).  ``tests/forward/dynamics/test_toss_checks.py`` holds it to the field billiard of
+(``v_c⁺·n = −e v_c⁻·n``).  ``tests/forward/dynamics/floor/test_toss_checks.py`` holds it to the field billiard of
 :mod:`.field` impact by impact (``η = y/κ``, so the billiard's field is ``g/κ``).
 
 State and coordinates

@@ -33,7 +33,7 @@ change is along the wall's normal ``N ∝ (−b', 1)`` in (θ, η) and reverses 
 ``v·N/|N| = (η̇ − b'θ̇)/√(1 + b'²)`` times e.  So the rigid body's impulse is the billiard's restitution
 on the normal velocity in the Euclidean (θ, η) metric, and e = 1 is the specular billiard.  The tangential
 component ``(θ̇ + b' η̇)/√(1 + b'²)`` is kept (a frictionless contact); the energy lost in one impact is
-``½ (1 − e²) v_n²`` (units M κ²).  (``tests/forward/dynamics/test_toss.py`` checks the kernel's impacts against the lab
+``½ (1 − e²) v_n²`` (units M κ²).  (``tests/forward/dynamics/floor/test_toss.py`` checks the kernel's impacts against the lab
 formula above, for a body of given M and κ.)
 
 Outcomes
