@@ -18,6 +18,7 @@ __all__ = [
     "check_seed",
     "count",
     "describe_written",
+    "device_argument",
     "format_angles",
     "load_table",
     "load_wall",
@@ -240,6 +241,14 @@ def progress_bar(args, total, unit):
     # tqdm take −1 rows and silently hide the bar; give it a standard size instead
     size = {} if columns > 0 and lines > 0 else {"ncols": 80, "nrows": 24}
     return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False, **size)
+
+
+def device_argument(parser):
+    """``--device cpu|gpu``: where the kernel follows the orbits (all CPU cores, or one CUDA GPU with numba-cuda,
+    ``pip install 'coinwall[gpu]'``); ``gpu`` without a usable GPU is refused with one line before any work."""
+    parser.add_argument("--device", choices=["cpu", "gpu"], default="cpu",
+                        help="where the kernel runs: all CPU cores (default) or a CUDA GPU (coinwall[gpu]; "
+                             "one orbit per GPU thread, worth it from ~10^4 orbits)")
 
 
 def check_positive_count(name, value):

@@ -10,6 +10,7 @@ from .common import (
     check_positive_count,
     check_seed,
     count,
+    device_argument,
     load_table,
     progress_bar,
     table_arguments,
@@ -45,6 +46,7 @@ def register(subparsers):
     corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                       help="figure (.png, .svg, .pdf) or .json (repeatable)")
     corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    device_argument(corr)
     corr.set_defaults(run=_cmd_correlation)
 
 
@@ -65,6 +67,7 @@ def _cmd_correlation(args):
     bar = progress_bar(args, args.bounces, "bounce")
     try:
         result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
+                             device=args.device,
                              progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
     finally:
         if bar is not None:

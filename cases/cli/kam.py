@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import os
 
-from .common import add_command, check_positive_count, check_seed, count, progress_bar, written_lines
+from .common import add_command, check_positive_count, check_seed, count, device_argument, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -38,6 +38,7 @@ def register(subparsers):
     kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                      help="figure (.png, .svg, .pdf) or .json (repeatable)")
     kam.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    device_argument(kam)
     kam.set_defaults(run=_cmd_kam)
 
 
@@ -67,7 +68,7 @@ def _cmd_kam(args):
     try:
         result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
                               collisions=args.collisions, regular_max=args.regular_max, seed=args.seed,
-                              progress=(lambda: bar.update(1)) if bar is not None else None)
+                              device=args.device, progress=(lambda: bar.update(1)) if bar is not None else None)
     finally:
         if bar is not None:
             bar.close()

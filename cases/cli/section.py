@@ -10,6 +10,7 @@ from .common import (
     check_positive_count,
     check_seed,
     count,
+    device_argument,
     load_table,
     progress_bar,
     table_arguments,
@@ -41,6 +42,7 @@ def register(subparsers):
     section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                          help="figure (.png, .svg, .pdf), .csv (theta_c,phi_c,orbit) or .json (repeatable)")
     section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
+    device_argument(section)
     section.set_defaults(run=_cmd_section)
 
 
@@ -58,6 +60,7 @@ def _cmd_section(args):
     bar = progress_bar(args, args.orbits, "orbit")
     try:
         result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
+                                  device=args.device,
                                   progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
     finally:
         if bar is not None:

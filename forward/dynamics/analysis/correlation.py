@@ -293,7 +293,7 @@ def _orbit_agreement(traj, need, max_lag, count, burn):
 
 
 def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, orbits: int = 100, count="bottom",
-                seed=None, burn: int = 20, workers=None, progress=None) -> Correlation:
+                seed=None, burn: int = 20, workers=None, progress=None, device: str = "cpu") -> Correlation:
     """P(n), τ and the bounces needed for ``|P(n) − ½| < 0.01`` (module docstring).
 
     Parameters
@@ -313,9 +313,13 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     burn : int
         Collisions dropped at the start of each orbit.
     workers : int, optional
-        Threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
+        CPU threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
     progress : callable, optional
         Called with the number of counted collisions finished so far.
+    device : {"cpu", "gpu"}
+        Where the orbits are computed (:func:`~coinwall.forward.dynamics.billiard.table.ensemble`); on the GPU
+        in larger groups (:func:`~coinwall.forward.dynamics.billiard.gpu.group_collisions`).  The result does
+        not depend on it beyond rounding.
 
     Returns
     -------
@@ -330,6 +334,10 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     about max_lag × (bounces + 1000·orbits) comparisons (1000: the cost of one numpy call, per lag and
     orbit); refused above :data:`LAG_WORK_MAX` = 2e11 (a few minutes).
     """
+    from ..billiard.gpu import check_device, group_collisions
+
+    check_device(device)
+    chunk = _CHUNK_COLLISIONS if device == "cpu" else group_collisions()
     bounces = _positive_int("bounces", bounces)
     max_lag = _positive_int("max_lag", max_lag)
     orbits = _positive_int("orbits", orbits)
@@ -350,14 +358,14 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
                               f"within a few τ) or bounces")
     # bottom collisions are about half of all; ask for a margin and continue the few orbits that fall short
     collisions = 2 * per_orbit + burn + 2 * max_lag + 64
-    group = max(1, min(orbits, _CHUNK_COLLISIONS // collisions))
+    group = max(1, min(orbits, chunk // collisions))
     check_memory(f"`bounces` = {bounces} in `orbits` = {orbits} with `max_lag` = {max_lag} ({group} orbits of "
                  f"{collisions} collisions at a time, 141 bytes per collision; 24·(max_lag + 1) bytes per orbit)",
                  141.0 * group * collisions + 100.0 * collisions + orbits * (32.0 + 24.0 * (max_lag + 1)))
     starts = random_states(table, orbits, seed)
     agreements, heads_fractions, notes = [], [], []
     for first in range(0, orbits, group):
-        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
+        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers, device=device)
         for k, traj in enumerate(trajs):
             agree, frac = _orbit_agreement(traj, per_orbit, max_lag, count, burn)
             tries = 0

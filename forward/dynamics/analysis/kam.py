@@ -132,7 +132,8 @@ class KamBoundary:
 
 
 def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 100, collisions: int = 1000,
-                 regular_max: float = 0.01, seed: int = 0, workers=None, progress=None) -> KamBoundary:
+                 regular_max: float = 0.01, seed: int = 0, workers=None, progress=None,
+                 device: str = "cpu") -> KamBoundary:
     """ε_c(H) for the paper's ellipse wall by bisection on log ε (module docstring).
 
     Parameters
@@ -150,8 +151,11 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
         Regular fraction below which the motion counts as fully chaotic.
     seed : int
     workers : int, optional
+        CPU threads.
     progress : callable, optional
         Called after each evaluation with no argument.
+    device : {"cpu", "gpu"}
+        Where the orbits are computed (:func:`.lyapunov.lyapunov_many`).
 
     Notes
     -----
@@ -161,6 +165,9 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
     2000 collisions of Python overhead; a request above :data:`KAM_WORK_MAX` = 1e10 of those (about an
     hour at 3·10^6 collisions/s) is refused.
     """
+    from ..billiard.gpu import check_device
+
+    check_device(device)
     H_values = np.atleast_1d(np.asarray(H_values, dtype=float))
     if H_values.size == 0 or np.any(~np.isfinite(H_values)) or np.any(H_values <= 0.0):
         raise InvalidArgument(f"`H` values must be finite and positive (units of κ), got {H_values.tolist()}")
@@ -184,7 +191,7 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
 
     def regular(eps, H):
         wall = Wall.from_expression(ELLIPSE_WALL, {"eps": eps})
-        frac = chaotic_fraction(Billiard(wall, H), orbits, collisions, seed=seed, workers=workers)
+        frac = chaotic_fraction(Billiard(wall, H), orbits, collisions, seed=seed, workers=workers, device=device)
         if progress is not None:
             progress()
         return frac.regular_fraction

@@ -182,11 +182,12 @@ class PoincareSection:
 
 
 def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, seed=None, states=None,
-                     workers=None, progress=None) -> PoincareSection:
+                     workers=None, progress=None, device: str = "cpu") -> PoincareSection:
     """Bottom-wall Poincaré section of ``orbits`` orbits.
 
-    The orbits are followed in groups of at most ``_CHUNK_COLLISIONS`` collisions in all (an orbit longer
-    than that alone, in pieces continued exactly), so memory stays bounded by 82 MB plus the section's
+    The orbits are followed in groups of at most ``_CHUNK_COLLISIONS`` collisions in all (on the GPU
+    :func:`~coinwall.forward.dynamics.billiard.gpu.group_collisions`; an orbit longer than that alone, in
+    pieces continued exactly on the CPU), so memory stays bounded by 82 MB (GPU: that group) plus the section's
     points (24 bytes each, at most one per collision); a request whose points would not fit in half the
     available memory is refused before any work.  Every orbit is computed from its own start state by the
     same code, so the result does not depend on the grouping.
@@ -203,28 +204,35 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     states : array_like (k, 4), optional
         Explicit start states instead of random ones.
     workers : int, optional
-        Threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
+        CPU threads for :func:`~coinwall.forward.dynamics.billiard.table.ensemble`.
     progress : callable, optional
         Called with the number of orbits finished so far, after each group.
+    device : {"cpu", "gpu"}
+        Where the orbits are computed (:func:`~coinwall.forward.dynamics.billiard.table.ensemble`); on the GPU
+        in groups of up to :func:`~coinwall.forward.dynamics.billiard.gpu.group_collisions` collisions.
 
     Returns
     -------
     PoincareSection
     """
+    from ..billiard.gpu import check_device, group_collisions
+
+    check_device(device)
+    chunk = _CHUNK_COLLISIONS if device == "cpu" else group_collisions()
     collisions = check_count("collisions", collisions)
     count = check_count("orbits", orbits) if states is None else int(np.size(states) // 4)
     check_memory(f"{count} orbits × `collisions` = {collisions} (up to {BYTES_PER_POINT} bytes per collision for "
-                 f"the section's points)", float(BYTES_PER_POINT) * count * collisions + 41.0 * _CHUNK_COLLISIONS)
+                 f"the section's points)", float(BYTES_PER_POINT) * count * collisions + 41.0 * chunk)
     if states is None:
         states = random_states(table, count, seed)
     starts = np.array(states, dtype=float).reshape(-1, 4)
     n = starts.shape[0]
     if n == 0:
         raise InvalidArgument("`states` must hold at least one start state [theta, eta, v_theta, v_eta], got none")
-    group = max(1, min(n, _CHUNK_COLLISIONS // collisions))
+    group = max(1, min(n, chunk // collisions))
     thetas, phis, counts, notes = [], [], [], []
     for first in range(0, n, group):
-        if collisions > _CHUNK_COLLISIONS:  # one long orbit, in pieces
+        if collisions > chunk:  # one long orbit, in pieces (on the CPU: one orbit is one thread)
             theta, phi, note = _long_orbit(table, starts[first], collisions)
             thetas.append(theta)
             phis.append(phi)
@@ -234,7 +242,7 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
             if progress is not None:
                 progress(first + 1)
             continue
-        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers)
+        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers, device=device)
         theta, v_theta, v_eta = [], [], []
         for k, traj in enumerate(trajs, start=first):
             bottom = traj.side == 0

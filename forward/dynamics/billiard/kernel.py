@@ -161,22 +161,37 @@ def run(comp: CompiledKernel, table, state, leaving: int, collisions: int, turns
     return [o[:done] for o in out], NOTES.get(int(status), ""), (float(last[0]), int(last[1]))
 
 
-def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, workers=None, turns=None):
-    """Many orbits of unit speed in parallel (numba threads); returns per orbit its columns, note and end angle.
+def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, workers=None, turns=None, device="cpu"):
+    """Many orbits of unit speed in parallel; returns per orbit its columns, note and end angle.
 
-    ``workers`` threads (a positive int, at most numba's thread count; default: numba's default, all
-    cores); each orbit runs the same sequential code, so the result does not depend on it.
+    ``device="cpu"``: numba threads, ``workers`` of them (a positive int, at most numba's thread count;
+    default: numba's default, all cores).  ``device="gpu"``: one orbit per GPU thread (:func:`.gpu.run_into`,
+    the same kernel text compiled for CUDA; ``workers`` does not apply).  Each orbit runs the same sequential
+    code, so the result does not depend on ``workers``.
     """
-    import numba
-
-    if workers is not None:
-        workers = min(int(workers), numba.config.NUMBA_NUM_THREADS)
     m = states.shape[0]
     out = [np.empty((m, collisions)) for _ in range(5)] + [np.empty((m, collisions), dtype=np.int8)]
     done = np.zeros(m, dtype=np.int64)
     status = np.zeros(m, dtype=np.int64)
     last = np.empty((m, 2))
     turns = np.zeros(m, dtype=np.int64) if turns is None else np.ascontiguousarray(turns, dtype=np.int64)
+    if device == "gpu":
+        from .gpu import run_into
+
+        run_into(table, states, turns, np.ascontiguousarray(leaving, dtype=np.int64), collisions, out, done,
+                 status, last)
+    else:
+        _run_threads(comp, table, states, turns, leaving, collisions, workers, out, done, status, last)
+    return [([o[k, :done[k]] for o in out], NOTES.get(int(status[k]), ""), (float(last[k, 0]), int(last[k, 1])))
+            for k in range(m)]
+
+
+def _run_threads(comp, table, states, turns, leaving, collisions, workers, out, done, status, last):
+    """``_run_many`` on ``workers`` numba threads (None: numba's default), into ``out``, ``done``, ``status``, ``last``."""
+    import numba
+
+    if workers is not None:
+        workers = min(int(workers), numba.config.NUMBA_NUM_THREADS)
     previous = numba.get_num_threads()
     try:
         if workers is not None:
@@ -184,5 +199,3 @@ def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, work
         comp.call("_run_many", states, turns, leaving, collisions, *comp.args(table), *out, done, status, last)
     finally:
         numba.set_num_threads(previous)
-    return [([o[k, :done[k]] for o in out], NOTES.get(int(status[k]), ""), (float(last[k, 0]), int(last[k, 1])))
-            for k in range(m)]

@@ -1,0 +1,364 @@
+"""The kernels on a CUDA GPU: the same source text as on the CPU, compiled by numba-cuda, one orbit per thread.
+
+The CPU kernel is text joined to a wall's generated code (:func:`.kernel.kernel_module`): the wall's
+``wall_b1``/``wall_b2``, the certified search (``_search.py``) and the orbit loop (``_kernel.py``), each function
+under an ``@njit(...)`` line.  Here the *same text* is compiled for CUDA: only the header placed before it
+differs (:data:`GPU_HEADER`).  It defines ``njit`` so that each of those functions becomes a CUDA device
+function (``inline='always'`` stays numba's inlining), ``prange`` as ``range`` (the CPU's parallel driver
+``_run_many`` becomes an unused device function, never compiled) and the CPU kernel's way around reference
+counts (``carray(_data_pointer(a), shape)``; CUDA code counts no references) as the array itself.  After the
+text comes a launcher of a few lines (:data:`BILLIARD_LAUNCHER`): thread ``k`` runs ``_run`` on orbit ``k``,
+writing row ``k`` of the same output arrays as the CPU's ``_run_many``.  So the GPU makes no approximation
+that the CPU kernel does not make: the arithmetic is float64 throughout, the search and its certificates are
+the same code.  What differs is rounding: the CUDA compiler contracts ``a·b + c`` into fused multiply-adds
+(one rounding instead of two) and the math library (``cos``, ``sqrt``, …) is CUDA's, correctly rounded or
+within an ulp or two, so GPU and CPU agree collision by collision to rounding, not bit for bit (the tests
+check that from every GPU state the CPU's next collision is the GPU's, to 1e-12).
+
+The same mechanism compiles any kernel text written this way (:func:`gpu_module`): the field kernel's text
+with a launcher of its own, for instance.
+
+Without a GPU, numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, set for the test run) runs the same code
+path in Python, thread by thread: slow, but it executes the kernel text as the GPU would and the tests compare
+it with the CPU kernel.
+
+numba-cuda releases up to 0.30.4 register an overload of ``numpy.row_stack`` when their CUDA target is first
+used, and numpy 2.5 removed that name: the first compile fails with ``AttributeError``.  :func:`cuda_module`
+imports that one numba-cuda module while the name is present (as ``numpy.vstack``, what it was an alias of)
+and removes the name again; nothing of numpy is changed after that.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from ...errors import InvalidArgument
+from ...validation import check_choice
+
+__all__ = ["BILLIARD_LAUNCHER", "DEVICES", "GPU_HEADER", "THREADS", "check_device", "cuda_module", "device_name",
+           "device_status", "gpu_module", "group_collisions", "run_into"]
+
+#: The values of every ``device`` argument: all CPU cores (numba threads) or one CUDA GPU.
+DEVICES = ("cpu", "gpu")
+#: Threads per block of a launch: the kernel needs ~150 registers a thread on sm_90, so 128 threads make
+#: blocks that several fit on one multiprocessor.
+THREADS = 128
+
+# The imports and the decorators the kernel text expects, for CUDA (kernel.HEADER is the CPU's).  CACHE is set
+# by wallcode.load_module before the text runs; CUDA code is compiled in memory in each process (numba-cuda's
+# own disk cache is not used: the kernel's cache machinery vouches for the CPU's files only).
+GPU_HEADER = '''import math
+import numpy as np
+from numba import cuda, types
+
+OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
+
+
+def njit(*args, inline="never", cache=False, parallel=False, error_model="numpy"):
+    # the kernel text's @njit(...) lines, for CUDA: every function becomes a device function; numba's error model
+    # on CUDA is numpy's already, and `parallel`/`cache` have no meaning there
+    def device(func):
+        return cuda.jit(device=True, inline=inline)(func)
+    return device(args[0]) if args else device
+
+
+prange = range
+
+
+@cuda.jit(device=True, inline="always")
+def _as_is(a):
+    return a
+
+
+def intrinsic(func):
+    # the CPU kernel rebuilds its arrays without a reference count (carray(_data_pointer(a), shape));
+    # CUDA code counts no references: both are the array itself
+    return _as_is
+
+
+@cuda.jit(device=True, inline="always")
+def carray(a, shape):
+    return a
+
+'''
+
+#: The billiard's launcher, appended after the kernel text: thread k runs the CPU kernel's ``_run`` on orbit k.
+BILLIARD_LAUNCHER = '''
+
+@cuda.jit
+def _run_gpu(states, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol,
+             out_time, out_theta, out_eta, out_vt, out_ve, out_side, done, status, last):
+    k = cuda.grid(1)
+    if k < states.shape[0]:
+        d, s = _run(states[k], turns[k], leaving[k], n, H, b0, c, cells, lookup, wmin, wmax, tol,
+                    out_time[k], out_theta[k], out_eta[k], out_vt[k], out_ve[k], out_side[k], last[k])
+        done[k] = d
+        status[k] = s
+'''
+
+_CUDA = []  # numba.cuda, once imported (with the numpy guard of the module docstring)
+
+
+def cuda_module():
+    """``numba.cuda``, imported once, with the guard for numpy 2.5 (module docstring).
+
+    Returns
+    -------
+    module
+        ``numba.cuda`` (the simulator when ``NUMBA_ENABLE_CUDASIM=1``).
+
+    Raises
+    ------
+    ImportError
+        numba-cuda is not installed.
+
+    Examples
+    --------
+    >>> cuda = cuda_module()  # doctest: +SKIP
+    """
+    if _CUDA:
+        return _CUDA[0]
+    from numba import config, cuda
+
+    if not config.ENABLE_CUDASIM and not hasattr(np, "row_stack"):
+        # numba-cuda <= 0.30.4 evaluates np.row_stack when its target loads this module (removed in numpy 2.5)
+        np.row_stack = np.vstack
+        try:
+            import numba.cuda.np.arrayobj  # noqa: F401
+        except ImportError:  # a numba-cuda without this module has no such overload either
+            pass
+        finally:
+            del np.row_stack
+    _CUDA.append(cuda)
+    return cuda
+
+
+def device_status() -> str:
+    """Why ``device="gpu"`` cannot run here, in one line; ``""`` when it can.
+
+    Returns
+    -------
+    str
+        Empty when numba-cuda is installed and sees a CUDA GPU (or its simulator is on), else the reason.
+
+    Examples
+    --------
+    >>> isinstance(device_status(), str)
+    True
+    """
+    from ...display import one_line
+
+    try:
+        cuda = cuda_module()
+    except ImportError as exc:
+        return f"numba-cuda is not installed ({exc}); install it with: pip install 'coinwall[gpu]'"
+    from numba import config
+
+    if config.ENABLE_CUDASIM:
+        return ""
+    try:
+        if cuda.is_available() and len(cuda.gpus) > 0:
+            return ""
+        driver = cuda.cudadrv.driver.driver
+        why = getattr(driver, "initialization_error", None) or "the CUDA driver reports no device"
+    except Exception as exc:  # noqa: BLE001 -- whatever the driver layer raises, the answer is "not here"
+        why = str(exc)
+    return f"no CUDA GPU is usable here ({one_line(str(why))})"
+
+
+def check_device(device) -> str:
+    """Check a ``device`` argument: one of :data:`DEVICES`, and for ``"gpu"`` a GPU that can run.
+
+    Parameters
+    ----------
+    device : {"cpu", "gpu"}
+
+    Returns
+    -------
+    str
+        ``device``.
+
+    Raises
+    ------
+    InvalidArgument
+        An unknown device, or ``"gpu"`` where numba-cuda or a CUDA GPU is missing (the message says which).
+
+    Examples
+    --------
+    >>> check_device("cpu")
+    'cpu'
+    """
+    check_choice("device", device, DEVICES)
+    if device == "gpu":
+        why = device_status()
+        if why:
+            raise InvalidArgument(f"`device` = 'gpu' cannot run: {why}")
+    return device
+
+
+def device_name() -> str:
+    """The GPU's name and compute capability as numba-cuda reports them (``"simulator"`` in the simulator).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> device_name()  # doctest: +SKIP
+    'NVIDIA H100 80GB HBM3 (compute capability 9.0)'
+    """
+    from numba import config
+
+    cuda = cuda_module()
+    if config.ENABLE_CUDASIM:
+        return "simulator"
+    dev = cuda.get_current_device()
+    name = dev.name.decode() if isinstance(dev.name, bytes) else str(dev.name)
+    return f"{name} (compute capability {dev.compute_capability[0]}.{dev.compute_capability[1]})"
+
+
+def gpu_module(wall, kernel_source: str, launcher: str, prefix: str):
+    """The module of one kernel text for CUDA: :data:`GPU_HEADER`, the wall's code, the search, the kernel, the launcher.
+
+    The CPU's :func:`.kernel.kernel_module` joins the same texts after its own header.
+
+    Parameters
+    ----------
+    wall : Wall
+        The wall whose generated code (:func:`.wallcode.wall_source`) is placed first.
+    kernel_source : str
+        The kernel's text (:data:`.kernel.KERNEL_SOURCE`, or the field kernel's).
+    launcher : str
+        The CUDA kernel(s) that call the kernel text's functions, one orbit per thread.
+    prefix : str
+        The module name's prefix (:func:`.wallcode.load_module`).
+
+    Returns
+    -------
+    module
+        The loaded module (its functions compile for the GPU on first launch).
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
+    >>> module = gpu_module(Wall.from_fourier(1.0, [0.1]), KERNEL_SOURCE, BILLIARD_LAUNCHER, "coinwall_gpu")
+    >>> hasattr(module, "_run_gpu")
+    True
+    """
+    from .kernel import SEARCH_SOURCE
+    from .wallcode import load_module, wall_source
+
+    cuda_module()  # the guard runs before the text imports numba.cuda
+    source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
+    return load_module(GPU_HEADER + source + SEARCH_SOURCE + kernel_source + launcher, prefix)
+
+
+_MODULES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _billiard_module(wall):
+    """The billiard kernel's CUDA module of ``wall`` (kept while the wall lives, like the CPU's)."""
+    from .kernel import KERNEL_SOURCE
+
+    module = _MODULES.get(wall)
+    if module is None:
+        module = _MODULES[wall] = gpu_module(wall, KERNEL_SOURCE, BILLIARD_LAUNCHER, "coinwall_gpu")
+    return module
+
+
+def group_collisions() -> int:
+    """How many collisions the analyses that follow orbits in groups (sections, P(n)) hold at once on the GPU.
+
+    On the CPU they hold 2·10^6 (82 MB at 41 bytes a collision: the cores are busy with a group of any size).
+    A GPU needs 10^4–10^5 orbits in one launch to be busy, so its groups are up to 2^26 collisions (2.8 GB), as
+    far as 1/(8·141 bytes) of the available memory allows (an analysis holds up to ~141 bytes per collision of a
+    group while it reads it).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> group_collisions() >= 2_000_000
+    True
+    """
+    from ...validation import available_memory
+
+    return int(max(2_000_000, min(2 ** 26, available_memory() / (8 * 141))))
+
+
+def _free_bytes(cuda) -> float:
+    """Free memory on the GPU (the simulator: a fixed 1 GiB)."""
+    from numba import config
+
+    if config.ENABLE_CUDASIM:
+        return float(2 ** 30)
+    free, _total = cuda.current_context().get_memory_info()
+    return float(free)
+
+
+def run_into(table, states, turns, leaving, n, rows, done, status, last, threads=THREADS):
+    """Run the billiard kernel on the GPU for each state, into the host arrays the CPU's ``_run_many`` fills.
+
+    The orbits go to the GPU in groups whose arrays take at most half of its free memory; each group is
+    copied in, launched (thread k: orbit k) and copied back into its rows.
+
+    Parameters
+    ----------
+    table : Billiard
+        The table (its wall's cell table is :func:`.kernel.compiled`'s, shared with the CPU kernel).
+    states : ndarray (m, 4)
+        Unit-speed states with θ in [0, 2π).
+    turns, leaving : ndarray (m,) of int64
+        Whole turns of θ, and the wall each state is on (−1: none).
+    n : int
+        Collisions per orbit.
+    rows : list of six ndarray (m, n)
+        time, θ, η, v_θ, v_η (float64) and side (int8), filled.
+    done, status : ndarray (m,) of int64
+        Collisions computed and the stop code per orbit, filled.
+    last : ndarray (m, 2)
+        θ mod 2π and its turns after the last collision, filled.
+    threads : int
+        Threads per block.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> # as kernel.run_many(..., device="gpu") calls it (needs a GPU or the simulator)
+    >>> run_into  # doctest: +ELLIPSIS
+    <function run_into at ...>
+    """
+    from .kernel import compiled
+
+    cuda = cuda_module()
+    module = _billiard_module(table.wall)
+    m = states.shape[0]
+    H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
+    consts = [cuda.to_device(np.ascontiguousarray(a)) for a in (c, cells, lookup)]
+    per_orbit = 41.0 * n + 4 * 8 + 3 * 8 + 2 * 8 + 64
+    group = int(max(1, min(m, 0.5 * _free_bytes(cuda) // per_orbit)))
+    kernel = module._run_gpu
+    for first in range(0, m, group):
+        part = slice(first, min(m, first + group))
+        k = part.stop - part.start
+        args = [cuda.to_device(np.ascontiguousarray(a[part])) for a in (states, turns, leaving)]
+        outs = [cuda.device_array((k, n), dtype=r.dtype) for r in rows]
+        small = [cuda.device_array(k, dtype=np.int64), cuda.device_array(k, dtype=np.int64),
+                 cuda.device_array((k, 2), dtype=np.float64)]
+        blocks = (k + threads - 1) // threads
+        kernel[blocks, threads](*args, n, float(H), float(b0), consts[0], consts[1], consts[2], float(wmin),
+                                float(wmax), float(tol), *outs, *small)
+        for host, dev in zip(rows, outs):
+            dev.copy_to_host(host[part])
+        for host, dev in zip((done, status, last), small):
+            dev.copy_to_host(host[part])
+
