@@ -8,10 +8,15 @@ installed (``pip install -e ".[test]"``): its three parts are mapped to their fo
 then stops with that one line instead of an error in every file.
 """
 
+import os
 import sys
 from pathlib import Path
 
 import pytest
+
+# device="gpu" runs in numba's CUDA simulator (the GPU code path, executed in Python) unless a run asks for the
+# real device with NUMBA_ENABLE_CUDASIM=0 (tests/benchmarks/gpu_check.sh); set before numba is first imported
+os.environ.setdefault("NUMBA_ENABLE_CUDASIM", "1")
 
 HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:

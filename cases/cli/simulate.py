@@ -5,7 +5,16 @@ from __future__ import annotations
 import json
 import time
 
-from .common import add_command, check_positive_count, check_seed, count, load_table, progress_bar, table_arguments
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    device_argument,
+    load_table,
+    progress_bar,
+    table_arguments,
+)
 
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
@@ -16,12 +25,15 @@ NS_PER_COLLISION = {"kernel": 1_000.0, "reference": 500_000.0}
 MAX_SECONDS = 3600.0
 
 DESCRIPTION = """\
-Follow one orbit of the billiard equivalent to the body between the walls (the paper's eqs. 1–8).
+Follow orbits of the billiard equivalent to the body between the walls (the paper's eqs. 1–8).
 
 The particle moves at unit speed in the (θ, η) strip between the lower wall b0 + b(θ) and the
 upper wall H − b0 − b(θ + π), reflecting specularly, from a Liouville-random start.  Reports the
 collision rate of the numba kernel (compile time apart), the mean free time against Santaló's
-π·Area/Perimeter, and the share of collisions with the bottom wall.  Units: κ (radius of
+π·Area/Perimeter, and the share of collisions with the bottom wall.  With --orbits N, N
+Liouville-random orbits of --collisions each (on all CPU cores, or with --device gpu one orbit
+per GPU thread), and the mean free time from the collisions counted in a common time window
+(± its standard error: it tends to Santaló's value on any table).  Units: κ (radius of
 gyration); with --kappa the wall, --H and --b0 are lengths in κ's unit."""
 
 EXAMPLE = 'coinwall simulate "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --H 3 --collisions 1000000'
@@ -33,13 +45,16 @@ def register(subparsers):
     parser = add_command(subparsers, "simulate", help="run the equivalent billiard (numba kernel) for one orbit",
                          description=DESCRIPTION, example=EXAMPLE)
     table_arguments(parser)
-    parser.add_argument("--collisions", type=count, default=100_000, help="number of collisions (default 100000)")
+    parser.add_argument("--collisions", type=count, default=100_000,
+                        help="number of collisions (per orbit with --orbits; default 100000)")
+    parser.add_argument("--orbits", type=count, default=1, help="number of Liouville-random orbits (default 1)")
     parser.add_argument("--seed", type=count, default=None, help="seed of the random start state (Liouville measure)")
     parser.add_argument("--method", choices=["kernel", "reference"], default="kernel",
                         help="numba kernel (default) or the slow plain-numpy reference stepper")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
     parser.add_argument("--allow-long", action="store_true",
                         help="run even when the estimated time exceeds one hour (the estimate is in the output)")
+    device_argument(parser)
     parser.set_defaults(run=_cmd_simulate)
 
 
@@ -63,8 +78,11 @@ def _cmd_simulate(args):
     from coinwall.forward.validation import check_count
 
     check_positive_count("--collisions", args.collisions)
+    check_positive_count("--orbits", args.orbits)
     check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # streamed: memory is bounded, time is not
     check_seed(args.seed)
+    if args.orbits > 1 or args.device != "cpu":
+        return _simulate_ensemble(args)
     estimate = estimated_seconds(args.collisions, args.method)
     if estimate > MAX_SECONDS and not args.allow_long:
         from coinwall.forward.errors import InvalidArgument
@@ -114,4 +132,55 @@ def _cmd_simulate(args):
         print(f"bottom     fraction of collisions with the bottom wall {summary['bottom_fraction']:.4f}")
     if stats.note:
         print(f"note       {stats.note}")
+    return 0
+
+
+def _simulate_ensemble(args):
+    """``--orbits N`` (or ``--device gpu``): N Liouville-random orbits, statistics only (:func:`ensemble_statistics`)."""
+    from coinwall.forward.dynamics.analysis.orbitstats import ensemble_statistics
+    from coinwall.forward.dynamics.billiard.gpu import check_device
+    from coinwall.forward.dynamics.billiard.table import compile_kernel, random_states
+    from coinwall.forward.errors import InvalidArgument
+
+    check_device(args.device)
+    if args.method != "kernel":
+        raise InvalidArgument("--orbits and --device follow orbits with the kernel; --method reference runs one orbit")
+    total = args.orbits * args.collisions
+    estimate = estimated_seconds(total, "kernel")
+    if estimate > MAX_SECONDS and not args.allow_long and args.device == "cpu":
+        raise InvalidArgument(
+            f"--orbits {args.orbits} × --collisions {args.collisions} would take about {_duration(estimate)} "
+            f"({NS_PER_COLLISION['kernel']:g} ns per collision), more than the {_duration(MAX_SECONDS)} allowed "
+            "without --allow-long; ask for fewer, add --allow-long, or use --device gpu")
+    wall, table = load_table(args)
+    states = random_states(table, args.orbits, args.seed)
+    compile_seconds = compile_kernel(table, device=args.device)
+    bar = progress_bar(args, total, "coll")
+    start = time.perf_counter()
+    try:
+        stats = ensemble_statistics(table, states, args.collisions, device=args.device,
+                                    progress=bar.update if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    seconds = time.perf_counter() - start
+    summary = dict(stats.to_dict(), wall=args.wall, params=dict(wall.params), kappa=args.kappa, seed=args.seed,
+                   method="kernel", seconds=seconds,
+                   collisions_per_second=stats.collisions / seconds if seconds > 0 else None,
+                   compile_seconds=compile_seconds)
+    if args.json:
+        print(json.dumps(summary, indent=1, allow_nan=False))
+        return 0
+    print(f"table      {table!r}")
+    print(f"orbits     {stats.orbits} Liouville-random (seed {args.seed}) on the {args.device}")
+    print(f"collisions {stats.collisions} in {seconds:.3g} s ({summary['collisions_per_second'] or 0:.3g}/s; "
+          f"compile/load {compile_seconds:.3g} s, not included)")
+    if stats.collisions:
+        print(f"free time  mean {stats.mean_free_time:.6g} ± {stats.mean_free_time_stderr:.2g} "
+              f"(Santaló π·A/P = {stats.santalo_mean_free_time:.6g})")
+        print(f"bottom     fraction of collisions with the bottom wall {stats.bottom_fraction:.4f}")
+    for note in stats.notes[:5]:
+        print(f"note       {note}")
+    if len(stats.notes) > 5:
+        print(f"note       ... and {len(stats.notes) - 5} more orbits stopped early")
     return 0

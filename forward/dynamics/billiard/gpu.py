@@ -38,7 +38,7 @@ from ...errors import InvalidArgument
 from ...validation import check_choice
 
 __all__ = ["BILLIARD_LAUNCHER", "DEVICES", "GPU_HEADER", "THREADS", "check_device", "cuda_module", "device_name",
-           "device_status", "gpu_module", "group_collisions", "run_into"]
+           "device_status", "gpu_module", "group_collisions", "one_step_check", "run_into"]
 
 #: The values of every ``device`` argument: all CPU cores (numba threads) or one CUDA GPU.
 DEVICES = ("cpu", "gpu")
@@ -362,3 +362,57 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
         for host, dev in zip((done, status, last), small):
             dev.copy_to_host(host[part])
 
+
+
+def one_step_check(table, trajectories) -> float:
+    """The largest difference between each collision of ``trajectories`` and the CPU kernel's next collision
+    from the collision before it: the check that GPU and CPU agree collision by collision.
+
+    From the state after collision i of an orbit (θ reduced mod 2π with its whole turns, η, v, on the wall it
+    was on), the CPU kernel computes one collision; its time of flight, θ, η, v_θ and v_η are compared with
+    collision i + 1, each relative to max(1, |value|); a different wall, or no collision, is ``inf``.  Orbits of unit start
+    speed (what :func:`~.table.random_states` draws).
+
+    Parameters
+    ----------
+    table : Billiard
+    trajectories : list of Trajectory
+        Orbits computed on the GPU (or on the CPU: then the answer is 0 up to the reduction of θ).
+
+    Returns
+    -------
+    float
+        The largest difference (0 when no orbit has two collisions; ``inf`` when the CPU's next collision is on
+        the other wall or missing).
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> one_step_check(table, ensemble(table, random_states(table, 2, seed=0), 6)) < 1e-12
+    True
+    """
+    from .kernel import _run_threads, compiled
+
+    two_pi = 2.0 * np.pi
+    pieces = [t for t in trajectories if len(t) >= 2]
+    if not pieces:
+        return 0.0
+    theta = np.concatenate([t.theta[:-1] for t in pieces])
+    turns = np.floor(theta / two_pi)
+    states = np.column_stack([theta - two_pi * turns, np.concatenate([t.eta[:-1] for t in pieces]),
+                              np.concatenate([t.v_theta[:-1] for t in pieces]),
+                              np.concatenate([t.v_eta[:-1] for t in pieces])])
+    leaving = np.concatenate([t.side[:-1] for t in pieces]).astype(np.int64)
+    m = states.shape[0]
+    out = [np.empty((m, 1)) for _ in range(5)] + [np.empty((m, 1), dtype=np.int8)]
+    done, status, last = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.empty((m, 2))
+    _run_threads(compiled(table), table, np.ascontiguousarray(states), turns.astype(np.int64), leaving, 1, None, out,
+                 done, status, last)
+    expect = [np.concatenate([np.diff(t.time) for t in pieces])] + [
+        np.concatenate([getattr(t, name)[1:] for t in pieces]) for name in ("theta", "eta", "v_theta", "v_eta")]
+    worst = max(float(np.max(np.abs(col[:, 0] - want) / np.maximum(1.0, np.abs(want))))
+                for col, want in zip(out[:5], expect))
+    same_wall = np.array_equal(out[5][:, 0], np.concatenate([t.side[1:] for t in pieces]))
+    return worst if np.all(done == 1) and same_wall else float("inf")

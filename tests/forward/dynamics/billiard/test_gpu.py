@@ -1,0 +1,191 @@
+"""The kernels on a GPU (device="gpu"): the same kernel text compiled for CUDA, checked against the CPU kernel.
+
+The default run executes the GPU code path in numba's CUDA simulator (tests/conftest.py sets
+NUMBA_ENABLE_CUDASIM=1): the kernel text runs as Python, one thread per orbit, and must give the CPU kernel's
+collisions.  tests/benchmarks/gpu_check.sh runs this file on a real GPU (NUMBA_ENABLE_CUDASIM=0); there the
+collisions agree to rounding (fused multiply-adds, CUDA's math library), which the one-step check measures: from
+every GPU state the CPU's next collision is the GPU's next one to 1e-12.  Sizes are small (the simulator runs
+~10^4 collisions a second).
+"""
+
+from __future__ import annotations
+
+import doctest
+import math
+
+import numpy as np
+import pytest
+
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import gpu
+from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states
+from coinwall.forward.errors import InvalidArgument
+
+numba = pytest.importorskip("numba")
+pytest.importorskip("numba.cuda", reason="numba-cuda is not installed (pip install 'coinwall[gpu]')")
+SIMULATOR = bool(numba.config.ENABLE_CUDASIM)
+ONE_STEP_TOL = 1e-12
+
+ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+
+
+def _tables():
+    """The coin (ε = 99, H = 3), the paper's mixed ellipse (ε = 0.55, H = 1.9), a Fourier wall, and a wall as data:
+    the ε = 0.55 ellipse sampled at 1° and rounded to 5 digits (the CSV a person would bring)."""
+    deg = np.deg2rad(np.arange(360.0))
+    samples = np.round(np.sqrt((1 + 0.55 * np.cos(deg) ** 2) / 1.55), 5)
+    return {"coin": Billiard(Wall.from_expression(ELLIPSE, {"eps": 99.0}), 3.0),
+            "ellipse": Billiard(Wall.from_expression(ELLIPSE, {"eps": 0.55}), 1.9),
+            "fourier": Billiard(Wall.from_fourier(1.0, [0.15, 0.0, 0.04], [0.0, 0.03]), 3.5),
+            "data": Billiard(Wall.from_samples(deg, samples, rounding=5e-6), 2.2)}
+
+
+TABLES = _tables()
+
+
+@pytest.mark.parametrize("name", sorted(TABLES))
+def test_gpu_orbits_are_the_cpu_kernels(name):
+    # the same launch on both devices: every collision of every orbit, the notes and the end angles
+    table = TABLES[name]
+    states = random_states(table, 5, seed=7)
+    on_gpu = ensemble(table, states, 40, device="gpu")
+    on_cpu = ensemble(table, states, 40, device="cpu")
+    for g, c in zip(on_gpu, on_cpu):
+        assert len(g) == len(c) == 40 and g.note == c.note == ""
+        assert np.array_equal(g.side, c.side)
+        for field in ("time", "theta", "eta", "v_theta", "v_eta"):
+            got, want = getattr(g, field), getattr(c, field)
+            if SIMULATOR:  # the simulator runs the kernel text as Python: the CPU kernel's floats exactly
+                assert np.array_equal(got, want), field
+            else:  # the real GPU rounds differently (FMA, its math library): the trajectories part slowly
+                assert np.allclose(got[:5], want[:5], rtol=0, atol=1e-9), field
+        assert (g.end_angle, g.end_turns) == (c.end_angle, c.end_turns) or not SIMULATOR
+    # the collision-by-collision check: from each GPU state, the CPU's next collision (exact in the simulator)
+    assert gpu.one_step_check(table, on_gpu) <= ONE_STEP_TOL
+
+
+def test_one_step_check_sees_a_wrong_collision():
+    # the check must fail on a trajectory that is not the kernel's: one collision moved by 1e-9 in time, and one
+    # orbit whose second collision is taken from another orbit (a flight through a wall, or a missed collision)
+    table = TABLES["fourier"]
+    orbits = ensemble(table, random_states(table, 3, seed=3), 8)
+    assert gpu.one_step_check(table, orbits) <= ONE_STEP_TOL
+    from dataclasses import replace
+
+    moved = orbits[0].time.copy()
+    moved[4] += 1e-9
+    assert gpu.one_step_check(table, [replace(orbits[0], time=moved)]) > 1e-10
+    other = orbits[0]
+    spliced = replace(other, theta=np.r_[other.theta[:2], orbits[1].theta[2:]],
+                      eta=np.r_[other.eta[:2], orbits[1].eta[2:]])
+    assert gpu.one_step_check(table, [spliced]) > 1e-3
+
+
+@pytest.mark.filterwarnings("ignore:divide by zero:RuntimeWarning")  # the simulator runs 1/v_η = 1/0 as numpy
+def test_free_flight_and_resumed_orbits_on_the_gpu():
+    # an orbit that never collides again (horizontal, in the open channel) stops with the CPU's note; orbits that
+    # continue from a collision (on a wall, with whole turns of θ) are followed exactly as on the CPU
+    table = TABLES["fourier"]
+    channel = [0.3, 0.5 * (table.H), 1.0, 0.0]
+    start = random_states(table, 2, seed=11)
+    first = ensemble(table, start, 7)
+    resumed = [t.resume_state() for t in first]
+    states = np.array([channel] + [s for s, _ in resumed])
+    turns = [0] + [k for _, k in resumed]
+    on_gpu = ensemble(table, states, 9, turns=turns, device="gpu")
+    on_cpu = ensemble(table, states, 9, turns=turns)
+    assert len(on_gpu[0]) == 0 and on_gpu[0].note == on_cpu[0].note and "free flight" in on_gpu[0].note
+    for g, c in zip(on_gpu[1:], on_cpu[1:]):
+        assert len(g) == 9 and np.allclose(g.theta, c.theta, rtol=0, atol=1e-9)
+        assert np.array_equal(g.side, c.side)
+
+
+def test_analyses_take_the_device():
+    # P(n), the section and the Lyapunov exponents give the CPU's numbers on the GPU
+    from coinwall.forward.dynamics.analysis.correlation import correlation
+    from coinwall.forward.dynamics.analysis.lyapunov import chaotic_fraction
+    from coinwall.forward.dynamics.analysis.poincare import poincare_section
+
+    table = TABLES["coin"]
+    a = correlation(table, 240, 3, orbits=3, seed=2, burn=2)
+    b = correlation(table, 240, 3, orbits=3, seed=2, burn=2, device="gpu")
+    assert np.allclose(a.P, b.P, rtol=0, atol=0 if SIMULATOR else 0.2)
+    s1 = poincare_section(table, 3, 30, seed=4)
+    s2 = poincare_section(table, 3, 30, seed=4, device="gpu")
+    assert s1.theta.size == s2.theta.size and np.allclose(s1.theta, s2.theta, rtol=0, atol=1e-6)
+    f1 = chaotic_fraction(TABLES["ellipse"], orbits=3, collisions=20, seed=5)
+    f2 = chaotic_fraction(TABLES["ellipse"], orbits=3, collisions=20, seed=5, device="gpu")
+    lam1, lam2 = f1.exponents.per_collision, f2.exponents.per_collision
+    assert np.allclose(lam1, lam2, rtol=0, atol=1e-12 if SIMULATOR else 1e-3)
+
+
+def test_device_refused_in_one_line(monkeypatch, capsys):
+    # an unknown device, and "gpu" where numba-cuda is missing: InvalidArgument from the library, one line and
+    # exit status 2 from the command line, before any work
+    table = TABLES["fourier"]
+    with pytest.raises(InvalidArgument, match="`device` must be one of 'cpu', 'gpu'"):
+        ensemble(table, random_states(table, 1, seed=0), 3, device="cuda")
+
+    def missing():
+        raise ImportError("No module named 'numba.cuda'")
+
+    monkeypatch.setattr(gpu, "cuda_module", missing)
+    with pytest.raises(InvalidArgument, match="numba-cuda is not installed"):
+        gpu.check_device("gpu")
+    from coinwall.cases.cli.main import main
+
+    for argv in (["section", "case:ellipse-0.55", "--H", "1.9", "--orbits", "2", "--collisions", "5"],
+                 ["correlation", "case:coin", "--H", "3", "--bounces", "100", "--orbits", "2", "--max-lag", "2"],
+                 ["kam", "--H", "3", "--orbits", "2", "--collisions", "20", "--steps", "0"],
+                 ["simulate", "case:coin", "--H", "3", "--collisions", "10", "--orbits", "3"]):
+        assert main(argv + ["--device", "gpu"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--device" in err[0] and "numba-cuda is not installed" in err[0], err
+
+
+def test_reference_method_stays_on_the_cpu():
+    table = TABLES["fourier"]
+    with pytest.raises(InvalidArgument, match="reference"):
+        ensemble(table, random_states(table, 1, seed=0), 3, method="reference", device="gpu")
+
+
+# the field kernel's launcher: thread k runs the field kernel's _run on state k, summaries only (as its _run_many)
+FIELD_LAUNCHER = """
+
+@cuda.jit
+def _run_gpu(states, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol, valleys,
+             dummy_f, dummy_i, done, status, summary):
+    k = cuda.grid(1)
+    if k < states.shape[0]:
+        d, s = _run(states[k], 0, -1, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol,
+                    valleys, False, dummy_f, dummy_f, dummy_f, dummy_f, dummy_f, dummy_i, summary[k])
+        done[k] = d
+        status[k] = s
+"""
+
+
+def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
+    # the mechanism is not the billiard's alone: the field kernel's text (gravity, floor, restitution), joined to
+    # the same header with a launcher of its own, gives the CPU field kernel's summaries
+    from coinwall.forward.dynamics.floor import field
+
+    table = field.FieldTable(Wall.from_expression(ELLIPSE, {"eps": 3.0}), g=1.0, e=0.6)
+    rng = np.random.default_rng(5)
+    m, n = 4, 30
+    states = np.column_stack([rng.uniform(0, 2 * math.pi, m), rng.uniform(2.0, 3.0, m), rng.normal(0, 3, m),
+                              rng.normal(0, 1, m)])
+    want = field.field_run_many(table, states, n)
+    comp = field._kernel(table)
+    module = gpu.gpu_module(table.wall, field.FIELD_SOURCE, FIELD_LAUNCHER, "coinwall_gpu_field")
+    done, status, summary = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.zeros((m, 8))
+    module._run_gpu[1, 32](states, n, *comp.args(table), False, table.chatter, *comp.wall_args(table),
+                           np.empty(1), np.empty(1, dtype=np.int8), done, status, summary)
+    assert np.array_equal(status, want["status"]) and np.array_equal(done, want["impacts"])
+    assert np.allclose(summary[:, [0, 2, 3, 4]], want["final"], rtol=0, atol=0 if SIMULATOR else 1e-6)
+    assert np.allclose(summary[:, 5], want["time"], rtol=0, atol=0 if SIMULATOR else 1e-6)
+
+
+def test_docstring_examples():
+    # the Examples sections of the GPU module run (those that need a GPU are skipped in the text)
+    result = doctest.testmod(gpu, optionflags=doctest.ELLIPSIS)
+    assert result.failed == 0 and result.attempted > 0
