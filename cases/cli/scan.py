@@ -34,7 +34,7 @@ coinwall scan toss "sqrt((1+eps*cos(t)**2)/(1+eps))" --param eps=99 --param rest
 
 #: quantity options: flag dest -> library option name (each applies to some quantities; others are refused)
 _OPTIONS = ("orbits", "collisions", "every", "threshold", "bounces", "max_lag", "count", "pair", "cells", "order",
-            "tosses", "g", "v0", "omega0", "spread", "impacts")
+            "tosses", "g", "v0", "omega0", "spread", "impacts", "device")
 
 
 def register(subparsers):
@@ -74,6 +74,9 @@ def register(subparsers):
     group.add_argument("--spread", type=number, default=None,
                        help="relative standard deviation of the hand's v0 and ω0 (toss; default 0.02)")
     group.add_argument("--impacts", type=count, default=None, help="impacts per toss at most (toss; default 10000)")
+    group.add_argument("--device", choices=["cpu", "gpu"], default=None,
+                       help="where the billiard's orbits run (chaotic-fraction, lyapunov, tau; default cpu): gpu "
+                            "computes each cell's orbits on a CUDA GPU (coinwall[gpu]), one local worker by default")
     scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
     scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",
                       help="'local' (default): a local cluster made for this scan; 'synchronous': every cell in this "

@@ -316,7 +316,8 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
         ``"local"`` (a :class:`~distributed.LocalCluster` made and closed here), ``"synchronous"`` (every cell
         in this process, one after the other: small scans, tests, debugging) or ``"tcp://HOST:PORT"``.
     workers : int, optional
-        Local worker processes (default: one per core); at most what the machine can hold (cores, and
+        Local worker processes (default: one per core; with the option ``device="gpu"`` one, which computes
+        whole cells on the GPU); at most what the machine can hold (cores, and
         memory at :data:`WORKER_BYTES` each: :func:`worker_limit`), with a note.  With an address, wait for
         that many.
     client : distributed.Client, optional
@@ -342,6 +343,12 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
         raise InvalidArgument(f"`table` must be a TableSpec, got {type(table).__name__}")
     options = check_options(quantity, options)
     seed = check_count("seed", seed, minimum=0)
+    if options.get("device") == "gpu" and client is None and scheduler in (None, "local", "synchronous"):
+        from coinwall.forward.dynamics.billiard.gpu import check_device
+
+        check_device("gpu")  # here, before the store is made: the local workers are this machine
+        if workers is None:
+            workers = 1  # one process drives the GPU, a whole cell (all its orbits) per launch
     retries = check_count("retries", retries, minimum=0)
     if workers is not None:
         workers = check_count("workers", workers, maximum=4096)

@@ -53,20 +53,20 @@ class Quantity:
     seeded: bool = True
 
 
-def _exponents(table, orbits, collisions, every, seed):
+def _exponents(table, orbits, collisions, every, seed, device="cpu"):
     from coinwall.forward.dynamics.analysis.lyapunov import lyapunov_many
     from coinwall.forward.dynamics.billiard.table import random_states
 
     # the same start states and separation directions as lyapunov.chaotic_fraction(table, orbits, ..., seed)
     states = random_states(table, orbits, seed)
-    result = lyapunov_many(table, states, collisions, every, seed=seed, workers=1)
+    result = lyapunov_many(table, states, collisions, every, seed=seed, workers=1, device=device)
     return result.per_collision, result.per_time, result.collisions
 
 
-def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
+def _chaotic_fraction(table, seed, orbits, collisions, every, threshold, device):
     from coinwall.forward.dynamics.analysis.lyapunov import default_threshold
 
-    per_collision, _, _ = _exponents(table, orbits, collisions, every, seed)
+    per_collision, _, _ = _exponents(table, orbits, collisions, every, seed, device)
     lam = per_collision[np.isfinite(per_collision)]
     limit = default_threshold(collisions) if threshold is None else threshold
     n = int(lam.size)
@@ -77,8 +77,8 @@ def _chaotic_fraction(table, seed, orbits, collisions, every, threshold):
             "regular_orbits": float(n - chaotic), "orbits_used": float(n)}
 
 
-def _lyapunov(table, seed, orbits, collisions, every):
-    per_collision, per_time, _ = _exponents(table, orbits, collisions, every, seed)
+def _lyapunov(table, seed, orbits, collisions, every, device):
+    per_collision, per_time, _ = _exponents(table, orbits, collisions, every, seed, device)
     ok = np.isfinite(per_collision)
     n = int(np.count_nonzero(ok))
 
@@ -92,10 +92,10 @@ def _lyapunov(table, seed, orbits, collisions, every):
             "orbits_used": float(n)}
 
 
-def _tau(table, seed, bounces, max_lag, orbits, count):
+def _tau(table, seed, bounces, max_lag, orbits, count, device):
     from coinwall.forward.dynamics.analysis.correlation import correlation
 
-    result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1)
+    result = correlation(table, bounces, max_lag, orbits=orbits, count=count, seed=seed, workers=1, device=device)
     return {"tau": result.tau, "tau_stderr": result.tau_stderr, "P1": float(result.P[1]),
             "P1_stderr": float(result.P_stderr[1]), "n_needed_fit": result.n_needed_fit}
 
@@ -145,7 +145,7 @@ QUANTITIES = {
          "chaotic_fraction_stderr": ("1", "binomial standard error sqrt(f(1-f)/n)"),
          "regular_orbits": ("1", "orbits with lambda/collision <= threshold"),
          "orbits_used": ("1", "orbits with a result (orbits that stopped early are left out)")},
-        {"orbits": 100, "collisions": 1000, "every": 10, "threshold": None}),
+        {"orbits": 100, "collisions": 1000, "every": 10, "threshold": None, "device": "cpu"}),
     "lyapunov": Quantity(
         "lyapunov",
         {"lambda_collision": ("1/collision", "mean largest Lyapunov exponent over the orbits"),
@@ -154,14 +154,14 @@ QUANTITIES = {
          "lambda_time": ("1/kappa", "mean exponent per unit time (unit speed: per unit path length)"),
          "lambda_time_stderr": ("1/kappa", "standard error of the mean"),
          "orbits_used": ("1", "orbits with a result")},
-        {"orbits": 20, "collisions": 2000, "every": 10}),
+        {"orbits": 20, "collisions": 2000, "every": 10, "device": "cpu"}),
     "tau": Quantity(
         "tau",
         {"tau": ("collision", "decay time of P(n) - 1/2 = A exp(-n/tau), n in counted collisions"),
          "tau_stderr": ("collision", "jackknife standard error of tau"),
          "P1": ("1", "P(1)"), "P1_stderr": ("1", "standard error of P(1)"),
          "n_needed_fit": ("collision", "tau ln(|A|/0.01): collisions until |P(n) - 1/2| < 0.01 (fit)")},
-        {"bounces": 100_000, "max_lag": 40, "orbits": 100, "count": "bottom"}),
+        {"bounces": 100_000, "max_lag": 40, "orbits": 100, "count": "bottom", "device": "cpu"}),
     "splitting": Quantity(
         "splitting",
         {"splitting": ("1/kappa**2", "lambda_minus - lambda_plus of the lowest doublet (direct difference)"),
@@ -211,6 +211,8 @@ def check_options(quantity: str, options: dict | None) -> dict:
         out["threshold"] = check_positive("threshold", out["threshold"])
     if "count" in out:
         check_choice("count", out["count"], ("bottom", "all"))
+    if "device" in out:  # the GPU itself is checked where the cells run (a cluster's workers may have one)
+        check_choice("device", out["device"], ("cpu", "gpu"))
     if quantity == "toss":
         out["g"] = check_positive("g", out["g"])
         for name in ("v0", "omega0", "spread"):
@@ -277,6 +279,12 @@ def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, o
     """
     from coinwall.forward.errors import CoinwallError
 
+    if options.get("device") == "gpu":
+        from coinwall.forward.dynamics.billiard.gpu import device_status
+
+        why = device_status()
+        if why:  # the worker's own failure, not a finding about the cell: the task fails, the cell stays to do
+            raise RuntimeError(f"this worker cannot run --device gpu: {why}")
     try:
         if quantity in _OWN_TABLE:
             numbers = _OWN_TABLE[quantity](table_spec, values, H, seed, **options)
