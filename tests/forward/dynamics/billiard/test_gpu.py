@@ -189,3 +189,52 @@ def test_docstring_examples():
     # the Examples sections of the GPU module run (those that need a GPU are skipped in the text)
     result = doctest.testmod(gpu, optionflags=doctest.ELLIPSIS)
     assert result.failed == 0 and result.attempted > 0
+
+
+COMPILE_FOR_SM90 = r"""
+import sys
+import numba.cuda.dispatcher as dispatcher
+from numba import cuda, types
+
+class Hopper:  # no GPU here: compile for an H100/H200 (sm_90) as if one were present
+    compute_capability = (9, 0)
+
+dispatcher.get_current_device = lambda: Hopper()
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.billiard import gpu
+from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
+
+module = gpu.gpu_module(Wall.from_expression(sys.argv[1], {"eps": 99.0}), KERNEL_SOURCE, gpu.BILLIARD_LAUNCHER,
+                        "coinwall_gpu")
+f64, i64 = types.float64, types.int64
+a1, a2, v64 = types.Array(f64, 1, "C"), types.Array(f64, 2, "C"), types.Array(i64, 1, "C")
+signature = (a2, v64, v64, i64, f64, f64, a1, a2, v64, f64, f64, f64, a2, a2, a2, a2, a2,
+             types.Array(types.int8, 2, "C"), v64, v64, a2)
+ptx, _ = cuda.compile_ptx(module._run_gpu.py_func, signature, cc=(9, 0))
+print(ptx)
+"""
+
+
+@pytest.mark.slow
+def test_kernel_text_compiles_for_cuda(tmp_path):
+    # the simulator runs the kernel text as Python and never types it for CUDA: here numba-cuda compiles it through
+    # NVVM to PTX for sm_90 (where NVVM is installed: a CUDA toolkit, or numba-cuda[cu12]/[cu13]); all the kernel's
+    # functions are inlined into the launcher (the only call left is CUDA's own slow path of trigonometry)
+    import os
+    import subprocess
+    import sys
+
+    try:
+        from cuda.pathfinder import load_nvidia_dynamic_lib
+
+        load_nvidia_dynamic_lib("nvvm")
+    except Exception as exc:  # noqa: BLE001 -- no NVVM here: nothing to compile with
+        pytest.skip(f"no NVVM library ({type(exc).__name__})")
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "0", "COINWALL_CACHE_DIR": str(tmp_path)}
+    done = subprocess.run([sys.executable, "-c", COMPILE_FOR_SM90, ELLIPSE], capture_output=True, text=True, env=env,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    ptx = done.stdout
+    assert ".target sm_90" in ptx and ".entry" in ptx
+    called = {line.split()[0].rstrip(",") for line in ptx.split("call.uni (retval0), \n")[1:]}
+    assert called <= {"__internal_trig_reduction_slowpathd"}, called
