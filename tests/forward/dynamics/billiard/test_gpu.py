@@ -47,11 +47,11 @@ TABLES = _tables()
 def test_gpu_orbits_are_the_cpu_kernels(name):
     # the same launch on both devices: every collision of every orbit, the notes and the end angles
     table = TABLES[name]
-    states = random_states(table, 5, seed=7)
-    on_gpu = ensemble(table, states, 40, device="gpu")
-    on_cpu = ensemble(table, states, 40, device="cpu")
+    states = random_states(table, 4, seed=7)
+    on_gpu = ensemble(table, states, 25, device="gpu")
+    on_cpu = ensemble(table, states, 25, device="cpu")
     for g, c in zip(on_gpu, on_cpu):
-        assert len(g) == len(c) == 40 and g.note == c.note == ""
+        assert len(g) == len(c) == 25 and g.note == c.note == ""
         assert np.array_equal(g.side, c.side)
         for field in ("time", "theta", "eta", "v_theta", "v_eta"):
             got, want = getattr(g, field), getattr(c, field)
@@ -107,14 +107,14 @@ def test_analyses_take_the_device():
     from coinwall.forward.dynamics.analysis.poincare import poincare_section
 
     table = TABLES["coin"]
-    a = correlation(table, 240, 3, orbits=3, seed=2, burn=2)
-    b = correlation(table, 240, 3, orbits=3, seed=2, burn=2, device="gpu")
+    a = correlation(table, 90, 2, orbits=2, seed=2, burn=0)
+    b = correlation(table, 90, 2, orbits=2, seed=2, burn=0, device="gpu")
     assert np.allclose(a.P, b.P, rtol=0, atol=0 if SIMULATOR else 0.2)
-    s1 = poincare_section(table, 3, 30, seed=4)
-    s2 = poincare_section(table, 3, 30, seed=4, device="gpu")
+    s1 = poincare_section(table, 2, 20, seed=4)
+    s2 = poincare_section(table, 2, 20, seed=4, device="gpu")
     assert s1.theta.size == s2.theta.size and np.allclose(s1.theta, s2.theta, rtol=0, atol=1e-6)
-    f1 = chaotic_fraction(TABLES["ellipse"], orbits=3, collisions=20, seed=5)
-    f2 = chaotic_fraction(TABLES["ellipse"], orbits=3, collisions=20, seed=5, device="gpu")
+    f1 = chaotic_fraction(TABLES["ellipse"], orbits=2, collisions=20, seed=5)
+    f2 = chaotic_fraction(TABLES["ellipse"], orbits=2, collisions=20, seed=5, device="gpu")
     lam1, lam2 = f1.exponents.per_collision, f2.exponents.per_collision
     assert np.allclose(lam1, lam2, rtol=0, atol=1e-12 if SIMULATOR else 1e-3)
 
