@@ -37,8 +37,8 @@ import numpy as np
 from ...errors import InvalidArgument
 from ...validation import check_choice
 
-__all__ = ["BILLIARD_LAUNCHER", "DEVICES", "GPU_HEADER", "THREADS", "check_device", "cuda_module", "device_name",
-           "device_status", "gpu_module", "group_collisions", "one_step_check", "run_into"]
+__all__ = ["BILLIARD_LAUNCHER", "DEVICES", "GPU_HEADER", "THREADS", "Orbits", "check_device", "cuda_module",
+           "device_name", "device_status", "gpu_module", "group_collisions", "launch", "one_step_check", "run_into"]
 
 #: The values of every ``device`` argument: all CPU cores (numba threads) or one CUDA GPU.
 DEVICES = ("cpu", "gpu")
@@ -339,29 +339,60 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
     """
     from .kernel import compiled
 
-    cuda = cuda_module()
     module = _billiard_module(table.wall)
-    m = states.shape[0]
     H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
-    consts = [cuda.to_device(np.ascontiguousarray(a)) for a in (c, cells, lookup)]
-    per_orbit = 41.0 * n + 4 * 8 + 3 * 8 + 2 * 8 + 64
+    launch(module._run_gpu, [Orbits(states), Orbits(turns), Orbits(leaving), n, float(H), float(b0), c, cells, lookup,
+                             float(wmin), float(wmax), float(tol), *[Orbits(r, out=True) for r in rows],
+                             Orbits(done, out=True), Orbits(status, out=True), Orbits(last, out=True)], threads)
+
+
+class Orbits:
+    """An argument of :func:`launch` with one row per orbit: sent to the GPU in the launch's groups (``out=False``)
+    or filled there and copied back into the host array's rows (``out=True``)."""
+
+    def __init__(self, host, out: bool = False):
+        self.host, self.out = host, out
+
+
+def launch(kernel, args, threads: int = THREADS) -> None:
+    """Launch a CUDA ``kernel`` of one orbit per thread over all orbits, in groups that fit the GPU's memory.
+
+    Parameters
+    ----------
+    kernel : numba.cuda dispatcher
+        Thread k works on row k of every :class:`Orbits` argument.
+    args : list
+        The kernel's arguments in order: :class:`Orbits` (host arrays with one row per orbit, the same number of
+        rows each), arrays shared by all orbits (sent once) and scalars.
+    threads : int
+        Threads per block.
+
+    Returns
+    -------
+    None
+        The ``out=True`` arrays are filled.
+
+    Examples
+    --------
+    >>> launch  # doctest: +ELLIPSIS
+    <function launch at ...>
+    """
+    cuda = cuda_module()
+    rows = [a for a in args if isinstance(a, Orbits)]
+    m = rows[0].host.shape[0]
+    per_orbit = sum(a.host.nbytes for a in rows) / max(m, 1) + 64.0
     group = int(max(1, min(m, 0.5 * _free_bytes(cuda) // per_orbit)))
-    kernel = module._run_gpu
+    shared = [cuda.to_device(np.ascontiguousarray(a)) if isinstance(a, np.ndarray) else a for a in args]
     for first in range(0, m, group):
         part = slice(first, min(m, first + group))
         k = part.stop - part.start
-        args = [cuda.to_device(np.ascontiguousarray(a[part])) for a in (states, turns, leaving)]
-        outs = [cuda.device_array((k, n), dtype=r.dtype) for r in rows]
-        small = [cuda.device_array(k, dtype=np.int64), cuda.device_array(k, dtype=np.int64),
-                 cuda.device_array((k, 2), dtype=np.float64)]
-        blocks = (k + threads - 1) // threads
-        kernel[blocks, threads](*args, n, float(H), float(b0), consts[0], consts[1], consts[2], float(wmin),
-                                float(wmax), float(tol), *outs, *small)
-        for host, dev in zip(rows, outs):
-            dev.copy_to_host(host[part])
-        for host, dev in zip((done, status, last), small):
-            dev.copy_to_host(host[part])
-
+        sent = [(cuda.device_array((k,) + a.host.shape[1:], dtype=a.host.dtype) if a.out
+                 else cuda.to_device(np.ascontiguousarray(a.host[part]))) if isinstance(a, Orbits) else d
+                for a, d in zip(args, shared)]
+        kernel[(k + threads - 1) // threads, threads](*sent)
+        for a, d in zip(args, sent):
+            if isinstance(a, Orbits) and a.out:
+                d.copy_to_host(a.host[part])
 
 
 def one_step_check(table, trajectories) -> float:

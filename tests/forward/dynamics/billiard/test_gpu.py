@@ -189,8 +189,10 @@ def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
     comp = field._kernel(table)
     module = gpu.gpu_module(table.wall, field.FIELD_SOURCE, FIELD_LAUNCHER, "coinwall_gpu_field")
     done, status, summary = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.zeros((m, 8))
-    module._run_gpu[1, 32](states, n, *comp.args(table), False, table.chatter, *comp.wall_args(table),
-                           np.empty(1), np.empty(1, dtype=np.int8), done, status, summary)
+    # what field_run_many(..., device="gpu") would do: per-orbit arrays in groups, shared arrays sent once
+    gpu.launch(module._run_gpu, [gpu.Orbits(states), n, *comp.args(table), False, table.chatter, *comp.wall_args(table),
+                                 np.empty(1), np.empty(1, dtype=np.int8), gpu.Orbits(done, out=True),
+                                 gpu.Orbits(status, out=True), gpu.Orbits(summary, out=True)])
     assert np.array_equal(status, want["status"]) and np.array_equal(done, want["impacts"])
     assert np.allclose(summary[:, [0, 2, 3, 4]], want["final"], rtol=0, atol=0 if SIMULATOR else 1e-6)
     assert np.allclose(summary[:, 5], want["time"], rtol=0, atol=0 if SIMULATOR else 1e-6)
