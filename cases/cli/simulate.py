@@ -136,7 +136,8 @@ def _cmd_simulate(args):
 
 
 def _simulate_ensemble(args):
-    """``--orbits N`` (or ``--device gpu``): N Liouville-random orbits, statistics only (:func:`ensemble_statistics`)."""
+    """``--orbits N`` (or ``--device gpu``): N Liouville-random orbits, statistics only
+    (:func:`ensemble_statistics`)."""
     from coinwall.forward.dynamics.analysis.orbitstats import ensemble_statistics
     from coinwall.forward.dynamics.billiard.gpu import check_device
     from coinwall.forward.dynamics.billiard.table import compile_kernel, random_states

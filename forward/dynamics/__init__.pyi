@@ -31,12 +31,13 @@ from .floor.toss import BasinMap, basin_map, heads_fraction
 from .floor.uncertainty import Uncertainty, uncertainty_exponent
 from .floor.wedge import WedgeLyapunov, wedge_lyapunov
 
-__all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlation", "EllipseShape", "EnsembleStatistics",
-           "Fairness",
+__all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlation", "EllipseShape",
+           "EnsembleStatistics", "Fairness",
            "FieldTable", "Flight", "KamBoundary", "LyapunovResult", "OrbitStatistics", "PoincareSection",
            "PolygonShape", "PsiFit", "Rigid3D", "RigidBody", "RigidBodyTrajectory", "TauLaw", "TopFlight", "TopTable",
            "Trajectory", "Trajectory3D", "Uncertainty", "WedgeLyapunov", "basin_map", "billiard_to_body",
-           "body_to_billiard", "chaotic_fraction", "compile_kernel", "correlation", "dhm_same_side", "ensemble", "ensemble_statistics",
+           "body_to_billiard", "chaotic_fraction", "compile_kernel", "correlation", "dhm_same_side", "ensemble",
+           "ensemble_statistics",
            "fairness", "fairness_curve", "field_run", "field_run_many", "fit_psi", "fit_tau_law", "heads",
            "heads_fraction", "incidence_angle", "kam_boundary", "lyapunov", "lyapunov_many", "orbit_statistics",
            "paper_boundary", "poincare_section", "random_states", "same_side_by_bounce", "side_correlation",

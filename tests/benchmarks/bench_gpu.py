@@ -184,8 +184,7 @@ def invariants(table, rows, done, status, sample):
     from coinwall.forward.dynamics.billiard import gpu
     from coinwall.forward.dynamics.billiard.table import Trajectory
 
-    time_, theta, eta, vt, ve, side = rows
-    n = time_.shape[1]
+    n = rows[0].shape[1]
     full = done == n
     out = {"orbits_stopped": int(np.count_nonzero(~full))}
     t, th, et, a, b, sd = (x[full] for x in rows)
@@ -223,6 +222,10 @@ def invariants(table, rows, done, status, sample):
     out["ok"] = bool(out["orbits_stopped"] == 0 and out["speed"] < 1e-14 and out["contact_ok"] and out["through"] == 0
                      and out["one_step"] <= ONE_STEP_TOL and abs(out["z"]) <= 2.0)
     return out
+
+
+def ok(flag) -> str:
+    return "ok" if flag else "FAILED"
 
 
 def main(argv=None):
@@ -279,7 +282,6 @@ def main(argv=None):
         print(f"  cpu  {_cores()} cores, {args.cpu_orbits} orbits x {args.collisions} = {cpu_total:.3g} collisions in "
               f"{cpu_seconds:.3g} s: {cpu_rate:.3g} /s")
         print(f"  gpu/cpu {rate / cpu_rate:.3g}")
-        ok = lambda flag: "ok" if flag else "FAILED"  # noqa: E731
         print(f"  speed max||v|-1| {checks['speed']:.2g} {ok(checks['speed'] < 1e-14)}")
         print(f"  contact max residual {checks['contact']:.2g} = {checks['contact'] / checks['tol']:.2g} tol "
               f"{ok(checks['contact_ok'])}")

@@ -16,7 +16,12 @@ within an ulp or two, so GPU and CPU agree collision by collision to rounding, n
 check that from every GPU state the CPU's next collision is the GPU's, to 1e-12).
 
 The same mechanism compiles any kernel text written this way (:func:`gpu_module`): the field kernel's text
-with a launcher of its own, for instance.
+with a launcher of its own, for instance (:func:`launch` runs any such launcher over all orbits).  What keeps a
+kernel text compilable for CUDA: no allocation (``np.empty``) in a function the launcher reaches (the CPU's
+``_run_many`` may allocate: it is never compiled for the GPU), no exceptions, prints or recursion, and no use
+of ``math.floor`` as an integer (it returns a float on CUDA, an int on the CPU; the kernels use it in float
+arithmetic only, where both give the same number).  ``tests/forward/dynamics/billiard/test_gpu.py`` has a slow
+test that compiles the billiard kernel's text through NVVM for sm_90 without a GPU.
 
 Without a GPU, numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, set for the test run) runs the same code
 path in Python, thread by thread: slow, but it executes the kernel text as the GPU would and the tests compare
@@ -221,7 +226,8 @@ def device_name() -> str:
 
 
 def gpu_module(wall, kernel_source: str, launcher: str, prefix: str):
-    """The module of one kernel text for CUDA: :data:`GPU_HEADER`, the wall's code, the search, the kernel, the launcher.
+    """The module of one kernel text for CUDA: :data:`GPU_HEADER`, the wall's code, the search, the kernel and the
+    launcher.
 
     The CPU's :func:`.kernel.kernel_module` joins the same texts after its own header.
 
@@ -401,8 +407,8 @@ def one_step_check(table, trajectories) -> float:
 
     From the state after collision i of an orbit (θ reduced mod 2π with its whole turns, η, v, on the wall it
     was on), the CPU kernel computes one collision; its time of flight, θ, η, v_θ and v_η are compared with
-    collision i + 1, each relative to max(1, |value|); a different wall, or no collision, is ``inf``.  Orbits of unit start
-    speed (what :func:`~.table.random_states` draws).
+    collision i + 1, each relative to max(1, |value|); a different wall, or no collision, is ``inf``.  Orbits of
+    unit start speed (what :func:`~.table.random_states` draws).
 
     Parameters
     ----------

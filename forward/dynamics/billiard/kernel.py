@@ -187,7 +187,8 @@ def run_many(comp: CompiledKernel, table, states, leaving, collisions: int, work
 
 
 def _run_threads(comp, table, states, turns, leaving, collisions, workers, out, done, status, last):
-    """``_run_many`` on ``workers`` numba threads (None: numba's default), into ``out``, ``done``, ``status``, ``last``."""
+    """``_run_many`` on ``workers`` numba threads (None: numba's default), into ``out``, ``done``, ``status`` and
+    ``last``."""
     import numba
 
     if workers is not None:

@@ -45,9 +45,9 @@ def test_mean_free_time_is_santalos_within_its_error():
 
 def test_pieces_and_groups_do_not_change_the_counts(monkeypatch):
     # orbits longer than a group holds are followed in pieces continued with Trajectory.resume_state: the sums are
-    # those of the same pieces computed by hand (to the order of summation); against one piece of 90 the collisions and the bottom
-    # count agree and the total time to 1e-6 (each resumed start is renormalised to unit speed, a rounding change
-    # that the chaotic orbits amplify over the next 60 collisions: ~1e-7 here)
+    # those of the same pieces computed by hand (to the order of summation); against one piece of 90 the collisions
+    # and the bottom count agree and the total time to 1e-6 (each resumed start is renormalised to unit speed, a
+    # rounding change that the chaotic orbits amplify over the next 60 collisions: ~1e-7 here)
     from coinwall.forward.dynamics.analysis import orbitstats
     from coinwall.forward.dynamics.billiard.table import ensemble
 

@@ -245,7 +245,7 @@ def test_kernel_text_compiles_for_cuda(tmp_path):
         pytest.skip(f"no NVVM library ({type(exc).__name__})")
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "0", "COINWALL_CACHE_DIR": str(tmp_path)}
     done = subprocess.run([sys.executable, "-c", COMPILE_FOR_SM90, ELLIPSE], capture_output=True, text=True, env=env,
-                          timeout=600)
+                          timeout=600, check=False)
     assert done.returncode == 0, done.stderr[-3000:]
     ptx = done.stdout
     assert ".target sm_90" in ptx and ".entry" in ptx
