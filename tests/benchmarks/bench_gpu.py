@@ -1,7 +1,7 @@
 """Benchmark of the billiard kernel on a CUDA GPU against all the machine's CPU cores, in one run, with its invariants.
 
 Run:  python tests/benchmarks/bench_gpu.py [--orbits M] [--collisions N] [--launches L] [--cpu-orbits K]
-                                           [--threads T[,T...]] [--json FILE] [--smoke]
+                                           [--threads T[,T...]] [--max-registers R[,R...]] [--json FILE] [--smoke]
 
 Two tables: the coin (the ellipse wall with ε = 99, H = 3) and the paper's mixed ellipse (ε = 0.55, H = 1.9; it
 has islands, so its orbits are not all chaotic).  For each, M Liouville-random orbits (:func:`random_states`) run
@@ -58,7 +58,14 @@ Output, one block per table (numbers here are placeholders)::
       free time 2.27291 +- 0.00051 vs santalo 2.27336: z = -0.88 ok
       targets: >= 1e9/s PASS, >= 20x cpu PASS
 
-then one line ``summary: ...`` with every check's verdict, and ``--json FILE`` writes the same numbers as JSON.
+then, after both tables, one line per variant on the coin (one launch each: the other block sizes of ``--threads``,
+and the launcher compiled with a register cap for each ``--max-registers``: more threads per multiprocessor against
+spills to local memory; ptxas reports 154 registers and no spills uncapped, 112 bytes of spills at 128)::
+
+    variant coin, 64 threads/block: 1.1e+09 /s (one launch; 154 registers/thread)
+    variant coin, at most 128 registers, 128 threads/block: 1.3e+09 /s (one launch; 128 registers/thread, compiled in 25.0 s)
+
+then one line ``summary: ...`` with the invariants' verdict, and ``--json FILE`` writes the same numbers as JSON.
 The exit status is 1 when an invariant fails (the targets are reported, not enforced), 2 when there is no GPU
 (outside ``--smoke``, which runs in numba's CUDA simulator at a few orbits and collisions).
 """
@@ -107,15 +114,26 @@ def _carry_kernel():
     return namespace["carry"]
 
 
+def capped_kernel(wall, registers):
+    """The billiard's launcher compiled with at most ``registers`` registers a thread (more threads fit on a
+    multiprocessor, at the price of spills to local memory): the same kernel text, another launcher line."""
+    from coinwall.forward.dynamics.billiard import gpu
+    from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
+
+    launcher = gpu.BILLIARD_LAUNCHER.replace("@cuda.jit\n", f"@cuda.jit(max_registers={int(registers)})\n")
+    return gpu.gpu_module(wall, KERNEL_SOURCE, launcher, f"coinwall_gpu_r{int(registers)}")._run_gpu
+
+
 def _cores() -> int:
     import numba
 
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
-def run_gpu(table, states, n, launches, threads, checked=CHECKED_ORBITS):
-    """M orbits × L launches of n collisions on the GPU; returns (seconds, collisions, first launch's host rows,
-    done and status of the first launch, seconds with copies, registers per thread)."""
+def run_gpu(table, states, n, launches, threads, checked=CHECKED_ORBITS, kernel=None):
+    """M orbits × L launches of n collisions on the GPU (the kernel of coinwall's GPU module, or ``kernel``);
+    returns (seconds, collisions, (first launch's host rows, done, status), seconds with copies, registers per
+    thread)."""
     from numba import config
 
     from coinwall.forward.dynamics.billiard import gpu
@@ -123,8 +141,7 @@ def run_gpu(table, states, n, launches, threads, checked=CHECKED_ORBITS):
     from coinwall.forward.dynamics.billiard.table import _check_states
 
     cuda = gpu.cuda_module()
-    module = gpu._billiard_module(table.wall)
-    kernel = module._run_gpu
+    kernel = kernel or gpu._billiard_module(table.wall)._run_gpu
     carry = _carry_kernel()
     unit, _speed, leaving, turns = _check_states(table, states, "states")
     m = unit.shape[0]
@@ -236,6 +253,8 @@ def main(argv=None):
     parser.add_argument("--cpu-orbits", type=int, default=2 ** 15, help="CPU orbits (default 2^15)")
     parser.add_argument("--threads", default="128", help="threads per block; several (64,128,256): the first is "
                                                          "the headline, the others one launch each on the coin")
+    parser.add_argument("--max-registers", default="", help="register caps to try on the coin after the main runs "
+                                                            "(e.g. 128; each costs a compile)")
     parser.add_argument("--json", default=None, help="write the numbers as JSON to this file")
     parser.add_argument("--smoke", action="store_true", help="a few orbits in numba's CUDA simulator")
     args = parser.parse_args(argv)
@@ -267,18 +286,11 @@ def main(argv=None):
         cpu_states = random_states(table, args.cpu_orbits, seed=2)
         cpu_seconds, cpu_total = run_cpu(table, cpu_states, args.collisions)
         cpu_rate = cpu_total / cpu_seconds
-        sweep = {}
-        if name == "coin":
-            for t in threads[1:]:
-                s, c, _, _, _ = run_gpu(table, states, args.collisions, 1, t)
-                sweep[t] = c / s
         print(f"table {name}: ellipse eps={eps:g}, H={H:g} (tol {table.tol:.3g}), santalo {checks['santalo']:.6g}")
         print(f"  gpu  {device}, {threads[0]} threads/block, {registers or '?'} registers/thread, compile "
               f"{compile_seconds:.1f} s")
         print(f"  gpu  {args.orbits} orbits x {args.launches} launches x {args.collisions} = {total:.3g} collisions in "
               f"{seconds:.3g} s: {rate:.3g} /s (with copies back {total / with_copies:.3g} /s)")
-        for t, r in sweep.items():
-            print(f"  gpu  {t} threads/block: {r:.3g} /s (one launch)")
         print(f"  cpu  {_cores()} cores, {args.cpu_orbits} orbits x {args.collisions} = {cpu_total:.3g} collisions in "
               f"{cpu_seconds:.3g} s: {cpu_rate:.3g} /s")
         print(f"  gpu/cpu {rate / cpu_rate:.3g}")
@@ -298,9 +310,32 @@ def main(argv=None):
         report["tables"][name] = dict(checks, eps=eps, H=H, gpu_rate=rate, gpu_seconds=seconds, gpu_collisions=total,
                                       gpu_rate_with_copies=total / with_copies, cpu_rate=cpu_rate,
                                       cpu_collisions=cpu_total, ratio=rate / cpu_rate, threads=threads[0],
-                                      registers=registers, compile_seconds=compile_seconds,
-                                      sweep={str(k): v for k, v in sweep.items()}, targets=targets)
+                                      registers=registers, compile_seconds=compile_seconds, targets=targets)
         sys.stdout.flush()
+    # variants, on the coin, one launch each (after the main results: a run cut short keeps those)
+    table = Billiard(Wall.from_expression(ELLIPSE, {"eps": 99.0}), 3.0)
+    states = random_states(table, args.orbits, seed=1)
+    sweep = {}
+    variants = [(f"{t} threads/block", t, None) for t in threads[1:]]
+    from numba import config
+
+    caps = [int(x) for x in args.max_registers.split(",") if x.strip()]
+    if caps and config.ENABLE_CUDASIM:
+        print("variant register caps: not in the simulator (its cuda.jit takes no max_registers)")
+        caps = []
+    variants += [(f"at most {r} registers, {threads[0]} threads/block", threads[0], r) for r in caps]
+    for label, t, cap in variants:
+        start = time.perf_counter()
+        kernel = capped_kernel(table.wall, cap) if cap else None
+        if kernel is not None:
+            run_gpu(table, states[:t], 2, 1, t, kernel=kernel)  # compile
+        compiled_in = time.perf_counter() - start
+        seconds, total, _, _, registers = run_gpu(table, states, args.collisions, 1, t, kernel=kernel)
+        sweep[label] = total / seconds
+        print(f"variant coin, {label}: {total / seconds:.3g} /s (one launch; {registers or '?'} registers/thread"
+              f"{f', compiled in {compiled_in:.1f} s' if cap else ''})")
+        sys.stdout.flush()
+    report["variants"] = sweep
     print(f"summary: invariants {'ok' if all(verdicts) else 'FAILED'}; coin "
           f"{report['tables']['coin']['gpu_rate']:.3g} /s, {report['tables']['coin']['ratio']:.3g}x the "
           f"{_cores()} cores on {device}")

@@ -83,7 +83,7 @@ EOF
 [ "${PIPESTATUS[0]}" = 0 ] || fail "the device is not usable from numba-cuda (versions.txt)"
 
 step "bench_gpu.py: collisions/s, GPU against all CPU cores, with the invariants"
-timeout $(( $(left) - 100 )) python3 -P tests/benchmarks/bench_gpu.py "${size[@]}" --threads 128,64,256 \
+timeout $(( $(left) - 90 )) python3 -P tests/benchmarks/bench_gpu.py "${size[@]}" --threads 128,64,256 --max-registers 128 \
     --json "$OUT/bench_gpu.json" 2>&1 | tee "$OUT/bench_gpu.txt"
 bench=${PIPESTATUS[0]}
 [ "$bench" = 124 ] && echo "gpu_check: bench_gpu.py ran out of its time"
