@@ -326,11 +326,15 @@ def main(argv=None):
     variants += [(f"at most {r} registers, {threads[0]} threads/block", threads[0], r) for r in caps]
     for label, t, cap in variants:
         start = time.perf_counter()
-        kernel = capped_kernel(table.wall, cap) if cap else None
-        if kernel is not None:
-            run_gpu(table, states[:t], 2, 1, t, kernel=kernel)  # compile
-        compiled_in = time.perf_counter() - start
-        seconds, total, _, _, registers = run_gpu(table, states, args.collisions, 1, t, kernel=kernel)
+        try:  # a variant is a report, not a check: one that cannot compile or run says so and the others go on
+            kernel = capped_kernel(table.wall, cap) if cap else None
+            if kernel is not None:
+                run_gpu(table, states[:t], 2, 1, t, kernel=kernel)  # compile
+            compiled_in = time.perf_counter() - start
+            seconds, total, _, _, registers = run_gpu(table, states, args.collisions, 1, t, kernel=kernel)
+        except Exception as exc:  # noqa: BLE001
+            print(f"variant coin, {label}: failed ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")
+            continue
         sweep[label] = total / seconds
         print(f"variant coin, {label}: {total / seconds:.3g} /s (one launch; {registers or '?'} registers/thread"
               f"{f', compiled in {compiled_in:.1f} s' if cap else ''})")
