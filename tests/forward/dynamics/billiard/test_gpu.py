@@ -199,9 +199,18 @@ def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
 
 
 def test_docstring_examples():
-    # the Examples sections of the GPU module run (those that need a GPU are skipped in the text)
+    # the Examples sections of the GPU module, ensemble and ensemble_statistics run (those that need a GPU are
+    # skipped in the text)
+    from coinwall.forward.dynamics.analysis import orbitstats
+    from coinwall.forward.dynamics.billiard import table as table_module
+
     result = doctest.testmod(gpu, optionflags=doctest.ELLIPSIS)
     assert result.failed == 0 and result.attempted > 0
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    for func in (table_module.ensemble, orbitstats.ensemble_statistics):
+        for test in doctest.DocTestFinder().find(func, globs=vars(__import__(func.__module__, fromlist=["_"]))):
+            runner.run(test)
+    assert runner.failures == 0 and runner.tries >= 5
 
 
 COMPILE_FOR_SM90 = r"""
