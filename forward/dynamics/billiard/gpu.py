@@ -51,13 +51,14 @@ DEVICES = ("cpu", "gpu")
 #: blocks that several fit on one multiprocessor.
 THREADS = 128
 
-# The imports and the decorators the kernel text expects, for CUDA (kernel.HEADER is the CPU's).  CACHE is set
-# by wallcode.load_module before the text runs; CUDA code is compiled in memory in each process (numba-cuda's
-# own disk cache is not used: the kernel's cache machinery vouches for the CPU's files only).
+# The imports and the decorators the kernel text expects, for CUDA (kernel.HEADER is the CPU's).  CUDA code is
+# compiled in memory in each process: CACHE (which the kernel text names) is False here, whatever the loader set
+# (numba-cuda's own disk cache is not used: the kernel cache vouches for the CPU's files only).
 GPU_HEADER = '''import math
 import numpy as np
 from numba import cuda, types
 
+CACHE = False
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 
