@@ -23,7 +23,8 @@ see docs/coin3d.md.  Three questions:
           Diaconis, Holmes & Montgomery's ½ + arcsin(cot²ψ)/π (ψ: angle between the angular momentum
           and the coin's normal, degrees).
   fit     the ψ (one value, and the σ of a spread about 90°) implied by the 350,757 caught flips of
-          Bartoš et al. (2023), overall and per tosser, with 95 % likelihood-ratio intervals;
+          Bartoš et al. (2023), overall and per tosser, with 95 % likelihood-ratio intervals: of all
+          flips as one binomial, and with the spread between the 48 tossers (quasi-binomial);
           -o draws the data against the model.
   bounce  the same toss landing on a frictionless floor with restitution --e (or between two walls,
           --ceiling): P(side up at the n-th bounce = start side) for n = 1 … --bounces."""
@@ -133,12 +134,17 @@ def _fit(args):
     if args.json:
         print(json.dumps(dict(fits.to_dict(), outputs=args.output), indent=1))
         return 0
-    o = fits.overall
+    o, w = fits.overall, fits.overall_overdispersed
     print(f"all flips  {o.same:,} same side of {o.flips:,}: {o.p:.5f} [{o.p_low:.5f}, {o.p_high:.5f}] (95 %, "
-          "likelihood ratio)")
-    print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}]")
-    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}]")
-    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g}")
+          "one binomial, likelihood ratio)")
+    print(f"           [{w.p_low:.5f}, {w.p_high:.5f}] with the spread between tossers (quasi-binomial, dispersion "
+          f"φ = Pearson χ² {fits.pearson_statistic:.1f} / {fits.dof} = {fits.dispersion:.2f})")
+    print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}] binomial; "
+          f"[{w.psi_low:.2f}, {w.psi_high:.2f}] with the spread between tossers")
+    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}] binomial; "
+          f"[{w.sigma_low:.2f}, {w.sigma_high:.2f}] with the spread between tossers")
+    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g} (the tossers "
+          "differ: the binomial interval is that of one tosser who made every flip)")
     for name, f in fits.tossers.items():
         print(f"  {name}  {f.same:>6}/{f.flips:<6} {f.p:.4f}  ψ = {f.psi:5.2f}° [{f.psi_low:5.2f}, {f.psi_high:5.2f}]")
     for line in written_lines(written, written.replaced):
