@@ -141,10 +141,10 @@ def _fit(args):
           f"φ = Pearson χ² {fits.pearson_statistic:.1f} / {fits.dof} = {fits.dispersion:.2f})")
     print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}] binomial; "
           f"[{w.psi_low:.2f}, {w.psi_high:.2f}] with the spread between tossers")
-    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}] binomial; "
-          f"[{w.sigma_low:.2f}, {w.sigma_high:.2f}] with the spread between tossers")
-    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g} (the tossers "
-          "differ: the binomial interval is that of one tosser who made every flip)")
+    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}] "
+          f"binomial; [{w.sigma_low:.2f}, {w.sigma_high:.2f}] with the spread between tossers")
+    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g} (the "
+          "tossers differ: the binomial interval is that of one tosser who made every flip)")
     for name, f in fits.tossers.items():
         print(f"  {name}  {f.same:>6}/{f.flips:<6} {f.p:.4f}  ψ = {f.psi:5.2f}° [{f.psi_low:5.2f}, {f.psi_high:5.2f}]")
     for line in written_lines(written, written.replaced):

@@ -49,8 +49,8 @@ def external_fields(resolution, *, eps: float, H: float, g: float, e: float) -> 
 
 def casino_bounces(resolution, *, eps: float, g: float, height: float, mean, sigma, restitutions) -> dict:
     """Sec. III (end): bounces randomise the outcome.  The coin (ε) launched by a hand, (v0, ω0) Gaussian about
-    ``mean`` with ``sigma``, stopped at its n-th floor impact (:func:`coinwall.forward.dynamics.floor.fairness.fairness`),
-    for every restitution e of ``restitutions``: the bias of heads at n = 1 (caught on landing, Keller's coin)
+    ``mean`` with ``sigma``, stopped at its n-th floor impact
+    (:func:`coinwall.forward.dynamics.floor.fairness.fairness`), for every restitution e of ``restitutions``: the bias of heads at n = 1 (caught on landing, Keller's coin)
     in units of its standard error, and whether the bounces make the toss fair to 0.01 — resolved (2σ) at
     every bounce from some n to the last, and at the last :data:`FAIR_TAIL` bounces at least, not at the last
     bounce alone.

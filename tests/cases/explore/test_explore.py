@@ -483,7 +483,8 @@ def test_sampled_walls_show_the_discrete_curvature_of_their_samples(client, tmp_
     from coinwall.forward import Wall
     from coinwall.forward.formats import load_outline
 
-    triangle = b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100"><polygon points="10,10 60,20 25,55"/></svg>'
+    triangle = (b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                b'<polygon points="10,10 60,20 25,55"/></svg>')
     info = client.post("/api/upload?name=triangle.svg", content=triangle).json()
     body = client.post("/api/body", json={"upload": info["upload"], "b0": 0.0}).json()
     data = body["rho_data"]
