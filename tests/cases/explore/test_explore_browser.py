@@ -364,8 +364,12 @@ def test_an_uploaded_drawing_shows_its_curvature_as_data_and_the_redraw_time(bro
     frame = browser.execute_script("const b = document.querySelector('#wall-axes .frame').getBBox();"
                                    "return b.y + b.height")
     assert low <= frame + 1
-    _wait(lambda: browser.find_element(By.ID, "table-lower").get_attribute("d"), "the table", 20)
-    browser.execute_script("document.getElementById('body-pane').scrollIntoView()")
+    # the page settled on the drawing: its κ and its table (H = 1.5 × its width) drawn
+    _wait(lambda: _text(browser, "kappa-max") not in ("", "…"), "κ_max", 60)
+    H = float(browser.find_element(By.ID, "H").get_attribute("value"))
+    _wait(lambda: browser.execute_script("return state.table && state.table.H") == H, "the drawing's table", 60)
+    time.sleep(0.3)
+    browser.execute_script("window.scrollTo(0, 0)")
     _shot(browser, shots, "upload-drawing")
     count = browser.find_element(By.ID, "timing").get_attribute("data-count")
     _set_b0(browser, 1.0)
