@@ -131,6 +131,12 @@ def plot_bartos(fits: BartosFits | None = None):
     Returns
     -------
     matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> fig = plot_bartos()
+    >>> [ax.get_xlabel().split(" (")[0] for ax in fig.axes]
+    ['P(same side)', 'ψ, angle between angular momentum and normal']
     """
     from coinwall.forward.formats.figure import new_figure
     from coinwall.forward.formats.style import PALETTE, house_style, legend_below

@@ -156,8 +156,14 @@ def legend_below(ax, **kwargs):
     """Put the legend of ``ax`` under its x label, centred, whatever the height of the panel.
 
     The legend hangs a fixed distance in points below the axes: the tick marks, the tick labels and the
-    lines of the x label as they are when this is called (call it after ``set_xlabel``).  Keyword arguments
-    go to ``ax.legend`` (``ncol``, ``fontsize``, ...).
+    lines of the x label as they are when this is called (call it after ``set_xlabel``).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose legend it is.
+    **kwargs
+        Passed to ``ax.legend`` (``ncol``, ``fontsize``, ``handles``, ...).
 
     Returns
     -------
@@ -208,6 +214,18 @@ def legend_overlaps(fig, slack: float = 1.0) -> list:
 
     Boxes are the drawn extents in display pixels after the layout has run; two boxes overlap when they
     share more than ``slack`` pixels in both directions.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, drawn here (its layout engine runs).
+    slack : float
+        Pixels two boxes may share without counting as overlapping.
+
+    Returns
+    -------
+    list of str
+        One sentence per overlap, naming the legend by its first entry and what it covers.
 
     Examples
     --------
