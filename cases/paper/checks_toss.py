@@ -59,7 +59,8 @@ def casino_bounces(resolution, *, eps: float, g: float, height: float, mean, sig
     -------
     dict
         ``caught_bias``, ``caught_sigmas`` (|bias|/σ at n = 1, the same tosses for every e); ``fair_count`` and
-        ``unfair_count`` (restitutions shown fair, and not); ``per_e`` (e → (bias and standard error at the last
+        ``unfair_count`` (restitutions shown fair, and not), ``fair_list``, ``unfair_list`` (the same in words);
+        ``per_e`` (e → (bias and standard error at the last
         bounce, the bounce from which it is fair or None, the share settled)); ``per_e_text`` (the same in
         words); ``samples``, ``bounces``, ``restitutions``.
     """
@@ -86,8 +87,11 @@ def casino_bounces(resolution, *, eps: float, g: float, height: float, mean, sig
             words.append(f"e = {e:g}: not fair, bias {r.bias[-1]:+.4f} ± {r.stderr[-1]:.4f} at bounce {bounces} "
                          f"({r.settled[-1]:.0%} settled)")
     fair_count = sum(v[2] is not None for v in per_e.values())
+    listed = {True: [f"e = {e:g}" for e, v in per_e.items() if v[2] is not None],
+              False: [f"e = {e:g}" for e, v in per_e.items() if v[2] is None]}
     return {"caught_bias": float(first.bias[0]), "caught_sigmas": abs(float(first.bias[0])) / float(first.stderr[0]),
             "fair_count": fair_count, "unfair_count": len(per_e) - fair_count, "per_e": per_e,
+            "fair_list": ", ".join(listed[True]) or "none", "unfair_list": ", ".join(listed[False]) or "none",
             "per_e_text": "; ".join(words), "samples": samples, "bounces": bounces,
             "restitutions": ", ".join(f"{e:g}" for e in restitutions)}
 

@@ -323,8 +323,9 @@ _CLAIMS = (
           "{per_e_text}",
           "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor impact "
           "and reads the face down; a toss settled before keeps its outcome. The claim holds where the coin keeps "
-          "bouncing (e = {restitutions}: fair at e ≥ 0.6): \"fair\" means within 0.01 of ½ by two standard "
-          "errors at every bounce from some n to the last computed, and at the last 3 at least. With small e the "
+          "bouncing (of e = {restitutions}: fair at {fair_list}; not at {unfair_list}): \"fair\" means within "
+          "0.01 of ½ by two standard errors at every bounce from some n to the last computed, and at the last 3 at "
+          "least. With small e the "
           "coin settles after a few bounces and the outcome keeps — and here grows — the bias it had then. "
           "Fairness to 0.001 needs about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. This is "
           "the planar coin, the paper's model; a precessing coin on a frictionless floor keeps L_z and L₃ and is "
