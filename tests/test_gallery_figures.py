@@ -59,7 +59,7 @@ def _params():
         yield pytest.param(path, id=path.stem, marks=marks)
 
 
-@pytest.mark.parametrize("path", _params())
+@pytest.mark.parametrize("path", list(_params()))
 def test_gallery_figure_is_fit_to_publish(path, monkeypatch, tmp_path):
     from figurecheck import figure_problems
 
