@@ -11,9 +11,12 @@ is run during the build).
 """
 
 import os
+import sys
 import warnings
 
 import coinwall  # installed with `pip install -e .`
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # gallery_house.py: the gallery's figures
 
 # -- project -------------------------------------------------------------------------------------------------
 project = "coinwall"
@@ -28,6 +31,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",   # MathJax 3 served from the site's own _static/mathjax: math renders offline
     "sphinx.ext.viewcode",
     "sphinx.ext.intersphinx",
     "numpydoc",
@@ -56,10 +60,6 @@ numpydoc_xref_param_type = False
 numpydoc_validation_checks = set()
 
 intersphinx_mapping = {}
-# MathJax comes from its CDN; an offline build can point at a local copy (e.g. npm's mathjax@3):
-# COINWALL_MATHJAX=file:///path/to/mathjax/es5/tex-mml-chtml.js
-if os.environ.get("COINWALL_MATHJAX"):
-    mathjax_path = os.environ["COINWALL_MATHJAX"]           # offline build: no inventories are fetched
 
 # -- sphinx-gallery ----------------------------------------------------------------------------------------------
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -73,7 +73,9 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "matplotlib_animations": False,
-    "image_scrapers": ("matplotlib",),
+    # the house style, and each figure at least 1600 px wide with no legend over a text (docs/gallery_house.py)
+    "reset_modules": ("matplotlib", "gallery_house.reset"),
+    "image_scrapers": ("gallery_house.scraper",),
     "abort_on_example_error": True,
     "show_memory": False,
     "thumbnail_size": (560, 240),

@@ -5,9 +5,12 @@ The quantum coin: spectrum, symmetry classes and Weyl's law
 The quantum body is the Dirichlet Laplacian on the billiard strip
 :math:`b_0 + b(\\theta) < \\eta < H - b_0 - b(\\theta + \\pi)`, periodic in θ; its eigenvalues λ are in
 units of 1/κ² (energy :math:`E = \\hbar^2\\lambda / 2M\\kappa^2`). :func:`coinwall.quantum_spectrum` solves it
-by finite elements on a mesh that follows the walls, one symmetry class at a time (``swap``: heads ↔
-tails, ``mirror``: θ → −θ, ``half_turn``: θ → θ + π). Left: the 80 lowest levels of the ellipse
-ε = 0.55 at H = 2.5, by class. Right: the counting function N(λ) against Weyl's law.
+one symmetry class at a time (``swap``: heads ↔ tails, ``mirror``: θ → −θ, ``half_turn``: θ → θ + π),
+by the fastest accurate method for the strip: for a smooth wall open at every angle, as this one, a
+spectral method (Fourier modes in θ × Legendre polynomials across the strip, exponentially convergent);
+for a wall with a kink or a narrow neck, P4 finite elements on a mesh that follows the walls
+(``method="fem"``; the title of the right panel names the method used). Left: the 80 lowest levels of
+the ellipse ε = 0.55 at H = 2.5, by class. Right: the counting function N(λ) against Weyl's law.
 """
 
 import matplotlib.pyplot as plt

@@ -173,6 +173,66 @@ def test_site_builds_without_warnings(tmp_path):
 _BUILT = os.environ.get("COINWALL_DOCS_HTML")
 
 
+# the browser reaches no network: every host name fails to resolve and every request goes to a closed proxy
+_OFFLINE = ("--proxy-server=http://127.0.0.1:9", "--proxy-bypass-list=<-loopback>",
+            "--host-resolver-rules=MAP * ~NOTFOUND")
+
+
+def _offline_browser():
+    """Headless Chromium with no network (skips where selenium, chromium or chromedriver are missing)."""
+    pytest.importorskip("selenium")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    driver_path = shutil.which("chromedriver") or "/usr/bin/chromedriver"
+    if not (os.path.exists(chromium) and os.path.exists(driver_path)):
+        pytest.skip("headless browser tests need chromium and chromedriver")
+    options = webdriver.ChromeOptions()
+    options.binary_location = chromium
+    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1366,900",
+                     *_OFFLINE):
+        options.add_argument(argument)
+    return webdriver.Chrome(service=Service(driver_path), options=options)
+
+
+@pytest.mark.skipif(not _BUILT, reason="set COINWALL_DOCS_HTML to a built site (.ci/run builds it and sets it)")
+def test_math_renders_offline_in_a_browser():
+    """A page with math shows typeset math, not LaTeX, in a browser that reaches no network: MathJax is part of
+    the site (sphinx-mathjax-offline copies it into _static/mathjax), not fetched from a CDN."""
+    import time
+    from pathlib import Path
+
+    html = Path(_BUILT).resolve()
+    page = html / "coin3d.html"
+    source = page.read_text(encoding="utf-8")
+    scripts = re.findall(r'<script[^>]*src="([^"]*mathjax[^"]*)"', source, re.I)
+    assert scripts and all(not re.match(r"[a-z]+:", src) for src in scripts), scripts  # a path in the site
+    assert all((page.parent / src).is_file() for src in scripts), scripts
+    driver = _offline_browser()
+    try:
+        # the browser really is offline: a CDN request fails
+        fetched = driver.execute_script("return fetch('https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex-chtml.js')"
+                                        ".then(() => 'loaded', () => 'failed')")
+        assert fetched == "failed"
+        driver.get(page.as_uri())
+        end = time.monotonic() + 30
+        while time.monotonic() < end:
+            typeset = driver.execute_script("return document.querySelectorAll('mjx-container').length")
+            if typeset:
+                break
+            time.sleep(0.1)
+        spans = driver.execute_script("return document.querySelectorAll('.math').length")
+        assert spans >= 3 and typeset == spans, (spans, typeset)  # every formula of the page typeset
+        text = driver.execute_script("return document.body.innerText")
+        for raw in ("\\frac", "\\mathcal", "\\dot", "$$"):
+            assert raw not in text, f"raw LaTeX {raw!r} shown on {page.name}"
+        glyphs = driver.execute_script("return document.querySelectorAll('mjx-container mjx-c').length")
+        assert glyphs > 50  # the formulas are drawn glyph by glyph (MathJax's CommonHTML output)
+    finally:
+        driver.quit()
+
+
 @pytest.mark.skipif(not _BUILT, reason="set COINWALL_DOCS_HTML to a built site (.ci/run builds it and sets it)")
 def test_built_site_in_a_browser():
     """The built site as a reader's browser shows it (headless Chromium): the gallery page shows a loaded
@@ -180,21 +240,10 @@ def test_built_site_in_a_browser():
     from pathlib import Path
     from urllib.parse import unquote, urlparse
 
-    selenium = pytest.importorskip("selenium")  # noqa: F841
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
 
-    chromium = shutil.which("chromium") or "/usr/bin/chromium"
-    driver_path = shutil.which("chromedriver") or "/usr/bin/chromedriver"
-    if not (os.path.exists(chromium) and os.path.exists(driver_path)):
-        pytest.skip("headless browser tests need chromium and chromedriver")
     html = Path(_BUILT).resolve()
-    options = webdriver.ChromeOptions()
-    options.binary_location = chromium
-    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1366,900"):
-        options.add_argument(argument)
-    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+    driver = _offline_browser()
     try:
         driver.get((html / "auto_examples" / "index.html").as_uri())
         images = driver.find_elements(By.CSS_SELECTOR, ".sphx-glr-thumbcontainer img")

@@ -44,7 +44,7 @@ def test_each_command_line_parses(argv):
 @pytest.mark.slow
 def test_the_command_lines_run(tmp_path, monkeypatch, capsys):
     """Each line runs with exit 0 in order (the files it names made by the lines before it, or here: a sampled
-    wall, a drawing); `verify --out docs` writes into the scratch folder."""
+    wall, a drawing); `verify --out report` writes into the scratch folder."""
     import sys
 
     sys.path.insert(0, str(ROOT / "tests"))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, check_positive_count, check_seed, count, number, written_lines
+from .common import add_command, check_positive_count, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -23,7 +23,8 @@ see docs/coin3d.md.  Three questions:
           Diaconis, Holmes & Montgomery's ½ + arcsin(cot²ψ)/π (ψ: angle between the angular momentum
           and the coin's normal, degrees).
   fit     the ψ (one value, and the σ of a spread about 90°) implied by the 350,757 caught flips of
-          Bartoš et al. (2023), overall and per tosser, with 95 % likelihood-ratio intervals;
+          Bartoš et al. (2023), overall and per tosser, with 95 % likelihood-ratio intervals: of all
+          flips as one binomial, and with the spread between the 48 tossers (quasi-binomial);
           -o draws the data against the model.
   bounce  the same toss landing on a frictionless floor with restitution --e (or between two walls,
           --ceiling): P(side up at the n-th bounce = start side) for n = 1 … --bounces."""
@@ -133,12 +134,17 @@ def _fit(args):
     if args.json:
         print(json.dumps(dict(fits.to_dict(), outputs=args.output), indent=1))
         return 0
-    o = fits.overall
+    o, w = fits.overall, fits.overall_overdispersed
     print(f"all flips  {o.same:,} same side of {o.flips:,}: {o.p:.5f} [{o.p_low:.5f}, {o.p_high:.5f}] (95 %, "
-          "likelihood ratio)")
-    print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}]")
-    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}]")
-    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g}")
+          "one binomial, likelihood ratio)")
+    print(f"           [{w.p_low:.5f}, {w.p_high:.5f}] with the spread between tossers (quasi-binomial, dispersion "
+          f"φ = Pearson χ² {fits.pearson_statistic:.1f} / {fits.dof} = {fits.dispersion:.2f})")
+    print(f"one ψ      {o.psi:.2f}° [{o.psi_low:.2f}, {o.psi_high:.2f}] binomial; "
+          f"[{w.psi_low:.2f}, {w.psi_high:.2f}] with the spread between tossers")
+    print(f"spread     ψ = 90° − |δ|, δ ~ N(0, σ²): σ = {o.sigma:.2f}° [{o.sigma_low:.2f}, {o.sigma_high:.2f}] "
+          f"binomial; [{w.sigma_low:.2f}, {w.sigma_high:.2f}] with the spread between tossers")
+    print(f"tossers    homogeneity: χ² = {fits.lr_statistic:.1f} on {fits.dof} dof, p = {fits.p_value:.2g} (the "
+          "tossers differ: the binomial interval is that of one tosser who made every flip)")
     for name, f in fits.tossers.items():
         print(f"  {name}  {f.same:>6}/{f.flips:<6} {f.p:.4f}  ψ = {f.psi:5.2f}° [{f.psi_low:5.2f}, {f.psi_high:5.2f}]")
     for line in written_lines(written, written.replaced):
@@ -155,19 +161,36 @@ def _bounce(args):
         raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.g < 0 or (args.g == 0 and args.ceiling is None):
         raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
-    psi = args.psi if args.psi is not None else bartos_fits().overall.psi
+    fitted = args.psi is None
+    psi = bartos_fits().overall.psi if fitted else args.psi
     speed = (2.2, 2.7) if args.g > 0 else (-2.7, -2.2)
-    study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,
-                                height=args.height, ceiling=args.ceiling, speed=speed)
+    bar = progress_bar(args, args.samples, "toss")
+    try:
+        study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,
+                                    height=args.height, ceiling=args.ceiling, speed=speed,
+                                    progress=bar.update if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
     if args.json:
         print(json.dumps(study.to_dict(), indent=1))
         return 0
-    print(f"bounce     {study!r}")
-    print(f"status     {study.status}")
-    for n, (p, s, k) in enumerate(zip(study.same, study.stderr, study.reached), start=1):
-        print(f"  bounce {n:>3}: P(same side) = {p:.4f} ± {s:.4f}  ({k} tosses)")
     import numpy as np
 
+    where = f"a ceiling {args.ceiling:g} m above the floor" if args.ceiling is not None else "a floor"
+    print(f"toss       ψ = {psi:.2f}°{' (fitted to the real flips)' if fitted else ''}, e = {args.e:g}, "
+          f"g = {args.g:g} m/s², {where}, launched from {args.height:g} m; {args.samples} tosses, "
+          f"seed {args.seed if args.seed is not None else 'random'}")
+    print(f"settled    {study.settled:.3f} of the tosses by bounce {study.same.size} (energy below the equator's "
+          "barrier: the side can no longer change)")
+    # how each toss's run ended (the kernel's status); "impact budget reached": followed to the last bounce
+    names = sorted(study.status, key=lambda k: -study.status[k])
+    for k, name in enumerate(names):
+        shown = "followed to the last bounce" if name == "impact budget reached" else name
+        print(f"{'ended' if k == 0 else '':<11}{study.status[name]:>8}  {shown}")
+    print(f"{'bounce':>8}  {'P(same side)':>12}  {'± stderr':>9}  {'tosses':>8}")
+    for n, (p, s, k) in enumerate(zip(study.same, study.stderr, study.reached), start=1):
+        print(f"{n:>8}  {p:>12.4f}  {s:>9.4f}  {k:>8}")
     n = study.bounces_to_fair()
     if n:
         verdict = f"within 0.001 of ½ from bounce {n}"
@@ -182,6 +205,6 @@ def _bounce(args):
     stopped = int(study.reached[0] - study.reached[-1]) if study.reached.size else 0
     if stopped > 0.01 * max(int(study.reached[0]), 1):
         print(f"note       {stopped} of {int(study.reached[0])} tosses stopped before bounce {study.reached.size} "
-              "(a face flat on the floor, or a graze the search could not resolve; see the status line): "
+              "(a face flat on the floor, or a graze the search could not resolve; see the tosses above): "
               "each bounce's share is over the tosses that reached it")
     return 0

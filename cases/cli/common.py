@@ -240,7 +240,8 @@ def progress_bar(args, total, unit):
     # a terminal that reports no size (0 × 0: some containers, CI and editor pseudo-terminals) makes
     # tqdm take −1 rows and silently hide the bar; give it a standard size instead
     size = {} if columns > 0 and lines > 0 else {"ncols": 80, "nrows": 24}
-    return tqdm(total=total, unit=unit, unit_scale=True, file=sys.stderr, leave=False, **size)
+    # unit_scale=False: counts are whole numbers ("7/45 toss"), not SI-scaled floats ("7.00/45.0")
+    return tqdm(total=total, unit=unit, unit_scale=False, file=sys.stderr, leave=False, **size)
 
 
 def device_argument(parser):

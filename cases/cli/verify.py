@@ -43,7 +43,13 @@ def run(args):
     if args.json:
         print(json.dumps(report.to_dict(), indent=1, allow_nan=False))
     else:
-        print(report.table())
+        import shutil
+        import sys
+
+        # the terminal's width when there is one (claims and results are wrapped, never cut), else 100 columns
+        width = shutil.get_terminal_size((100, 24)).columns if sys.stdout.isatty() else 100
+        print(report.table(width=max(60, min(width, 140))))
+        print(f"checked in {report.seconds:.0f} s ({'fast' if args.fast else 'full'} mode)")
         if args.out:
             print(f"\nwrote {report.markdown_path} and {len(report.figures)} figure(s) in {args.out}")
     return 0 if report.ok else 1

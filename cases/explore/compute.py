@@ -24,7 +24,7 @@ import numpy as np
 
 from coinwall.forward.display import json_number
 
-__all__ = ["CASE_DEFAULT", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
+__all__ = ["CASE_DEFAULT", "CURVATURE_POINTS", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
            "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "crash", "export",
            "field", "free_names", "get_wall", "number", "realize", "table", "upload", "wall_info"]
 
@@ -37,6 +37,9 @@ MAX_BEAM = 500
 MAX_BEAM_COLLISIONS = 200
 #: collisions of the orbit a click adds to the Poincaré section
 MAX_SECTION_COLLISIONS = 20000
+#: at most this many angles of a sampled wall's discrete curvature go to the page; denser data go as the bounds of
+#: each of this many equal bins of θ (the least lower and the largest upper bound of the samples in it)
+CURVATURE_POINTS = 2048
 _UPLOAD_KINDS = (".csv", ".json", ".svg", ".dxf")
 _PLOT_ANGLES = 361
 _DIGITS = 6
@@ -332,8 +335,53 @@ def _path(outline) -> str:
     return f"M{nodes[0, 0]:.6g} {nodes[0, 1]:.6g}" + ("C%.6g %.6g %.6g %.6g %.6g %.6g" * n) % tuple(rows) + "Z"
 
 
+# the discrete curvature of the sampled walls seen last, at b0 = 0 (it moves with b0 as a whole): (wall, dict)
+_CURVATURES: dict = {}
+
+
+def _data_curvature(solved) -> dict | None:
+    """A sampled wall's radius of curvature as data, for the ρ curve: the discrete ρ of the samples with the
+    interval their rounding allows, as ``coinwall solve -o body.png`` draws it
+    (:func:`coinwall.inverse.export.figure.sampled_curvature`, i.e. :func:`coinwall.inverse.discrete.discrete_support`:
+    no interpolant is differentiated), ``low``/``high``/``value`` at ``theta`` plus b0, and the certified
+    interval of b_c.  More than :data:`CURVATURE_POINTS` samples go as per-bin bounds (``binned``).  None for a
+    formula wall."""
+    from coinwall.inverse.export.figure import sampled_curvature
+
+    wall = solved.wall
+    if wall.samples is None:
+        return None
+    cached = _CURVATURES.get(id(wall))
+    if cached is None or cached[0] is not wall:
+        theta, rho, tolerance = sampled_curvature(solved)
+        rho = rho - solved.b0  # kept at b0 = 0
+        low, high, value = rho - tolerance, rho + tolerance, rho
+        binned = theta.size > CURVATURE_POINTS
+        if binned:  # the bounds of the bounds in each bin: still an interval that holds every sample in it
+            edges = np.linspace(0.0, 2 * math.pi, CURVATURE_POINTS + 1)
+            starts = np.unique(np.searchsorted(theta, edges[:-1]))
+            starts = starts[starts < theta.size]
+            low, high = np.minimum.reduceat(low, starts), np.maximum.reduceat(high, starts)
+            value = None
+            theta = theta[starts]
+        if len(_CURVATURES) >= _MAX_WALLS:
+            _CURVATURES.pop(next(iter(_CURVATURES)))
+        cached = _CURVATURES[id(wall)] = (wall, {"theta": theta, "low": low, "high": high, "value": value,
+                                                 "samples": int(wall.samples[0].size), "binned": binned})
+    data = cached[1]
+    shift = solved.b0
+    return {"theta": _list(data["theta"], 6), "low": _list(data["low"] + shift), "high": _list(data["high"] + shift),
+            "value": None if data["value"] is None else _list(data["value"] + shift), "samples": data["samples"],
+            "binned": data["binned"], "b_c_lower": json_number(solved.b_c_lower, 12),
+            "b_c_upper": json_number(solved.b_c_upper, 12)}
+
+
 def body(spec: dict) -> dict:
-    """The live body: outline path, centre of mass, corners, regime, and the three curves over θ."""
+    """The live body: outline path, centre of mass, corners, regime, and the three curves over θ.
+
+    For a formula wall ``rho`` is ``b0 + b + b''`` from its exact derivatives; for a sampled wall (a CSV, an
+    uploaded drawing) ``rho`` is None and ``rho_data`` holds the discrete curvature of the samples with its
+    intervals (:func:`_data_curvature`)."""
     import time
 
     started = time.perf_counter()
@@ -352,7 +400,8 @@ def body(spec: dict) -> dict:
             "max_wall_error": json_number(solved.max_wall_error, 12),
             "warnings": list(solved.warnings), "notes": list(solved.notes),
             "theta": _list(theta, 5), "wall": _list(solved.b0 + b), "own_wall": _list(solved.outline.support(theta)),
-            "rho": _list(solved.b0 + b + b2), "solve_ms": 1e3 * solved.seconds,
+            "rho": None if wall.samples is not None else _list(solved.b0 + b + b2), "rho_data": _data_curvature(solved),
+            "solve_ms": 1e3 * solved.seconds,
             "server_ms": 1e3 * (time.perf_counter() - started)}
 
 

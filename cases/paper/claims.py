@@ -312,20 +312,25 @@ _CLAIMS = (
           "Newton's restitution at the contact point is restitution of the normal velocity in the billiard "
           "metric (docs/toss.md). The direct rigid-body simulation in gravity agrees with the field kernel "
           "impact by impact (restarted from the body's state at each impact: the orbit is chaotic)."),
+    # bounces randomise at e = 0.6 and 0.9, not at e = 0.3, where the coin settles with a larger bias: partly
     Claim("casino", "Bounces randomise the outcome (the casinos' house rule)", "sec. III (end)",
           "the bounce plays a significant role in randomizing the outcome", checks_toss.casino_bounces,
           {"eps": 99.0, "g": 1.0, "height": 1.2, "mean": (2.0, 5.0), "sigma": (0.05, 0.2),
            "restitutions": (0.3, 0.6, 0.9)},
-          {"caught_sigmas": Above(4.0), "bounced_sigmas": Below(3.0), "fair_found": Equals(True)}, "yes",
-          "coin ε = {eps:g} on a floor, hand (v0, ω0) = {mean} ± {sigma}, {samples} tosses: caught on landing the "
-          "heads bias is {caught_bias:+.4f} ({caught_sigmas:.1f}σ); with e = {e_last:g} it is {bounced_bias:+.4f} "
-          "± {bounced_stderr:.4f} after {bounces} floor bounces, fair to 0.01 from bounce {fair_bounce}",
-          "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor "
-          "impact and reads the face down; a toss settled before keeps its outcome. Fairness to 0.001 needs "
-          "about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. With small e the coin settles "
-          "after a few bounces and the outcome keeps the bias it had then. This is the planar coin, the paper's "
-          "model; a precessing coin on a frictionless floor keeps L_z and L₃ and is not randomised by its bounces "
-          "(docs/coin3d.md)."),
+          {"caught_sigmas": Above(4.0), "unfair_count": Equals(0)}, "partly",
+          "coin ε = {eps:g} on a floor, hand (v0, ω0) = {mean} ± {sigma}, {samples} tosses per e: caught on landing "
+          "the heads bias is {caught_bias:+.4f} ({caught_sigmas:.1f}σ); stopped at the n-th floor bounce, "
+          "{per_e_text}",
+          "The toss that lands (`coinwall toss`, docs/toss.md): a croupier stops the coin at its n-th floor impact "
+          "and reads the face down; a toss settled before keeps its outcome. The claim holds where the coin keeps "
+          "bouncing (of e = {restitutions}: fair at {fair_list}; not at {unfair_list}): \"fair\" means within "
+          "0.01 of ½ by two standard errors at every bounce from some n to the last computed, and at the last 3 at "
+          "least. With small e the "
+          "coin settles after a few bounces and the outcome keeps — and here grows — the bias it had then. "
+          "Fairness to 0.001 needs about 10⁶ tosses to resolve; the curve against e is on docs/toss.md. This is "
+          "the planar coin, the paper's model; a precessing coin on a frictionless floor keeps L_z and L₃ and is "
+          "not randomised by its bounces (docs/coin3d.md).",
+          partly={"caught_sigmas": Above(4.0), "fair_count": Above(0.5)}),
     # ------------------------------------------------------------------ section V: the announced next step
     Claim("quantum-tunnelling", "The quantum body tunnels from heads to tails", "sec. V (last paragraph)",
           "announced as a current focus; nothing computed", checks_quantum.tunnelling_doublets,
@@ -338,26 +343,42 @@ _CLAIMS = (
           "Dirichlet Laplacian on the billiard strip by finite elements. Just above the diameter the levels pair "
           "into heads–tails doublets; the splitting by Herring's flux formula (no subtraction of nearly equal "
           "eigenvalues) agrees with the direct difference and follows exp(−S) through the necks."),
+    # computed for bodies of revolution; the paper's remark is about any rigid body: partly
     Claim("three-d-billiard", "A rigid body in 3-D is a new type of billiard", "sec. V (last paragraph)",
-          "conjectured (\"a new type of billiard motion\"); nothing computed", checks_coin3d.three_d_billiard,
-          {"impacts": 12, "restitution": 0.8}, {"error": Below(1e-9), "momentum_drift": Below(1e-12)}, "yes",
+          "conjectured for rigid bodies in 3-D (\"a new type of billiard motion\"); nothing computed",
+          checks_coin3d.three_d_billiard, {"impacts": 12, "restitution": 0.8},
+          {"error": Below(1e-9), "momentum_drift": Below(1e-12), "general_axis_torque": Below(1e-12)}, "partly",
           "bodies of revolution: the (θ, η) billiard with the top's potential (ℓz − ℓ3 cos θ)²/(2 sin²θ); the "
           "direct 3-D simulation restarted at each of {impacts} impacts (coin on a floor, ellipsoid between walls, "
           "e = {restitution}) meets the reduced billiard's next state to {error:.1e}; Lz, L3 kept to "
-          "{momentum_drift:.1e}",
+          "{momentum_drift:.1e}. A general body is not reduced: a floor's impulse turns a triaxial ellipsoid "
+          "about its own axis by up to {general_axis_torque:.2f} × lever arm (a body of revolution: "
+          "{revolution_axis_torque:.0e})",
           "For a body of revolution the conjecture holds exactly: a frictionless horizontal wall conserves L_z "
           "and L_3, and the motion is a 2-D billiard in (θ, η) whose new ingredient is the symmetric top's "
-          "potential (docs/coin3d.md). The potential breaks the heads/tails symmetry when L_3 ≠ 0, so, unlike "
-          "the planar paper's coin, bounces on a frictionless floor do not make a precessing coin fair."),
+          "potential (docs/coin3d.md). The paper speaks of rigid bodies in general; for a body without an axis of "
+          "symmetry the impulse of the wall changes the angular momentum about the body's axes (measured on a "
+          "triaxial ellipsoid at random orientations) and the orientation needs all three angles: whatever "
+          "billiard it is, it is not this one, and coinwall computes none. The potential breaks the heads/tails "
+          "symmetry when L_3 ≠ 0, so, unlike the planar paper's coin, bounces on a frictionless floor do not make "
+          "a precessing coin fair.",
+          partly={"error": Below(1e-9), "momentum_drift": Below(1e-12), "revolution_axis_torque": Below(1e-12)}),
     Claim("caught-coin-flips", "A caught coin keeps its side (DHM 2007; Bartoš et al. 2023)",
           "beyond the paper", "not in the paper (the planar coin has no precession)",
           checks_coin3d.caught_coin_against_flips, {"samples": 20000},
-          {"z": Within(0.0, 3.5), "dhm_error": Below(3.5)}, "yes",
-          "350,757 flips: P(same) = {p_data:.4f} ⇒ ψ = {psi:.2f}° [{psi_low:.2f}, {psi_high:.2f}]; the simulated "
-          "caught coin at that ψ ({samples} tosses) gives {p_sim:.4f} ({z:+.1f} σ from the data, {dhm_error:.1f} σ "
-          "from DHM's formula)",
+          {"z_a": Within(0.0, 3.0), "z_b": Within(0.0, 3.0), "dhm_error": Below(3.5)}, "yes",
+          "out of sample: ψ fitted to the odd-numbered tossers ({n_a:,} flips) is {psi_a:.2f}°, where the simulated "
+          "caught coin ({samples} tosses) keeps its side {p_sim_a:.4f} of the time; the even-numbered tossers' "
+          "coins did {p_b:.4f} ({z_a:+.1f} σ with the spread between tossers, {z_binomial_a:+.1f} σ binomial). "
+          "The other way round: {psi_b:.2f}° → {p_sim_b:.4f} against {p_a:.4f} ({z_b:+.1f} σ, "
+          "{z_binomial_b:+.1f} σ binomial). All 350,757 flips: ψ = {psi:.2f}°, [{psi_low:.2f}, {psi_high:.2f}] "
+          "as one binomial, [{psi_spread_low:.2f}, {psi_spread_high:.2f}] with the spread between tossers",
           "The precessing coin of the reduced billiard, caught after a free flight, reproduces Diaconis, Holmes "
-          "& Montgomery's ½ + arcsin(cot²ψ)/π; the real flips need ψ ≈ 81° (docs/coin3d.md)."),
+          "& Montgomery's ½ + arcsin(cot²ψ)/π (to {dhm_error:.1f} standard errors of the simulation). Against the "
+          "data the check holds data out: ψ fitted to all the flips and compared with the same flips would agree "
+          "by construction. The 48 tossers differ beyond binomial noise (Pearson χ² 265 on 47 dof), so the "
+          "comparison allows for that spread (quasi-binomial, dispersion 5.6); the real flips need ψ ≈ 81° "
+          "(docs/coin3d.md)."),
 )
 
 #: Every claim by key, in the report's order.

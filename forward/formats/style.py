@@ -9,6 +9,8 @@ The rules the figures follow with it:
 * the title or caption says what is shown: the wall (:func:`wall_label`), its parameters, H, the counts;
 * every axis names its quantity and its unit, ``quantity (unit)``; dimensionless quantities say so;
 * colour that carries a value has a colour bar with its quantity;
+* a legend covers no text: inside the axes where the curves leave room, else below the x label
+  (:func:`legend_below`); :func:`legend_overlaps` finds one that does;
 * log axes print every tick label in one format (:func:`plain_log_axis`): 0.5, 2, 40 — not 5×10⁻¹ beside 1.0;
 * the file format follows the extension: .png for screens, .svg and .pdf (vector) for papers.
 """
@@ -18,7 +20,8 @@ from __future__ import annotations
 import functools
 import math
 
-__all__ = ["HOUSE_STYLE", "PALETTE", "house_style", "plain_log_axis", "shade_angle_window", "styled", "wall_label"]
+__all__ = ["HOUSE_STYLE", "PALETTE", "house_style", "legend_below", "legend_overlaps", "plain_log_axis",
+           "shade_angle_window", "styled", "wall_label"]
 
 #: Okabe & Ito's colour-blind-safe palette (blue, vermillion, green, reddish purple, orange, sky blue, yellow).
 PALETTE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442")
@@ -147,3 +150,109 @@ def shade_angle_window(ax, low: float, high: float, **kwargs):
     first = ax.axvspan(start, two_pi, **kwargs)
     kwargs.pop("label", None)  # one legend entry for the window
     return [first, ax.axvspan(0.0, end - two_pi, **kwargs)]
+
+
+def legend_below(ax, **kwargs):
+    """Put the legend of ``ax`` under its x label, centred, whatever the height of the panel.
+
+    The legend hangs a fixed distance in points below the axes: the tick marks, the tick labels and the
+    lines of the x label as they are when this is called (call it after ``set_xlabel``).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose legend it is.
+    **kwargs
+        Passed to ``ax.legend`` (``ncol``, ``fontsize``, ``handles``, ...).
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+
+    Examples
+    --------
+    >>> from coinwall.forward.formats.figure import new_figure
+    >>> fig, ax = new_figure()
+    >>> _ = ax.plot([0, 1], [0, 1], label="a line")
+    >>> _ = ax.set_xlabel("time t (s)")
+    >>> legend = legend_below(ax)
+    >>> legend_overlaps(fig)
+    []
+    """
+    from matplotlib.transforms import offset_copy
+
+    xaxis = ax.xaxis
+    ticks = xaxis.get_major_ticks()
+    tick = ticks[0] if ticks else None
+    tick_size = tick.label1.get_fontsize() if tick is not None else 10.0
+    drop = (tick.tick1line.get_markersize() + tick.get_pad() if tick is not None else 7.0) + 1.4 * tick_size
+    text = xaxis.label.get_text()
+    if text.strip():
+        drop += xaxis.labelpad + 1.3 * xaxis.label.get_fontsize() * (text.count("\n") + 1)
+    anchor = offset_copy(ax.transAxes, fig=ax.figure, y=-(drop + 2.0), units="points")
+    kwargs.setdefault("loc", "upper center")
+    return ax.legend(bbox_to_anchor=(0.5, 0.0), bbox_transform=anchor, **kwargs)
+
+
+def _texts_of(fig):
+    """(what, text artist) of every visible, non-empty text a legend must leave clear."""
+    found = [("the figure title", fig._suptitle)] if fig._suptitle is not None else []
+    for k, ax in enumerate(fig.axes):
+        name = f"axes {k}"
+        found += [(f"{name}: x label", ax.xaxis.label), (f"{name}: y label", ax.yaxis.label)]
+        found += [(f"{name}: title", t) for t in (ax.title, ax._left_title, ax._right_title)]
+        for axis, which in ((ax.xaxis, "x"), (ax.yaxis, "y")):
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if tick.get_visible():
+                    found += [(f"{name}: {which} tick label {t.get_text()!r}", t) for t in (tick.label1, tick.label2)]
+    return [(what, t) for what, t in found if t.get_visible() and t.get_text().strip()]
+
+
+def legend_overlaps(fig, slack: float = 1.0) -> list:
+    """Every legend of ``fig`` that covers a text it does not own — an axis label, a tick label, a title, the
+    figure's title — or another legend, as one sentence each (``[]``: none).
+
+    Boxes are the drawn extents in display pixels after the layout has run; two boxes overlap when they
+    share more than ``slack`` pixels in both directions.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, drawn here (its layout engine runs).
+    slack : float
+        Pixels two boxes may share without counting as overlapping.
+
+    Returns
+    -------
+    list of str
+        One sentence per overlap, naming the legend by its first entry and what it covers.
+
+    Examples
+    --------
+    >>> from coinwall.forward.formats.figure import new_figure
+    >>> fig, ax = new_figure()
+    >>> _ = ax.plot([0, 1], [0, 1], label="a line")
+    >>> _ = ax.set_xlabel("time t (s)")
+    >>> _ = ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.02))  # on the labels of the x axis
+    >>> legend_overlaps(fig)[0]
+    "legend 1 ('a line') covers axes 0: x label"
+    """
+    with house_style():
+        fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends)
+    legends = [legend for legend in legends if legend.get_visible()]
+    texts = [(what, t.get_window_extent(renderer)) for what, t in _texts_of(fig)]
+
+    def overlap(a, b):
+        return min(a.x1, b.x1) - max(a.x0, b.x0) > slack and min(a.y1, b.y1) - max(a.y0, b.y0) > slack
+
+    problems = []
+    boxes = [legend.get_window_extent(renderer) for legend in legends]
+    for i, (legend, box) in enumerate(zip(legends, boxes), start=1):
+        entries = legend.get_texts()
+        name = f"legend {i} ({entries[0].get_text()[:30]!r})" if entries else f"legend {i}"
+        problems += [f"{name} covers {what}" for what, extent in texts if overlap(box, extent)]
+        problems += [f"{name} covers legend {j}" for j, other in enumerate(boxes[i:], start=i + 1)
+                     if overlap(box, other)]
+    return problems

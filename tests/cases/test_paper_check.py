@@ -20,7 +20,7 @@ RECORDED = {
     "case3-thetac": "partly", "case3-deficit": "yes", "case3-positive": "yes",
     "case1-realizable": "no", "case2-realizable": "no", "large-b0": "yes", "extrema": "yes",
     "four-extrema": "no", "theta-half": "no", "equivalence-simulated": "yes",
-    "external-fields": "yes", "casino": "yes", "quantum-tunnelling": "yes", "three-d-billiard": "yes",
+    "external-fields": "yes", "casino": "partly", "quantum-tunnelling": "yes", "three-d-billiard": "partly",
     "caught-coin-flips": "yes",
 }
 CONDITIONS = (Below, Above, Within, Equals)
@@ -69,7 +69,7 @@ def test_fast_run_keeps_every_verdict(fast_report):
     assert tuple(r.key for r in fast_report.rows) == CLAIMS
     assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
     assert fast_report.ok
-    assert fast_report.counts() == {"yes": 23, "partly": 4, "no": 5}
+    assert fast_report.counts() == {"yes": 21, "partly": 6, "no": 5}
 
 
 def test_report_to_dict_and_repr(fast_report):
@@ -143,3 +143,45 @@ def test_markdown_cells_keep_their_columns_and_the_command_names_the_folder():
     line = next(s for s in page.splitlines() if s.startswith("| 1 |"))
     assert len(line.replace("\\|", "").split("|")) == 8  # six cells between seven bars
     assert "`coinwall verify --out out/notes --fast`" in page
+
+
+def test_the_table_prints_every_claim_whole_and_wraps(fast_report):
+    """No claim is cut (it was cut at 46 characters); every line fits the width; each row's result follows it."""
+    for width in (80, 100):
+        table = fast_report.table(width=width)
+        assert all(len(line) <= width for line in table.splitlines()), width
+        flat = " ".join(table.split())
+        for i, row in enumerate(fast_report.rows, 1):
+            assert f"{i}. " + " ".join(row.claim.split()) in flat
+            assert " ".join(row.computed.split()) in flat
+    long = Row("k", "a claim of sixty characters or more, which the old table cut at 46", "s", "p",
+               "a computed text " * 12, "yes", "yes")
+    text = Report((long,)).table(width=60)
+    assert "cut at 46" in text and all(len(line) <= 60 for line in text.splitlines())
+
+
+def test_the_page_is_the_same_bytes_whatever_the_run_took(fast_report):
+    """paper-check.md is tracked: regenerating it must not change it when nothing but the time changed."""
+    import dataclasses
+
+    other = dataclasses.replace(fast_report, seconds=fast_report.seconds + 1234.5, markdown_path="docs/paper-check.md")
+    same = dataclasses.replace(fast_report, markdown_path="docs/paper-check.md")
+    assert other.markdown() == same.markdown()
+    assert "1234" not in other.markdown() and " s)" not in other.markdown().splitlines()[2]
+
+
+def test_three_verdicts_say_what_was_computed(fast_measured):
+    """The 3-D conjecture is about rigid bodies in general: shown for bodies of revolution (the axis torque of a
+    floor's impulse vanishes), not for a triaxial one (it does not). The casino rule is judged on every e, with
+    fairness at the last bounces, not one: at e = 0.3 the coin settles with more bias than it was caught with.
+    The caught coin is compared with tossers its ψ was not fitted to."""
+    three = fast_measured["three-d-billiard"]
+    assert three["revolution_axis_torque"] < 1e-12 < 0.1 < three["general_axis_torque"]
+    casino = fast_measured["casino"]
+    assert set(casino["per_e"]) == {0.3, 0.6, 0.9}
+    bias, stderr, fair, settled = casino["per_e"][0.3]
+    assert fair is None and abs(bias) > abs(casino["caught_bias"]) + 4 * stderr and settled > 0.5
+    assert casino["per_e"][0.9][2] is not None and casino["per_e"][0.9][2] <= casino["bounces"] - 2
+    caught = fast_measured["caught-coin-flips"]
+    assert caught["n_a"] + caught["n_b"] == 350_757 and abs(caught["psi_a"] - caught["psi_b"]) > 1.0
+    assert caught["psi_spread_low"] < caught["psi_low"] < caught["psi"] < caught["psi_high"] < caught["psi_spread_high"]

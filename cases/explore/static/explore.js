@@ -274,6 +274,7 @@ function wallTyped() {
 // Load a wall: a new one starts at the b0 the server proposes (0, a case's b0) and its H; {keep: true} (a
 // parameter moved) keeps b0 and H.
 async function loadWall(spec, how) {
+  const started = performance.now();
   const keep = Boolean(how.keep);
   const b0 = how.b0 === undefined ? null : how.b0;
   const data = await call("wall", "/api/wall", Object.assign({}, spec, {b0}));
@@ -291,7 +292,7 @@ async function loadWall(spec, how) {
     $("H").value = how.H || data.H;
     clearBilliard();
   }
-  await updateBody(null);
+  await updateBody(started);
   refreshTable();
   return true;
 }
@@ -326,20 +327,22 @@ function setRange(range, b0) {
 }
 
 // ---------------------------------------------------------------------------------------------- the body
+// `started`: when the user's action began (performance.now()); every redraw shows its own time, a new wall's
+// (its request included) as well as a slider move's
 async function updateBody(started) {
   const data = await call("body", "/api/body", Object.assign(wallSpec(), {b0: state.b0}));
   if (data.stale) return;
   if (data.error) { showError(data, "b0-error"); return; }
   clearError("b0-error");
   drawBody(data);
-  if (started !== null) {
-    const ms = performance.now() - started;
-    requestAnimationFrame(() => {
-      const painted = performance.now() - started;
-      window.exploreTimings.push({ms, painted, server: data.server_ms, solve: data.solve_ms});
-      $("timing").textContent = `${ms.toFixed(0)} ms (server ${data.server_ms.toFixed(0)} ms)`;
-    });
-  }
+  const ms = performance.now() - started;
+  // written at once (a tab in the background runs no animation frames); the painted time follows the paint
+  $("timing").textContent = `${ms.toFixed(0)} ms (server ${data.server_ms.toFixed(0)} ms)`;
+  $("timing").dataset.count = String(Number($("timing").dataset.count || 0) + 1);
+  requestAnimationFrame(() => {
+    window.exploreTimings.push({ms, painted: performance.now() - started, server: data.server_ms,
+      solve: data.solve_ms});
+  });
   scheduleRealize();
 }
 
@@ -387,8 +390,21 @@ function drawCurves(data) {
   const main = data.wall.concat(data.own_wall).filter(finite);
   let lo = Math.min(0, ...main), hi = Math.max(...main);
   const span = Math.max(hi - lo, 1e-9);
-  const rho = data.rho.map((v) => (finite(v) ? Math.max(lo - span, Math.min(hi + span, v)) : null));
-  for (const v of rho) if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  const curvature = data.rho_data;  // a sampled wall: the discrete ρ of its samples with their intervals, not b + b″
+  let rho = [];
+  if (curvature) {
+    // the range that decides the regime: the bulk of the samples (2nd to 90th percentile), zero and b0 − b_c;
+    // the edges of a polygon are spikes of ρ (edge length over the spacing): counted, not drawn off the page
+    const middle = curvature.low.map((v, i) => (finite(v) && finite(curvature.high[i]) ? 0.5 * (v + curvature.high[i]) : null))
+      .filter(finite).sort((a, b) => a - b);
+    const at = (f) => middle[Math.min(middle.length - 1, Math.floor(f * (middle.length - 1)))];
+    const pad = 0.15 * Math.max(at(0.9) - at(0.02), 1e-9 * span);
+    lo = Math.min(lo, at(0.02) - pad, finite(curvature.b_c_upper) ? state.b0 - curvature.b_c_upper - pad : 0);
+    hi = Math.max(hi, at(0.9) + pad);
+  } else {
+    rho = data.rho.map((v) => (finite(v) ? Math.max(lo - span, Math.min(hi + span, v)) : null));
+    for (const v of rho) if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  }
   const pad = 0.05 * (hi - lo || 1);
   const f = frame($("wall-plot"), $("wall-axes"), {x: [0, 2 * Math.PI], y: [lo - pad, hi + pad], theta: true,
     xlabel: "θ", ylabel: "b0 + b, ρ  (κ)"});
@@ -396,7 +412,30 @@ function drawCurves(data) {
     .filter((s) => s).join(" ");
   $("plot-wall").setAttribute("points", points(data.wall));
   $("plot-own").setAttribute("points", points(data.own_wall));
-  $("plot-rho").setAttribute("points", points(rho));
+  $("plot-rho").setAttribute("points", curvature ? "" : points(rho));
+  let bars = "", dots = "", off = 0, most = -Infinity;
+  if (curvature) {
+    const clip = (v) => Math.max(lo - pad, Math.min(hi + pad, v));
+    const width = Math.max(1, f.width / curvature.theta.length);
+    for (let i = 0; i < curvature.theta.length; i++) {
+      const a = curvature.low[i], b = curvature.high[i];
+      if (!finite(a) || !finite(b)) continue;
+      if (b > hi + pad || a < lo - pad) { off += 1; most = Math.max(most, b); }
+      const x = f.x(curvature.theta[i]).toFixed(1);
+      // each sample's interval as a bar at least a pixel tall (exact data: a dot on the value)
+      bars += `M${x} ${f.y(clip(a)).toFixed(1)}V${(Math.min(f.y(clip(b)), f.y(clip(a)) - 1)).toFixed(1)}`;
+      if (curvature.value && finite(curvature.value[i]) && curvature.value[i] >= lo - pad && curvature.value[i] <= hi + pad) {
+        dots += `M${x} ${f.y(curvature.value[i]).toFixed(1)}h0`;
+      }
+    }
+    $("plot-rho-band").setAttribute("stroke-width", width.toFixed(1));
+  }
+  $("plot-rho-band").setAttribute("d", bars);
+  $("plot-rho-dots").setAttribute("d", curvature && curvature.theta.length <= 400 ? dots : "");
+  $("rho-key").textContent = !curvature ? "ρ = b0 + b + b″ (< 0: no convex body)"
+    : `ρ of the ${curvature.samples} samples (discrete, each with the interval its rounding allows` +
+      `${curvature.binned ? `; bounds per bin of θ` : ""}; < 0: no convex body)`;
+  $("rho-off").textContent = off ? `${off} ${curvature.binned ? "bins" : "samples"} off scale (up to ${fmt(most, 3)})` : "";
   // the corner windows: the wall angles each corner serves (where the body's own wall leaves b0 + b)
   const windows = $("wall-windows");
   windows.replaceChildren();
@@ -486,6 +525,7 @@ async function download(format) {
 async function uploaded() {
   const file = $("upload").files[0];
   if (!file) return;
+  const started = performance.now();
   clearError("upload-error");
   if (file.size > MAX_UPLOAD_BYTES) {  // the server would refuse it (413): say so without sending it
     showError({error: `the file is larger than ${MAX_UPLOAD_BYTES / 2 ** 20} MiB`, field: "upload"});
@@ -503,7 +543,7 @@ async function uploaded() {
   setRange(data.range, data.b0);  // b0 = 0: a drawing comes back at its own size
   $("H").value = data.H;
   clearBilliard();
-  await updateBody(null);
+  await updateBody(started);
   refreshTable();
 }
 

@@ -216,7 +216,7 @@ class Correlation:
             Its ``.figure`` is the Figure (e.g. for :func:`~coinwall.forward.formats.figure.figure_bytes`).
         """
         from ...formats.figure import axes_or_new
-        from ...formats.style import PALETTE, house_style, plain_log_axis, wall_label
+        from ...formats.style import PALETTE, house_style, legend_below, plain_log_axis, wall_label
 
         with house_style():
             ax, own = axes_or_new(ax, (6.4, 4.4))
@@ -251,8 +251,8 @@ class Correlation:
             ax.set_title(f"heads/tails correlation of {wall_label(self.table.wall, name)}\n"
                          f"H = {self.table.H:g} κ, b0 = {self.table.b0:g} κ; {self.bounces} {which.split()[0]} "
                          f"bounces in {self.orbits} orbits")
-            # below the axes: with a long decay time the points fill the whole top of the plot
-            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
+            # below the x label: with a long decay time the points fill the whole top of the plot
+            legend_below(ax, ncol=1)
             if own:
                 ax.figure.tight_layout()
         return ax

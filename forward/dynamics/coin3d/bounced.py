@@ -64,9 +64,12 @@ class BounceStudy:
 
 def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bounces: int = 10, seed=None,
                         radius: float = 0.012, thickness: float = 0.00175, height: float = 1.0,
-                        speed=(2.2, 2.7), spin=(240.0, 20.0), g: float = 9.81, ceiling: float | None = None):
+                        speed=(2.2, 2.7), spin=(240.0, 20.0), g: float = 9.81, ceiling: float | None = None,
+                        progress=None):
     """Simulate ``samples`` tosses (see the module docstring); lengths in metres, speeds in m/s, spin in rad/s.
-    ``ceiling``: a second wall that high above the floor (m; the paper's two walls), else none."""
+    ``ceiling``: a second wall that high above the floor (m; the paper's two walls), else none.  ``progress``
+    is called with the number of tosses done after each batch (batches of about 20,000 toss-bounces, a
+    fraction of a second each, so that Ctrl-C is answered within a second); the result does not depend on it."""
     from ...revolution import coin
     from .top import STATUS, TopTable, sides_at_bounces
 
@@ -96,7 +99,14 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
     om = np.abs(rng.normal(mean, sd, samples))
     states = np.column_stack([np.zeros(samples), np.full(samples, height / k1), om * math.sin(psi), v])
     ell = om * math.cos(psi)
-    sides, status = sides_at_bounces(table, states, ell, ell, bounces)
+    sides = np.empty((samples, bounces), dtype=np.int8)
+    status = np.empty(samples, dtype=np.int64)
+    batch = max(100, 20_000 // bounces)
+    for lo in range(0, samples, batch):  # each toss is independent: batches give the same numbers as one call
+        hi = min(samples, lo + batch)
+        sides[lo:hi], status[lo:hi] = sides_at_bounces(table, states[lo:hi], ell[lo:hi], ell[lo:hi], bounces)
+        if progress is not None:
+            progress(hi - lo)
     reached = np.sum(sides != 0, axis=0)
     same = np.sum(sides == 1, axis=0) / np.maximum(reached, 1)
     stderr = np.sqrt(same * (1 - same) / np.maximum(reached, 1))

@@ -13,6 +13,16 @@ hand at time t the coin shows the side it started with iff ``cos θ(t) > 0``.  O
 counts of same-side landings into ψ: by the likelihood-ratio interval of the binomial proportion (the
 profile likelihood of ψ, since ψ ↦ P is monotone), for one ψ, or for a spread of ψ about 90°
 (ψ = 90° − |δ|, δ ~ N(0, σ²): a hand that flips with a small, random wobble) with its σ.
+
+Counts pooled over several people are not one binomial when the people differ: each flips with his own
+proportion, and the pooled proportion then varies more than the binomial says.  :func:`overdispersion`
+measures it (Pearson's χ² of the groups against their pooled proportion, over its degrees of freedom: the
+quasi-binomial dispersion φ, McCullagh & Nelder, *Generalized Linear Models*, 2nd ed., §4.5), and
+``fit_psi(..., dispersion=φ, dof=k − 1)`` widens the interval accordingly: the quasi-likelihood interval
+``{p : 2 (log L(p̂) − log L(p)) ≤ φ F₀.₉₅(1, k − 1)}`` (the F quantile, not χ², because φ is estimated from
+the same k groups).  It keeps the pooled estimate and scales its variance by φ, the model of a variance
+proportional to the binomial one; a bootstrap over the groups is the check that assumes no such shape
+(``tests/cases/test_coin3d_data.py``).
 """
 
 from __future__ import annotations
@@ -26,8 +36,8 @@ from ...display import safe_repr
 from ...errors import InvalidArgument
 from ...validation import check_count, check_finite
 
-__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "psi_from_same_side", "sigma_from_same_side",
-           "simulate_caught", "spread_same_side"]
+__all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "overdispersion", "psi_from_same_side",
+           "sigma_from_same_side", "simulate_caught", "spread_same_side"]
 
 _CHI2_95 = 3.841458820694124  # the 95 % quantile of χ² with one degree of freedom
 
@@ -85,6 +95,9 @@ class PsiFit:
         ψ in degrees at p and at the interval's ends (``psi_low`` from ``p_high``).
     sigma, sigma_low, sigma_high : float
         σ of the spread model in degrees, likewise.
+    dispersion : float
+        The variance factor the intervals allow for (1: binomial; φ > 1: quasi-binomial, see
+        :func:`overdispersion`).
     """
 
     same: int
@@ -98,20 +111,42 @@ class PsiFit:
     sigma: float
     sigma_low: float
     sigma_high: float
+    dispersion: float = 1.0
 
     def to_dict(self) -> dict:
         return dict(self.__dict__)
 
     @safe_repr
     def __repr__(self):
+        spread = "" if self.dispersion == 1.0 else f", dispersion {self.dispersion:.3g}"
         return (f"PsiFit({self.same}/{self.flips} = {self.p:.5f} [{self.p_low:.5f}, {self.p_high:.5f}]: "
                 f"ψ = {self.psi:.2f}° [{self.psi_low:.2f}, {self.psi_high:.2f}], "
-                f"σ = {self.sigma:.2f}° [{self.sigma_low:.2f}, {self.sigma_high:.2f}])")
+                f"σ = {self.sigma:.2f}° [{self.sigma_low:.2f}, {self.sigma_high:.2f}]{spread})")
 
 
-def likelihood_interval(k: int, n: int):
-    """The 95 % likelihood-ratio interval of a binomial proportion, ``k`` successes in ``n`` trials:
-    ``{p : 2 (log L(k/n) − log L(p)) ≤ 3.84}``."""
+def likelihood_interval(k: int, n: int, threshold: float = _CHI2_95):
+    """The likelihood-ratio interval of a binomial proportion, ``k`` successes in ``n`` trials:
+    ``{p : 2 (log L(k/n) − log L(p)) ≤ threshold}`` (default 3.84, the 95 % quantile of χ² with one degree
+    of freedom; :func:`fit_psi` passes φ F₀.₉₅(1, dof) for overdispersed counts).
+
+    Parameters
+    ----------
+    k, n : int
+        Successes and trials.
+    threshold : float
+        The largest drop of twice the log-likelihood inside the interval.
+
+    Returns
+    -------
+    (float, float)
+        The ends of the interval, in [0, 1].
+
+    Examples
+    --------
+    >>> lo, hi = likelihood_interval(50, 100)
+    >>> round(lo, 4), round(hi, 4)
+    (0.4029, 0.5971)
+    """
     from scipy.optimize import brentq
 
     p = k / n
@@ -122,28 +157,115 @@ def likelihood_interval(k: int, n: int):
 
     top = loglik(p)
 
+    threshold = check_finite("threshold", threshold)
+
     def drop(q):
-        return 2 * (top - loglik(q)) - _CHI2_95
+        return 2 * (top - loglik(q)) - threshold
 
     lo = 0.0 if k == 0 else brentq(drop, 1e-300, p, xtol=1e-15)
     hi = 1.0 if k == n else brentq(drop, p, 1 - 1e-16, xtol=1e-15)
     return lo, hi
 
 
-def fit_psi(same: int, flips: int) -> PsiFit:
+def overdispersion(same, flips):
+    """The quasi-binomial dispersion of counts in groups: ``(φ, statistic, dof)``.
+
+    ``statistic`` is Pearson's χ² of the groups' counts against their pooled proportion p,
+    ``Σ (k_i − n_i p)² / (n_i p (1 − p))``, on ``dof = groups − 1`` degrees of freedom; ``φ`` is
+    ``statistic / dof``, and 1 when that is smaller (fewer differences than binomial noise: no widening).
+
+    Parameters
+    ----------
+    same, flips : array of int
+        Successes and trials of each group (at least two groups).
+
+    Returns
+    -------
+    (float, float, int)
+        φ, Pearson's statistic, its degrees of freedom.
+
+    Raises
+    ------
+    InvalidArgument
+        Fewer than two groups, counts that are not whole numbers with ``0 ≤ same ≤ flips``, or a pooled
+        proportion of 0 or 1 (no variance to scale).
+
+    Examples
+    --------
+    >>> phi, statistic, dof = overdispersion([10, 30], [40, 40])  # 25 % and 75 %: far more than binomial noise
+    >>> round(phi, 2), round(statistic, 2), dof
+    (20.0, 20.0, 1)
+    """
+    k = np.asarray(same)
+    n = np.asarray(flips)
+    if k.ndim != 1 or k.shape != n.shape or k.size < 2:
+        raise InvalidArgument("`same` and `flips` must be counts of at least two groups, one number each")
+    if not (np.issubdtype(k.dtype, np.integer) and np.issubdtype(n.dtype, np.integer)):
+        raise InvalidArgument("`same` and `flips` must be whole numbers")
+    if np.any(n <= 0) or np.any(k < 0) or np.any(k > n):
+        raise InvalidArgument("every group needs flips > 0 and 0 <= same <= flips")
+    p = k.sum() / n.sum()
+    if p in (0.0, 1.0):
+        raise InvalidArgument("the pooled proportion is 0 or 1: there is no binomial variance to scale")
+    statistic = float(np.sum((k - n * p) ** 2 / (n * p * (1 - p))))
+    dof = int(k.size - 1)
+    return max(1.0, statistic / dof), statistic, dof
+
+
+def fit_psi(same: int, flips: int, dispersion: float = 1.0, dof: int | None = None) -> PsiFit:
     """ψ and σ from counts (see the module docstring): estimates at the proportion, 95 % intervals from the
-    likelihood-ratio interval of the proportion mapped through the monotone model."""
+    likelihood-ratio interval of the proportion mapped through the monotone model.
+
+    Parameters
+    ----------
+    same, flips : int
+        Same-side landings and caught flips.
+    dispersion : float
+        φ ≥ 1 of :func:`overdispersion` when the flips pool people who differ (1: one binomial).
+    dof : int, optional
+        The degrees of freedom φ was estimated with; the interval then uses φ F₀.₉₅(1, dof) in place of
+        the χ² quantile 3.84 (required with φ > 1).
+
+    Returns
+    -------
+    PsiFit
+
+    Raises
+    ------
+    InvalidArgument
+        Counts out of range, φ < 1 or not finite, or φ > 1 without ``dof``.
+
+    Examples
+    --------
+    >>> fit = fit_psi(178_078, 350_757)            # Bartoš et al. (2023), all flips as one binomial
+    >>> round(fit.psi, 2), round(fit.psi_low, 2), round(fit.psi_high, 2)
+    (81.16, 80.28, 82.16)
+    >>> wide = fit_psi(178_078, 350_757, dispersion=5.64, dof=47)   # with the spread between the 48 tossers
+    >>> round(wide.psi_low, 1), round(wide.psi_high, 1)
+    (79.1, 83.9)
+    """
     flips = check_count("flips", flips)
     same = check_count("same", same, minimum=0, maximum=flips)
+    dispersion = check_finite("dispersion", dispersion)
+    if dispersion < 1.0:
+        raise InvalidArgument(f"`dispersion` must be at least 1 (1: binomial), got {dispersion:g}")
+    threshold = _CHI2_95
+    if dispersion > 1.0:
+        if dof is None:
+            raise InvalidArgument("a `dispersion` above 1 needs the `dof` it was estimated with")
+        from scipy.stats import f as f_distribution
+
+        threshold = dispersion * float(f_distribution.ppf(0.95, 1, check_count("dof", dof)))
     p = same / flips
-    lo, hi = likelihood_interval(same, flips)
+    lo, hi = likelihood_interval(same, flips, threshold)
     deg = 180 / math.pi
 
     def psi(q):
         return float(psi_from_same_side(q)) * deg
 
     return PsiFit(same, flips, p, max(lo, 0.5), max(hi, 0.5), psi(p), psi(hi), psi(lo),
-                  sigma_from_same_side(p) * deg, sigma_from_same_side(lo) * deg, sigma_from_same_side(hi) * deg)
+                  sigma_from_same_side(p) * deg, sigma_from_same_side(lo) * deg, sigma_from_same_side(hi) * deg,
+                  dispersion)
 
 
 def simulate_caught(psi: float, samples: int, seed=None, omega: float = 240.0, flight=None, g: float = 1.0):

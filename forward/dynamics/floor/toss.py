@@ -161,7 +161,7 @@ class BasinMap:
         handles = [Patch(color=colours[i + 1], label=name) for i, name in enumerate(self.names)]
         if np.any(self.outcome == UNDECIDED):
             handles.append(Patch(color=colours[0], label="undecided"))
-        ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+        ax.legend(handles=handles, loc="upper right", fontsize=8, frameon=True, framealpha=0.9)  # over the map: a frame
         ax.set_xlabel("launch velocity v0 (κ/s)")
         ax.set_ylabel("spin ω0 (rad/s)")
         mode = "caught at the floor" if self.catch else f"e = {self.table.e:g}"

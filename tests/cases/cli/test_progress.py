@@ -1,7 +1,8 @@
 """Progress bars of the long CLI commands, checked on a real pseudo-terminal.
 
-``coinwall simulate``, ``correlation``, ``kam`` and ``section`` draw a tqdm bar on stderr when stderr is a
-terminal, and draw nothing with ``--json`` or when stderr is a pipe.  ``isatty`` cannot be faked
+``coinwall simulate``, ``correlation``, ``kam``, ``section`` and ``coin3d bounce`` draw a tqdm bar on stderr when
+stderr is a terminal, counting in whole numbers, and draw nothing with ``--json`` or when stderr is a pipe; Ctrl-C
+stops ``coin3d bounce`` within a second with one line.  ``isatty`` cannot be faked
 in-process with pytest's capture, so each test runs the command in a fresh Python process with
 stderr (and for ``--json`` also stdout) on the slave side of a pty from ``os.openpty``.  Each run
 takes a few seconds (interpreter start, imports, the kernel's compile/load, a short run).
@@ -34,7 +35,10 @@ COMMANDS = {
     # two groups of 20 orbits (poincare_section holds 2·10⁶ collisions at a time), no figure
     "section": (["section", ELLIPSE, "--param", "eps=0.55", "--H", "1.9", "--orbits", "30", "--collisions", "100000",
                  "--seed", "1"], "orbit"),
+    # three batches of 2,000 tosses × 10 bounces
+    "coin3d": (["coin3d", "bounce", "--e", "0.6", "--bounces", "10", "--samples", "6000", "--seed", "1"], "toss"),
 }
+SCALED = re.compile(r"\d\.\d+/\d")  # "7.00/45.0": a count printed as a scaled float
 
 
 def _set_size(fd, rows, columns):
@@ -96,6 +100,7 @@ def test_bar_on_a_terminal(name):
     status, stdout, _, terminal = _run(argv)
     assert status == 0, terminal
     assert BAR.search(terminal) and f"{unit}/s" in terminal, terminal
+    assert re.search(r"\| *\d+/\d+ \[", terminal) and not SCALED.search(terminal), terminal  # whole numbers
     # leave=False: the bar is wiped at the end ("\r", blanks, "\r"), the summary goes to stdout
     assert terminal.rstrip(" ").endswith("\r"), terminal[-200:]
     assert stdout.strip()
@@ -128,3 +133,56 @@ def test_no_bar_when_stderr_is_a_pipe(name):
     assert status == 0, stderr
     assert not BAR.search(stderr) and f"{unit}/s" not in stderr and "\r" not in stderr, stderr
     assert stdout.strip()
+
+
+def test_ctrl_c_stops_coin3d_bounce_within_a_second():
+    """Ctrl-C while the tosses run (the bar is on the terminal): one line, status 130, within a second (the compiled
+    kernel runs in batches of a fraction of a second; it used to run all tosses in one call, for a minute)."""
+    import signal
+    import time
+
+    argv = ["coin3d", "bounce", "--e", "0.6", "--bounces", "20", "--samples", "2000000", "--seed", "1"]
+    env = dict(os.environ)
+    env["PYTHONPATH"] = ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    command = [sys.executable, "-c", "import sys; from coinwall.cases.cli import main; sys.exit(main())", *argv]
+    master, slave = os.openpty()
+    _set_size(slave, 24, 100)
+    received = []
+    seen = threading.Event()
+
+    def read():
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:
+                return
+            if not data:
+                return
+            received.append(data)
+            if BAR.search(b"".join(received).decode(errors="replace")):
+                seen.set()
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=slave, env=env,
+                                   start_new_session=True,
+                                   preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    finally:
+        os.close(slave)
+    try:
+        assert seen.wait(120), "no progress bar"
+        time.sleep(0.5)
+        sent = time.monotonic()
+        os.killpg(process.pid, signal.SIGINT)
+        process.wait(30)
+        took = time.monotonic() - sent
+    finally:
+        if process.poll() is None:
+            process.kill()
+        reader.join(10)
+        os.close(master)
+    terminal = b"".join(received).decode(errors="replace")
+    assert process.returncode == 130, terminal[-500:]
+    assert "coinwall: interrupted" in terminal and "Traceback" not in terminal
+    assert took < 1.5, f"took {took:.2f} s to stop"  # a second, with a margin for a loaded machine

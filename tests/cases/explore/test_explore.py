@@ -444,3 +444,56 @@ def test_fuzzed_requests_are_answered_never_a_bug(client):
             text = json.dumps(answer.json())
             assert "internal error" not in text and "bug" not in text, (route, request_json, text[:300])
     assert statuses.get(400, 0) > 30 and statuses.get(200, 0) > 10, statuses  # the fuzz reached both kinds
+
+
+def test_sampled_walls_show_the_discrete_curvature_of_their_samples(client, tmp_path):
+    """A wall given as data gets ρ as data: the discrete radius of curvature of its samples with the interval their
+    rounding allows (what `coinwall solve -o body.png` draws), never b + b'' of an interpolant.
+
+    Samples of an ellipse's support h = sqrt(a² cos²θ + b² sin²θ), rounded to 6 digits, 720 of them: each value
+    is the uniform-step formula (h_{i−1} + h_{i+1} − 2 cos Δ h_i) / (2 (1 − cos Δ)) on the rounded numbers
+    (docs/theory.md; recomputed here), each interval is the rounding of the three values carried through it, and
+    the closed form a²b²/h³ lies within the interval widened by the formula's spacing error (Δ² max|ρ''|/12 ≤ 3e-4
+    here).  A drawing (a triangle,
+    4,096 samples of its support) is shown as per-bin bounds that stay at or above 0 (the vertex windows) — the
+    interpolant's b + b'' swings to below −100 there."""
+    import numpy as np
+
+    a, b, n, b0 = 1.0, 0.6, 720, 0.25
+    theta = 2 * np.pi * np.arange(n) / n
+    h = np.round(np.sqrt(a**2 * np.cos(theta) ** 2 + b**2 * np.sin(theta) ** 2), 6)
+    text = "theta,b\n" + "".join(f"{t:.12f},{v:.6f}\n" for t, v in zip(theta, h))
+    info = client.post("/api/upload?name=ellipse.csv", content=text.encode()).json()
+    body = client.post("/api/body", json={"upload": info["upload"], "b0": b0}).json()
+    assert body["rho"] is None
+    data = body["rho_data"]
+    assert data["samples"] == n and not data["binned"] and len(data["theta"]) == n
+    step = 2 * np.pi / n
+    mine = (np.roll(h, 1) + np.roll(h, -1) - 2 * np.cos(step) * h) / (2 * (1 - np.cos(step))) + b0
+    value, low, high = (np.array(data[k]) for k in ("value", "low", "high"))
+    assert value == pytest.approx(mine, abs=1e-6)  # the page rounds to 6 decimals
+    assert np.all(low <= value + 1e-6) and np.all(value <= high + 1e-6)
+    # each value known to ±5e-7 (half its last digit): ρ_i to ±5e-7 (2 + 2 cos Δ) / (2 (1 − cos Δ)) = ±0.026
+    half = 5e-7 * (2 + 2 * np.cos(step)) / (2 * (1 - np.cos(step)))
+    assert np.median(high - low) == pytest.approx(2 * half, rel=0.02)
+    exact = a**2 * b**2 / np.sqrt(a**2 * np.cos(theta) ** 2 + b**2 * np.sin(theta) ** 2) ** 3 + b0
+    assert np.all(exact >= low - 3e-4) and np.all(exact <= high + 3e-4)
+    assert data["b_c_lower"] <= -min(exact - b0) <= data["b_c_upper"]
+
+    from coinwall.forward import Wall
+    from coinwall.forward.formats import load_outline
+
+    triangle = (b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                b'<polygon points="10,10 60,20 25,55"/></svg>')
+    info = client.post("/api/upload?name=triangle.svg", content=triangle).json()
+    body = client.post("/api/body", json={"upload": info["upload"], "b0": 0.0}).json()
+    data = body["rho_data"]
+    assert body["rho"] is None and data["samples"] == 4096 and data["binned"] and len(data["theta"]) <= 2048
+    assert min(data["low"]) > -1e-6 and max(data["high"]) > 1000  # 0 at the corners, the edges as spikes
+    path = tmp_path / "triangle.svg"
+    path.write_bytes(triangle)
+    outline, _ = load_outline(str(path))
+    grid = np.linspace(0.0, 2 * np.pi, 4096, endpoint=False)
+    wall = Wall.from_samples(grid, outline.support(grid))
+    support, _, second = wall.derivatives(np.linspace(0.0, 2 * np.pi, 361))
+    assert np.min(support + second) < -100  # what the page drew before: the interpolant's noise

@@ -344,6 +344,43 @@ def test_billiard_beam_and_rigid_body(browser, shots):
     assert _errors(browser) == []
 
 
+def test_an_uploaded_drawing_shows_its_curvature_as_data_and_the_redraw_time(browser, shots, tmp_path):
+    """An uploaded drawing's ρ is the discrete curvature of its samples, each with its interval (bars), not the
+    interpolant's b + b″ (which swung from −200 to 400 under "< 0: no convex body"); the redraw time is that of
+    this redraw (it stayed at the last slider move's)."""
+    drawing = tmp_path / "triangle.svg"
+    drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                       '<polygon points="10,10 60,20 25,55"/></svg>')
+    before = browser.find_element(By.ID, "timing").get_attribute("data-count")
+    browser.find_element(By.ID, "upload").send_keys(str(drawing))
+    _wait(lambda: "triangle.svg" in browser.find_element(By.ID, "wall").get_attribute("value"), "the upload", 20)
+    _wait(lambda: browser.find_element(By.ID, "plot-rho-band").get_attribute("d"), "the curvature of the samples", 20)
+    assert browser.find_element(By.ID, "plot-rho").get_attribute("points") == ""  # no differentiated interpolant
+    assert "samples" in _text(browser, "rho-key") and "off scale" in _text(browser, "rho-off")  # the edges' spikes
+    _wait(lambda: browser.find_element(By.ID, "timing").get_attribute("data-count") != before, "the redraw time")
+    assert _text(browser, "timing").endswith("ms)")
+    # the bars stay on the page's plot: none reaches below the axis's zero by more than a pixel
+    low = browser.execute_script("const b = document.getElementById('plot-rho-band').getBBox(); return b.y + b.height")
+    frame = browser.execute_script("const b = document.querySelector('#wall-axes .frame').getBBox();"
+                                   "return b.y + b.height")
+    assert low <= frame + 1
+    # the page settled on the drawing: its κ and its table (H = 1.5 × its width) drawn
+    _wait(lambda: _text(browser, "kappa-max") not in ("", "…"), "κ_max", 60)
+    H = float(browser.find_element(By.ID, "H").get_attribute("value"))
+    _wait(lambda: browser.execute_script("return state.table && state.table.H") == H, "the drawing's table", 60)
+    time.sleep(0.3)
+    browser.execute_script("window.scrollTo(0, 0)")
+    _shot(browser, shots, "upload-drawing")
+    count = browser.find_element(By.ID, "timing").get_attribute("data-count")
+    _set_b0(browser, 1.0)
+    _wait(lambda: browser.find_element(By.ID, "timing").get_attribute("data-count") != count, "the slider's redraw")
+    # let the page's last requests finish (κ_max, the table) before the next test stops the server
+    _wait(lambda: _text(browser, "kappa-max") not in ("", "…"), "κ_max", 60)
+    _wait(lambda: browser.find_element(By.ID, "table-lower").get_attribute("d"), "the table", 60)
+    time.sleep(0.5)
+    assert _errors(browser) == []
+
+
 def test_ctrl_c_stops_the_server(server):
     _, process = server
     process.send_signal(signal.SIGINT)
