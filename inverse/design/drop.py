@@ -67,7 +67,11 @@ class Drop:
         sets = outcome_sets(valleys, names, kind)
         return {name: float(np.sum(p[list(members)])) for name, members in sets.items()}
 
-    def simulate(self, kind, body, draws, names) -> tuple:
+    def draw(self, rng, n: int) -> np.ndarray:
+        """``(n, 1)`` uniform numbers in [0, 1): the orientations of ``n`` random drops."""
+        return rng.random((n, 1))
+
+    def simulate(self, kind, body, draws, names, b0=0.0) -> tuple:
         """The toss at random: ``draws`` (n, 1) uniform numbers in [0, 1) give the orientations.  Returns
         ``(hits, undecided)``: ``name -> bool array`` and an all-False array (every drop lands)."""
         u = np.asarray(draws, dtype=float)[:, 0]

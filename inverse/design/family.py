@@ -221,16 +221,12 @@ def planar_valleys(wall, points: int = _GRID) -> Valleys:
         return float(wall.derivatives(np.array([x]))[1][0])
 
     nxt = np.roll(d1, -1)
-    found = {}
-    for sign, kind in ((1, "max"), (-1, "min")):
-        cells = np.flatnonzero((sign * d1 > 0) & (sign * nxt <= 0))
-        roots = []
-        for i in cells:
-            lo, hi = theta[i], theta[i] + TWO_PI / points
-            roots.append(brentq(slope, lo, hi, xtol=1e-15, rtol=8.9e-16) % TWO_PI if slope(hi) * slope(lo) < 0
-                         else hi % TWO_PI)
-        found[kind] = np.sort(np.array(roots))
-    maxima, minima = found["max"], found["min"]
+    maxima = []
+    for i in np.flatnonzero((d1 > 0) & (nxt <= 0)):  # b' from + to −: a maximum (smooth or a corner) in the cell
+        lo, hi = theta[i], theta[i] + TWO_PI / points
+        maxima.append(brentq(slope, lo, hi, xtol=1e-15, rtol=8.9e-16) % TWO_PI if slope(hi) < 0 else hi % TWO_PI)
+    maxima = np.sort(np.array(maxima))
+    minima = theta[(d1 < 0) & (nxt >= 0)] + TWO_PI / points  # the face directions: to the grid step (names only)
     # a maximum less than `flat` above a minimum beside it is a rounding wiggle (a dimple that holds nothing)
     if minima.size:
         keep = []

@@ -1,6 +1,6 @@
 """The solvers of a design: which free parameters give the target odds.
 
-* **Exact models, one parameter, one target**: the target's probability P(x) is scanned on 65 points of the
+* **Exact models, one parameter, one target**: the target's probability P(x) is scanned on 33 points of the
   range for sign changes of P − target, each is refined by Brent's method to 1e-13 (relative to the range),
   and the root is certified by a sign change across ``x ± 1e-10·max(1, |x|)``: the reported interval.  Several
   roots are all reported (the first is the design); none is an error naming the range of P.
@@ -34,7 +34,7 @@ from coinwall.forward.errors import InvalidArgument
 __all__ = ["Ensemble", "Estimate", "exact_least_squares", "exact_root", "stochastic_least_squares",
            "stochastic_root", "z_value"]
 
-_SCAN = 65
+_SCAN = 33
 _START = 4096  # launches of a Monte Carlo model's first stage
 
 
