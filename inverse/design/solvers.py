@@ -50,13 +50,19 @@ def z_value(confidence: float) -> float:
 @dataclass(frozen=True)
 class Estimate:
     """Monte Carlo odds at ``x``: ``hits[name]`` among ``decided`` of ``n`` tosses; ``indicators`` (decided,
-    k) the outcome of each decided toss per name (for covariances)."""
+    k) the outcome of each decided toss per name, in the order of ``names`` (for covariances)."""
 
     x: np.ndarray
     n: int
     decided: int
     hits: dict
     indicators: np.ndarray
+    names: tuple = ()
+
+    def covariance(self, names) -> np.ndarray:
+        """The covariance of the probabilities of ``names`` (the outcome indicators' over ``decided``)."""
+        cols = [self.names.index(k) for k in names]
+        return np.atleast_2d(np.cov(self.indicators[:, cols], rowvar=False)) / self.decided
 
     def p(self, name) -> float:
         return self.hits[name] / self.decided if self.decided else math.nan
@@ -114,7 +120,7 @@ class Ensemble:
         decided = n - undecided
         if decided == 0:
             raise InvalidArgument(f"no toss of the {n} at {self._where(x)} came to rest (every one is undecided)")
-        return Estimate(x, n, decided, hits, np.concatenate(rows).astype(float))
+        return Estimate(x, n, decided, hits, np.concatenate(rows).astype(float), tuple(self.names))
 
     def _where(self, x):
         return ", ".join(f"{k}={v:.6g}" for k, v in zip(self.family.names, x))
@@ -335,7 +341,7 @@ def stochastic_least_squares(ensemble: Ensemble, targets: dict, bounds, *, tol: 
                 trial, trial_est = x, est
             moved = np.abs(trial - x)
             x, est = trial, trial_est
-            cov = _covariance(est, jac, w)
+            cov = _covariance(est, names, jac, w)
             half = z * np.sqrt(np.maximum(np.diag(cov), 0.0))
             step = np.clip(2.0 * half, 1e-6 * (hi - lo), 0.05 * (hi - lo))
             if np.all(moved <= 0.2 * np.maximum(half, 1e-12 * (hi - lo))):
@@ -354,10 +360,9 @@ def _difference(at, x, i, h, lo, hi, n, names):
     return (np.array([eb.p(k) for k in names]) - np.array([ea.p(k) for k in names])) / (b[i] - a[i])
 
 
-def _covariance(est, jac, w):
+def _covariance(est, names, jac, w):
     """The sandwich covariance of the parameters (module docstring)."""
-    ind = est.indicators
-    sigma = np.atleast_2d(np.cov(ind, rowvar=False)) / est.decided
+    sigma = est.covariance(names)
     jw = jac.T * w
     a = np.linalg.pinv(jw @ jac) @ jw
     return a @ sigma @ a.T
