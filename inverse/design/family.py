@@ -204,7 +204,7 @@ def planar_valleys(wall, points: int = _GRID) -> Valleys:
     >>> from coinwall.forward.wall import Wall
     >>> v = planar_valleys(Wall.from_expression("abs(cos(t)) + h*abs(sin(t))", {"h": 1 / 3 ** 0.5}))
     >>> len(v), round(float(v.right[0] - v.left[0]) / (2 * math.pi), 12)
-    (4, 0.166666666667)
+    (4, 0.333333333333)
     """
     from scipy.optimize import brentq
 
