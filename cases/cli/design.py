@@ -70,10 +70,12 @@ def register(subparsers):
     parser.add_argument("--model", choices=("drop", "flip", "bounce", "bounce3d"), default="drop",
                         help="the toss (default drop)")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to a planar wall (default 0)")
-    parser.add_argument("--ratio", type=number, default=None, help="flip: fall speed over spin v/ω, κ/rad (default 0)")
+    parser.add_argument("--ratio", type=number, default=None,
+                        help="flip: fall speed over spin v/ω, κ/rad (default 0)")
     parser.add_argument("--e", type=number, default=None, help="bounce, bounce3d: restitution in (0, 1] (default 0.6)")
     parser.add_argument("--mu", type=number, default=None, help="bounce: friction at the floor (only 0 for now)")
-    parser.add_argument("--g", type=number, default=None, help="bounce: field, κ/s² (bounce3d: length unit/s²; default 1)")
+    parser.add_argument("--g", type=number, default=None,
+                        help="bounce: field, κ/s² (bounce3d: length unit/s²; default 1)")
     parser.add_argument("--height", type=number, default=None,
                         help="bounce, bounce3d: launch height of the body's lowest point above the floor (default 2)")
     parser.add_argument("--v0", type=_pair, default=None, metavar="MEAN,SD",
@@ -83,7 +85,8 @@ def register(subparsers):
     parser.add_argument("--theta0", type=number, default=None,
                         help="bounce: launch orientation, rad (default: uniformly random)")
     parser.add_argument("--spin", type=number, default=None,
-                        help="bounce3d: standard deviation of each component of the angular velocity, rad/s (default 3)")
+                        help="bounce3d: standard deviation of each lab component of the angular velocity, rad/s "
+                             "(default 3)")
     parser.add_argument("--impacts", type=count, default=None, help="Monte Carlo: impacts per toss at most (10000)")
     parser.add_argument("--tolerance", type=number, default=None,
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
@@ -327,8 +330,9 @@ def _print_odds(args, family, model, table):
 def _print_design(result, body, physical, check):
     print(f"family     {result.family.describe()}")
     print(f"model      {result.model!r}")
+    kind = f"{100 * result.confidence:g}%" if result.model.exact is False else "bracket of the root"
     for name, v, (a, b) in zip(result.family.names, result.x, result.interval):
-        print(f"design     {name} = {v:.12g} in [{a:.12g}, {b:.12g}] ({100 * result.confidence:g}%; {result.method})")
+        print(f"design     {name} = {v:.12g} in [{a:.12g}, {b:.12g}] ({kind}; {result.method})")
     for name, (p, h) in result.probabilities.items():
         target = f"   target {result.targets[name]:.6g}" if name in result.targets else ""
         spread = f" ± {h:.2g}" if h else ""

@@ -39,6 +39,7 @@ RUNS = [
     ("scan", "bench_scan.py", [], False),
     ("coin3d", "bench_coin3d.py", [], False),
     ("house", "bench_house.py", [], False),
+    ("design", "bench_design.py", [], False),
 ]
 
 

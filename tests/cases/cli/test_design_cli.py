@@ -53,9 +53,10 @@ def test_bounce_design_json(capsys):
     assert status in (0, 1)  # 1: the undecided share carries a warning
     edge = doc["outcomes"]["edge"]
     assert edge["interval"][1] - edge["interval"][0] <= 0.06 + 1e-12
-    assert doc["parameters"]["h"]["interval"][0] < doc["parameters"]["h"]["value"] < doc["parameters"]["h"]["interval"][1]
+    h = doc["parameters"]["h"]
+    assert h["interval"][0] < h["value"] < h["interval"][1]
     assert doc["undecided"]["p"] > 0 and doc["resimulation"]["tosses"] == 20000
-    assert all(w.startswith(("the independent", "")) for w in doc["warnings"])
+    assert not any(w.startswith("the independent") for w in doc["warnings"])  # the re-simulation agrees
 
 
 @pytest.mark.parametrize("args,message", [
