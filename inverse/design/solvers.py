@@ -89,7 +89,7 @@ class Ensemble:
         self.seed = np.random.SeedSequence(seed).entropy
         self.stream = int(stream)
         self.progress = progress
-        self.chunk = chunk or (1024 if model.name == "bounce3d" else 16384)
+        self.chunk = chunk or (512 if model.name == "bounce3d" else 16384)
         self.block = 4096
         self._blocks = []
         self.tosses = 0  # simulated so far (all evaluations)
