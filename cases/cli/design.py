@@ -90,7 +90,8 @@ def register(subparsers):
     parser.add_argument("--impacts", type=count, default=None, help="Monte Carlo: impacts per toss at most (10000)")
     parser.add_argument("--tolerance", type=number, default=None,
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
-    parser.add_argument("--confidence", type=number, default=0.95, help="of every interval (default 0.95)")
+    parser.add_argument("--confidence", type=number, default=None,
+                        help="of the Monte Carlo intervals and of --resimulate's comparison (default 0.95)")
     parser.add_argument("--seed", type=count, default=None, help="Monte Carlo: seed of the launches (default 0)")
     parser.add_argument("--max-tosses", type=count, default=None,
                         help="Monte Carlo: the most launches per evaluation (default 1e7)")
@@ -193,10 +194,18 @@ def _model(args):
             raise InvalidArgument(f"--{flag.replace('_', '-')} does nothing in the {args.model} toss; leave it out")
         if value is None:
             setattr(args, flag, default)
-    for flag in ("ratio", "e", "mu", "g", "height", "theta0", "spin", "tolerance", "confidence", "b0"):
+    for flag in ("ratio", "e", "mu", "g", "height", "theta0", "spin", "tolerance", "b0"):
         value = getattr(args, flag)
         if value is not None and not math.isfinite(value):
             raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
+    if args.confidence is None:
+        args.confidence = 0.95
+    elif args.model in ("drop", "flip") and args.resimulate is None:
+        raise InvalidArgument(f"--confidence does nothing in the exact {args.model} toss without --resimulate (its "
+                              "interval is the bracket of the root); leave it out")
+    if args.resimulate is not None and args.model == "flip":
+        raise InvalidArgument("--resimulate needs a toss drawn at random; the flip toss has none (drop, bounce and "
+                              "bounce3d do)")
     if args.model == "drop":
         return Drop()
     if args.model == "flip":
@@ -232,6 +241,8 @@ def run(args):
 
     from .common import check_body_finite
 
+    if args.confidence is not None and not math.isfinite(args.confidence):
+        raise InvalidArgument(f"--confidence must be a finite number, got {args.confidence}")
     family = _family(args)
     model = _model(args)
     targets = _targets(args.target)
@@ -256,7 +267,12 @@ def run(args):
                                       "print the odds of one body)")
             if args.output or args.figure or args.resimulate:
                 raise InvalidArgument("-o, --figure and --resimulate belong to a design: give a --target")
-            table = odds(family, model, seed=args.seed, progress=tick, confidence=args.confidence)
+            from coinwall.inverse.design.solvers import z_value
+
+            # enough tosses for the worst case p = ½ to be known to --tolerance
+            tosses = math.ceil(1.1 * (z_value(args.confidence) / args.tolerance) ** 2 / 4)
+            table = odds(family, model, seed=args.seed, progress=tick, confidence=args.confidence,
+                         tosses=min(tosses, args.max_tosses))
             return _print_odds(args, family, model, table)
         result = design(family, targets, model, tolerance=args.tolerance, confidence=args.confidence, seed=args.seed,
                         max_tosses=args.max_tosses, progress=tick)
@@ -323,7 +339,8 @@ def _print_odds(args, family, model, table):
     print(f"family     {family.describe()}")
     print(f"model      {model!r}")
     for name, (p, h) in table.items():
-        print(f"outcome    {name:<10} P = {p:.12g}" + (f" ± {h:.2g} ({100 * args.confidence:g}%)" if h else ""))
+        shown = f"{p:.5f} ± {h:.2g} ({100 * args.confidence:g}%)" if h else f"{p:.12g}"
+        print(f"outcome    {name:<10} P = {shown}")
     return 0
 
 

@@ -246,6 +246,7 @@ def design(family: Family, targets, model, *, tolerance: float = 0.005, confiden
         found = stochastic_least_squares(ensemble, targets, bounds, tol=tolerance, z=z, max_tosses=max_tosses)
         method = "weighted least squares with common random numbers"
     est = found.estimate
+    warnings += list(found.notes)
     probabilities = {k: (est.p(k), z * est.se(k)) for k in names}
     share = est.undecided
     undecided = (share, z * math.sqrt(share * (1 - share) / est.n))

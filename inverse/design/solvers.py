@@ -226,7 +226,7 @@ def _jacobian(fun, x, h, lo, hi):
 @dataclass(frozen=True)
 class StochasticResult:
     """What a Monte Carlo solver found: the parameters ``x`` with ``half_widths``, the odds ``estimate`` at
-    ``x`` (N launches), the Jacobian, the stages' evaluations and whether ``tol`` was reached."""
+    ``x`` (N launches), the Jacobian, the stages' evaluations, whether ``tol`` was reached, and ``notes``."""
 
     x: np.ndarray
     half_widths: np.ndarray
@@ -234,6 +234,7 @@ class StochasticResult:
     jacobian: np.ndarray
     history: list
     reached: bool
+    notes: tuple = ()
 
 
 def _grow(n, se, tol, z, limit):
@@ -260,6 +261,11 @@ def stochastic_root(ensemble: Ensemble, name: str, target: float, lo: float, hi:
                               f"with {n} tosses it ranges from {ps.min():.4g} to {ps.max():.4g} there")
     a, b = xs[cross[0]], xs[cross[0] + 1]
     slope = (ps[cross[0] + 1] - ps[cross[0]]) / (b - a)
+    notes = ()
+    if cross.size > 1:
+        where = ", ".join(f"{0.5 * (xs[i] + xs[i + 1]):.4g}" for i in cross)
+        notes = (f"P({name}) crosses the target more than once in the range (near {where}, {n} tosses each): "
+                 "the design is the first crossing",)
     while True:
         fa, fb = at(a, n).p(name) - target, at(b, n).p(name) - target
         widen = 0
@@ -283,7 +289,7 @@ def stochastic_root(ensemble: Ensemble, name: str, target: float, lo: float, hi:
                 a, fa = m, fm
             else:
                 b, fb = m, fm
-        x = a if fa == fb else a + (b - a) * (-fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
+        x = a + (b - a) * fa / (fa - fb) if fa != fb else 0.5 * (a + b)  # the crossing, linearly
         est = at(x, n)
         se = math.sqrt(target * (1 - target) / est.decided)
         delta = max(2.0 * half, 1e-9 * (hi - lo))
@@ -295,7 +301,7 @@ def stochastic_root(ensemble: Ensemble, name: str, target: float, lo: float, hi:
         half = z * se / abs(slope) + (b - a)
         if z * se <= tol or n >= max_tosses:
             return StochasticResult(np.array([x]), np.array([half]), est, np.array([[slope]]), history,
-                                    z * se <= tol)
+                                    z * se <= tol, notes)
         n = _grow(n, se, tol, z, max_tosses)
         a, b = max(lo, x - 3 * half), min(hi, x + 3 * half)
 
