@@ -111,10 +111,34 @@ def check_friction(mu) -> float:
 
 def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, impacts: int = 10_000,
          workers=None):
-    """The outcome of each launch: ``(valley index per state, −1 undecided; the valleys; status codes)``.
+    """The outcome of each launch: the one place the planar toss is run (:mod:`coinwall.forward.dynamics.floor.field`,
+    compiled, parallel over launches).
 
-    The one place the planar toss is run (:mod:`coinwall.forward.dynamics.floor.field`, compiled, parallel
-    over launches); ``mu`` must be 0 (:func:`check_friction`).
+    Parameters
+    ----------
+    wall : Wall
+        The body's wall (units of κ).
+    states : array (n, 4)
+        Launch states ``[θ, η, θ̇, η̇]`` (:meth:`Launch.states`), strictly above the floor.
+    e, mu : float
+        Restitution in (0, 1]; friction at the floor (0 only, :func:`check_friction`).
+    g, b0 : float
+        The field (κ/s²) and the wall's offset.
+    impacts : int
+        Impacts per toss at most.
+    workers : int, optional
+        Threads.
+
+    Returns
+    -------
+    tuple
+        ``(index, valleys, status)``: the valley each launch rests in (−1: undecided), the :class:`.family.Valleys`
+        of the kernel's landscape, the kernel's status codes.
+
+    Raises
+    ------
+    InvalidArgument
+        ``mu`` ≠ 0, a wall with a single valley, a state not inside the table.
 
     Examples
     --------
@@ -142,8 +166,20 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
 
 
 class Bounce:
-    """The planar bounce toss (module docstring) with restitution ``e``, friction ``mu`` (0 only, for now), the
-    hand ``launch`` and at most ``impacts`` impacts per toss.
+    """The planar bounce toss (module docstring).
+
+    Parameters
+    ----------
+    e : float
+        Restitution in (0, 1].
+    mu : float
+        Friction at the floor: 0 only, for now (anything else raises InvalidArgument).
+    launch : Launch, optional
+        The hand (default :class:`Launch`'s defaults).
+    impacts : int
+        Impacts per toss at most.
+    workers : int, optional
+        Threads of the compiled toss.
 
     Examples
     --------

@@ -103,7 +103,18 @@ def reduced_states(body, launch: Launch3D, draws):
 
 
 class Bounce3D:
-    """The 3-D bounce toss (module docstring) with restitution ``e`` and the launch ``launch``.
+    """The 3-D bounce toss (module docstring).
+
+    Parameters
+    ----------
+    e : float
+        Restitution in (0, 1].
+    launch : Launch3D, optional
+        The tumbling drop (default :class:`Launch3D`'s defaults).
+    impacts : int
+        Impacts per toss at most.
+    workers : int, optional
+        Threads of the compiled toss.
 
     Examples
     --------

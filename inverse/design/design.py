@@ -51,7 +51,13 @@ def _check(family, model):
 
 
 def default_names(family, x) -> list:
-    """The outcomes reported by default at ``x``: heads, tails, edge, or every face (:func:`.family.outcome_names`)."""
+    """The outcomes reported by default at ``x``: heads, tails, edge, or every face (:func:`.family.outcome_names`).
+
+    Examples
+    --------
+    >>> default_names(Family("cylinder", None, {}, {"thickness": 1.0}), [])
+    ['heads', 'edge', 'tails']
+    """
     if family.kind == "cylinder":
         return ["heads", "edge", "tails"]
     return outcome_names(planar_valleys(family.body(x)), "planar")
@@ -83,6 +89,13 @@ class Design:
     roots : list
         Every parameter value that reaches the target (one free parameter, exact model).
     warnings : list of str
+
+    Examples
+    --------
+    >>> fam = Family("cylinder", None, {"thickness": (0.1, 3.0)})
+    >>> found = design(fam, {"edge": 1 / 3}, Drop())
+    >>> round(float(found.x[0]), 10), found.to_dict()["parameters"]["thickness"]["range"]
+    (0.7071067812, [0.1, 3.0])
     """
 
     family: Family
@@ -270,7 +283,27 @@ def odds(family: Family, model, x=None, *, names=None, tosses: int = 100_000, co
          progress=None) -> dict:
     """The odds of one member of ``family`` (at ``x``; by default its only member, without free parameters).
 
-    Returns ``name -> (p, half-width)`` and, for a Monte Carlo model, ``"undecided"``.
+    Parameters
+    ----------
+    family : Family
+    model : Drop, Flip, Bounce or Bounce3D
+    x : sequence of float, optional
+        The free values (none for a family without free parameters).
+    names : list of str, optional
+        The outcomes (default :func:`default_names`).
+    tosses, confidence, seed, progress
+        Of a Monte Carlo model: launches, the confidence of the half-widths, the seed, a callback.
+
+    Returns
+    -------
+    dict
+        ``name -> (p, half-width)`` (half-width 0 for an exact model) and, for a Monte Carlo model,
+        ``"undecided"``: the share of the tosses that did not come to rest (the others' odds are among the rest).
+
+    Raises
+    ------
+    InvalidArgument
+        A model that does not toss this family, an unknown outcome.
 
     Examples
     --------
@@ -296,7 +329,14 @@ def odds(family: Family, model, x=None, *, names=None, tosses: int = 100_000, co
 class Resimulation:
     """An independent re-simulation of a design at its point: ``probabilities[name] = (p, standard error)`` from
     ``tosses`` fresh launches, and ``z[name]``: the difference from the design's probability in units of the
-    two standard errors combined (the design's own is its half-width / z)."""
+    two standard errors combined (the design's own is its half-width / z).
+
+    Examples
+    --------
+    >>> r = Resimulation({"edge": (0.34, 0.002)}, {"edge": 0.5}, 50000)
+    >>> r.agrees()
+    True
+    """
 
     probabilities: dict
     z: dict
@@ -320,10 +360,28 @@ def resimulate(result: Design, tosses: int = 100_000, seed=None, progress=None) 
     """Toss the designed body ``tosses`` times with launches independent of the design's (the model's own random
     toss; the exact drop model is drawn at random) and compare each outcome with the design.
 
+    Parameters
+    ----------
+    result : Design
+    tosses : int
+    seed : int or None
+        Of the independent launches (a stream apart from the design's for the same seed).
+    progress : callable, optional
+
+    Returns
+    -------
+    Resimulation
+
     Raises
     ------
     InvalidArgument
         A model that has no random toss (flip).
+
+    Examples
+    --------
+    >>> found = design(Family("cylinder", None, {"thickness": (0.1, 3.0)}), {"edge": 1 / 3}, Drop())
+    >>> resimulate(found, 20000, seed=1).agrees(0.999)
+    True
     """
     model = result.model
     if not hasattr(model, "simulate"):
@@ -344,7 +402,29 @@ def resimulate(result: Design, tosses: int = 100_000, seed=None, progress=None) 
 
 def design_curves(result: Design, points: int = 41, tosses: int = 8192, progress=None) -> list:
     """For each free parameter: ``(name, xs, {outcome: (p, half-width) arrays})`` over its range, the others at the
-    design point (exact models: exact; Monte Carlo: ``tosses`` launches per point, common random numbers)."""
+    design point (exact models: exact; Monte Carlo: ``tosses`` launches per point, common random numbers).
+
+    Parameters
+    ----------
+    result : Design
+    points : int
+        Values of each parameter.
+    tosses : int
+        Monte Carlo: launches per value.
+    progress : callable, optional
+
+    Returns
+    -------
+    list of tuple
+        A member without one of the outcomes (no heads and tails) is a gap (nan).
+
+    Examples
+    --------
+    >>> found = design(Family("cylinder", None, {"thickness": (0.1, 3.0)}), {"edge": 1 / 3}, Drop())
+    >>> name, xs, rows = design_curves(found, points=3)[0]
+    >>> name, [round(float(p), 6) for p in rows["edge"][0]]
+    ('thickness', [0.049938, 0.612572, 0.83205])
+    """
     fam, model = result.family, result.model
     z = z_value(result.confidence)
     names = list(result.probabilities)
@@ -375,7 +455,24 @@ def design_curves(result: Design, points: int = 41, tosses: int = 8192, progress
 
 def plot_design(result: Design, curves):
     """One panel per free parameter: each outcome's probability against it (band: the interval of a Monte Carlo
-    model), the targets dashed, the design point with its intervals.  Returns the figure."""
+    model), the targets dashed, the design point with its intervals.
+
+    Parameters
+    ----------
+    result : Design
+    curves : list
+        :func:`design_curves` of ``result``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> found = design(Family("cylinder", None, {"thickness": (0.1, 3.0)}), {"edge": 1 / 3}, Drop())
+    >>> len(plot_design(found, design_curves(found, points=5)).axes)
+    1
+    """
     from coinwall.forward.formats.figure import new_figure
 
     k = len(curves)

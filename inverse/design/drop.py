@@ -38,6 +38,9 @@ def valley_hits(index, sets) -> dict:
 class Drop:
     """The drop toss (module docstring): exact odds, and the same toss drawn at random.
 
+    It has no parameters: ``odds(kind, body, names)`` is exact, ``simulate`` draws the toss (one uniform number
+    per toss), for the independent re-simulation of a design.
+
     Examples
     --------
     >>> from coinwall.forward.wall import Wall
@@ -54,15 +57,16 @@ class Drop:
     def valleys(self, kind, body):
         return planar_valleys(body) if kind == "planar" else revolution_valleys(body)
 
-    def valley_odds(self, kind, body) -> np.ndarray:
-        """The probability of each valley of ``body`` (planar: a Wall; else a Revolution)."""
+    def valley_odds(self, kind, body) -> tuple:
+        """``(valleys, probability of each)`` of ``body`` (planar: a Wall; else a Revolution)."""
         valleys = self.valleys(kind, body)
         if kind == "planar":
             return valleys, (valleys.right - valleys.left) / (2.0 * math.pi)
         return valleys, 0.5 * (np.cos(valleys.left) - np.cos(valleys.right))
 
     def odds(self, kind, body, names) -> dict:
-        """``name -> probability`` of each outcome name (:func:`.family.outcome_sets`)."""
+        """``name -> probability`` of each outcome name (:func:`.family.outcome_sets`); raises InvalidArgument for
+        an unknown name, InvalidWall for a body without two valleys."""
         valleys, p = self.valley_odds(kind, body)
         sets = outcome_sets(valleys, names, kind)
         return {name: float(np.sum(p[list(members)])) for name, members in sets.items()}

@@ -63,6 +63,13 @@ class Family:
     b0 : float
         Offset of a planar wall (``b0 + b`` is the support function).
 
+    Raises
+    ------
+    InvalidParameter
+        A range that is not finite ``LO < HI``, a parameter both free and fixed, an unknown or missing one.
+    InvalidArgument
+        An unknown kind, a planar family without an expression, ``b0`` for a cylinder.
+
     Examples
     --------
     >>> fam = Family("planar", "abs(cos(t)) + h*abs(sin(t))", {"h": (0.05, 3.0)})
@@ -166,7 +173,20 @@ class Family:
 class Valleys:
     """The rest faces of a body: valley ``i`` spans ``[left[i], right[i])`` and has its minimum at
     ``minima[i]`` (radians).  Planar valleys are cyclic (``right[i] = left[i + 1]``, the last one wraps past
-    2π); a body of revolution's cover ``[0, π]``."""
+    2π); a body of revolution's cover ``[0, π]``.
+
+    Parameters
+    ----------
+    left, right, minima : ndarray (k,)
+    period : float or None
+        2π for planar valleys, None for the tilt of a body of revolution.
+
+    Examples
+    --------
+    >>> v = Valleys(np.array([0.5, 2.0]), np.array([2.0, 0.5 + 2 * math.pi]), np.array([1.0, 4.0]), 2 * math.pi)
+    >>> v.index(1.0), v.index(0.1)
+    (0, 1)
+    """
 
     left: np.ndarray
     right: np.ndarray
@@ -193,6 +213,18 @@ class Valleys:
 
 def planar_valleys(wall, points: int = _GRID) -> Valleys:
     """The valleys of a planar wall b(θ) (module docstring), maxima located to 1e-15 rad.
+
+    Parameters
+    ----------
+    wall : Wall
+        The support function about the centre of mass (b0 does not move the valleys).
+    points : int
+        Angles at which b' is sampled for sign changes (a valley narrower than 2π/points is not seen).
+
+    Returns
+    -------
+    Valleys
+        Cyclic, starting at the first maximum in [0, 2π).
 
     Raises
     ------
@@ -256,6 +288,15 @@ def planar_valleys(wall, points: int = _GRID) -> Valleys:
 def revolution_valleys(body) -> Valleys:
     """The valleys of a body of revolution over the tilt θ ∈ [0, π] (maxima of its support ``h``).
 
+    Parameters
+    ----------
+    body : Revolution
+
+    Returns
+    -------
+    Valleys
+        From tilt 0 (heads) to π (tails); the face angles (``minima``) to π/256 of each valley's width.
+
     Examples
     --------
     >>> from coinwall.forward.revolution import coin
@@ -285,10 +326,28 @@ def revolution_valleys(body) -> Valleys:
 def outcome_sets(valleys: Valleys, names, kind: str) -> dict:
     """``name -> tuple of valley indices`` for each outcome name (module docstring).
 
+    Parameters
+    ----------
+    valleys : Valleys
+    names : iterable of str
+        ``heads``, ``tails``, ``edge`` or ``face@DEG``.
+    kind : {"planar", "cylinder"}
+
+    Returns
+    -------
+    dict
+
     Raises
     ------
     InvalidArgument
         An unknown name, or heads/tails/edge for a body on which they are not different faces.
+
+    Examples
+    --------
+    >>> from coinwall.forward.wall import Wall
+    >>> v = planar_valleys(Wall.from_expression("abs(cos(t)) + h*abs(sin(t))", {"h": 0.5}))
+    >>> outcome_sets(v, ["heads", "edge"], "planar")
+    {'heads': (2,), 'edge': (1, 3)}
     """
     planar = kind == "planar"
     heads = valleys.index(1.5 * math.pi if planar else 0.0)
@@ -316,7 +375,23 @@ def outcome_sets(valleys: Valleys, names, kind: str) -> dict:
 
 def outcome_names(valleys: Valleys, kind: str) -> list:
     """The names a result reports by default: heads, tails and edge where they are different faces (edge only
-    when there is one), else every face as ``face@DEG`` by the angle of its minimum."""
+    when there is one), else every face as ``face@DEG`` by the angle of its minimum.
+
+    Parameters
+    ----------
+    valleys : Valleys
+    kind : {"planar", "cylinder"}
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from coinwall.forward.wall import Wall
+    >>> outcome_names(planar_valleys(Wall.from_expression("abs(cos(t)) + 0.5*abs(sin(t))")), "planar")
+    ['heads', 'tails', 'edge']
+    """
     try:
         sets = outcome_sets(valleys, ("heads", "tails", "edge"), kind)
     except InvalidArgument:

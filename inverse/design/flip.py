@@ -113,8 +113,13 @@ def _section(body):
 
 
 class Flip:
-    """The flip toss (module docstring) with the descent-to-spin ratio ``ratio`` = v/ω (lengths per radian of
-    the body's own unit: κ for a planar wall; 0, the default, is the vigorous flip).
+    """The flip toss (module docstring).
+
+    Parameters
+    ----------
+    ratio : float
+        The fall speed over the spin, k = v/ω, in lengths per radian of the body's own unit (κ for a planar wall);
+        0, the default, is the vigorous flip.  Negative or non-finite: InvalidArgument.
 
     Examples
     --------
