@@ -27,6 +27,17 @@ def test_the_three_sided_coin_command_as_written(capsys):
     assert doc["warnings"] == []
 
 
+def test_the_designed_body_is_the_rectangle(tmp_path, capsys):
+    """The wall |cos t| + h|sin t| at b0 = 0 is the support function of the 2 × 2h rectangle about its centre:
+    the body written is that rectangle, its vertices (±1, ±1/√3)."""
+    body = str(tmp_path / "rect.json")
+    assert main(["design", RECT, "--param", "h=0.05:3", "--target", "edge=1/3", "-o", body]) == 0
+    capsys.readouterr()
+    vertices = sorted(tuple(round(c, 12) for c in p) for p in json.load(open(body))["outline"])
+    h = round(1 / math.sqrt(3), 12)
+    assert vertices == [(-1.0, -h), (-1.0, h), (1.0, -h), (1.0, h)]
+
+
 def test_cylinder_writes_body_and_figure(tmp_path, capsys):
     svg, dxf, fig = (str(tmp_path / name) for name in ("coin.svg", "coin.dxf", "odds.png"))
     status = main(["design", "cylinder", "--param", "thickness=1:30", "--param", "radius=12", "--target",
