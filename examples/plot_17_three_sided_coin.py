@@ -13,12 +13,13 @@ and :func:`coinwall.inverse.design.design` answers for each toss model (:doc:`/d
   its planar section, a third at 1/√3 (Yong & Mahadevan's flipped coin).
 * **bounce** — the coin flipped about a diameter and bouncing on a frictionless floor (restitution e),
   uniform density: the planar section's wall over the cylinder's transverse radius of gyration,
-  (|cos t| + h|sin t|)/√(1/4 + h²/3) for radius 1 and half-thickness h. Monte Carlo, to ±0.01 here.
+  ``(abs(cos(t)) + h*abs(sin(t)))/sqrt(0.25 + h**2/3)`` for radius 1 and half-thickness h. Monte Carlo, to
+  ±0.01 here.
 
 The left panel shows P(edge) against thickness/diameter for each model, the right one the thickness each
 needs, beside the literature's two values. Bouncing makes the edge rarer: the coin must be thicker, the
 more so the more elastic the floor. (Murray & Teare's and Hernández-Navarro & Piñero's numbers are not
-drawn: only their abstracts were read; docs/design.md says what was compared.)
+drawn: only their abstracts were read; :doc:`/design` says what was compared.)
 """
 
 import math

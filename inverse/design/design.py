@@ -85,7 +85,7 @@ class Design:
     method : str
         The solver (:mod:`.solvers`).
     residual : float
-        Largest |P − target| at ``x``.
+        The largest difference ``|P − target|`` at ``x``.
     roots : list
         Every parameter value that reaches the target (one free parameter, exact model).
     warnings : list of str
