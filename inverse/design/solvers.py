@@ -62,7 +62,7 @@ class Estimate:
     def covariance(self, names) -> np.ndarray:
         """The covariance of the probabilities of ``names`` (the outcome indicators' over ``decided``)."""
         cols = [self.names.index(k) for k in names]
-        return np.atleast_2d(np.cov(self.indicators[:, cols], rowvar=False)) / self.decided
+        return np.atleast_2d(np.cov(self.indicators[:, cols].astype(float), rowvar=False)) / self.decided
 
     def p(self, name) -> float:
         return self.hits[name] / self.decided if self.decided else math.nan
@@ -120,7 +120,7 @@ class Ensemble:
         decided = n - undecided
         if decided == 0:
             raise InvalidArgument(f"no toss of the {n} at {self._where(x)} came to rest (every one is undecided)")
-        return Estimate(x, n, decided, hits, np.concatenate(rows).astype(float), tuple(self.names))
+        return Estimate(x, n, decided, hits, np.concatenate(rows).astype(bool), tuple(self.names))
 
     def _where(self, x):
         return ", ".join(f"{k}={v:.6g}" for k, v in zip(self.family.names, x))
@@ -279,7 +279,7 @@ def stochastic_root(ensemble: Ensemble, name: str, target: float, lo: float, hi:
                                   "tosses: the probability may not cross the target there")
         se = math.sqrt(target * (1 - target) / max(1, n))
         half = z * se / max(abs(slope), 1e-300)
-        while b - a > 0.1 * half:
+        while b - a > max(0.1 * half, 1e-12 * (hi - lo)):  # (a jump of P: the width floors at rounding)
             m = 0.5 * (a + b)
             fm = at(m, n).p(name) - target
             if fm == 0:
