@@ -200,6 +200,7 @@ BASE_COMMANDS = {
     "correlation": ["case:coin", "--H", "3", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1",
                     "-o", "out.json"],
     "coin3d": ["caught", "--psi", "70", "--samples", "200", "--seed", "1"],
+    "design": ["abs(cos(t)) + h*abs(sin(t))", "--param", "h=0.05:3", "--target", "edge=1/3", "-o", "out.svg"],
 }
 # the numeric flags of each base command and the kind of their values (a key of BAD_NUMBERS)
 NUMERIC_FLAGS = {
@@ -222,6 +223,7 @@ NUMERIC_FLAGS = {
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
     # (coin3d's --e, --g, --height, --ceiling belong to its bounce mode; checked there)
     "coin3d": {"--samples": "count", "--bounces": "count", "--seed": "seed"},
+    "design": {"--b0": "offset", "--kappa": "positive"},
 }
 # the base commands that write a file with -o (scan writes a store folder, see test_nothing_lost.py)
 OUTPUT_COMMANDS = sorted(c for c, argv in BASE_COMMANDS.items() if "-o" in argv and c != "scan")
@@ -254,7 +256,7 @@ def plant_lookalikes(folder) -> None:
 
 
 # the subcommands whose first positional argument is a wall expression
-WALL_COMMANDS = ("solve", "critical", "simulate", "section", "correlation", "quantum")
+WALL_COMMANDS = ("solve", "critical", "simulate", "section", "correlation", "quantum", "design")
 # the subcommands that read a file given as their first positional argument, with the valid file of
 # each kind they read (a key of the files :func:`valid_files` writes)
 FILE_COMMANDS = {"solve": "samples.csv", "critical": "samples.csv", "fit": "samples.csv", "wall": "body.json",

@@ -43,6 +43,7 @@ DOCUMENTED_MODULES = (
     "coinwall.inverse",
     "coinwall.inverse.export",
     "coinwall.inverse.fit",
+    "coinwall.inverse.design",
     "coinwall.cases",
 )
 

@@ -23,6 +23,7 @@ from .billiard.table import Billiard, Trajectory, compile_kernel, ensemble, rand
 from .coin3d.bounced import BounceStudy, same_side_by_bounce
 from .coin3d.caught import PsiFit, dhm_same_side, fit_psi, simulate_caught
 from .coin3d.correlation3d import side_correlation
+from .coin3d.rest import rest_outcomes
 from .coin3d.rigid3d import Rigid3D, Trajectory3D, simulate_3d
 from .coin3d.top import TopFlight, TopTable, top_run
 from .floor.fairness import Fairness, fairness, fairness_curve
@@ -40,6 +41,6 @@ __all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlatio
            "ensemble_statistics",
            "fairness", "fairness_curve", "field_run", "field_run_many", "fit_psi", "fit_tau_law", "heads",
            "heads_fraction", "incidence_angle", "kam_boundary", "lyapunov", "lyapunov_many", "orbit_statistics",
-           "paper_boundary", "poincare_section", "random_states", "same_side_by_bounce", "side_correlation",
-           "simulate", "simulate_3d", "simulate_caught", "simulate_rigid_body", "top_run", "uncertainty_exponent",
-           "wedge_lyapunov"]
+           "paper_boundary", "poincare_section", "random_states", "rest_outcomes", "same_side_by_bounce",
+           "side_correlation", "simulate", "simulate_3d", "simulate_caught", "simulate_rigid_body", "top_run",
+           "uncertainty_exponent", "wedge_lyapunov"]

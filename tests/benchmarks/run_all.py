@@ -40,6 +40,7 @@ RUNS = [
     ("coin3d", "bench_coin3d.py", [], False),
     ("house", "bench_house.py", [], False),
     ("gpu", "bench_gpu.py", [], False),  # exits 2 with one line where there is no GPU (docs/performance.md, GPU)
+    ("design", "bench_design.py", [], False),
 ]
 
 

@@ -21,7 +21,8 @@ RECORDED = {
     "case1-realizable": "no", "case2-realizable": "no", "large-b0": "yes", "extrema": "yes",
     "four-extrema": "no", "theta-half": "no", "equivalence-simulated": "yes",
     "external-fields": "yes", "casino": "partly", "quantum-tunnelling": "yes", "three-d-billiard": "partly",
-    "caught-coin-flips": "yes",
+    "caught-coin-flips": "yes", "design-drop-rectangle": "yes", "design-drop-cylinder": "yes",
+    "design-flip-cylinder": "yes", "design-bounce-nickel": "partly",
 }
 CONDITIONS = (Below, Above, Within, Equals)
 
@@ -69,7 +70,7 @@ def test_fast_run_keeps_every_verdict(fast_report):
     assert tuple(r.key for r in fast_report.rows) == CLAIMS
     assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
     assert fast_report.ok
-    assert fast_report.counts() == {"yes": 21, "partly": 6, "no": 5}
+    assert fast_report.counts() == {"yes": 24, "partly": 7, "no": 5}
 
 
 def test_report_to_dict_and_repr(fast_report):
@@ -77,7 +78,7 @@ def test_report_to_dict_and_repr(fast_report):
     assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == []
     assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
     assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
-    assert "32 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
+    assert "36 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
     assert repr(Report(rows=None)) == "Report(<unprintable>)"
 
 

@@ -140,8 +140,8 @@ def test_subcommand_table_is_explicit_and_complete():
     from coinwall.cases.cli.parser import SUBCOMMANDS, CommandParser, build_parser
 
     assert list(SUBCOMMANDS) == ["solve", "critical", "fit", "wall", "export", "mass", "simulate", "section",
-                                 "correlation", "toss", "coin3d", "kam", "quantum", "scan", "cases", "verify",
-                                 "explore"]
+                                 "correlation", "toss", "design", "coin3d", "kam", "quantum", "scan", "cases",
+                                 "verify", "explore"]
     for name, module in SUBCOMMANDS.items():
         assert isinstance(module, types.ModuleType) and module.__name__.endswith(f".cli.{name}")
         subparsers = argparse.ArgumentParser().add_subparsers(parser_class=CommandParser)
