@@ -109,8 +109,10 @@ class Report:
         for i, r in enumerate(self.rows, 1):
             flag = "" if r.unchanged else f"   <-- was '{r.expected}'"
             claim = textwrap.wrap(r.claim, claim_width) or [""]
-            lines.append(f"{i:>2}. {claim[0]:<{claim_width}} {r.agreement}{flag}".rstrip())
-            lines += [f"    {part}" for part in claim[1:]]
+            # the verdict in its column on the claim's last line, so that the claim reads whole
+            block = [f"{i:>2}. " + claim[0]] + [f"    {part}" for part in claim[1:]]
+            block[-1] = f"{block[-1]:<{claim_width + 4}} {r.agreement}{flag}".rstrip()
+            lines += block
             lines += textwrap.wrap(r.computed, width, initial_indent="      ", subsequent_indent="      ")
         lines.append(f"\n{self._summary()}")
         return "\n".join(lines)
