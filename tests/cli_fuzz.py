@@ -43,6 +43,9 @@ from coinwall.cases.cli.main import main
 warnings.simplefilter("always")
 for line in sys.stdin:
     req = json.loads(line)
+    # the arguments as the operating system hands them over: bytes (UTF-8 here), decoded by the file system's
+    # encoding (under LANG=C without UTF-8 mode, undecodable bytes become surrogates, as in sys.argv)
+    argv = [os.fsdecode(a.encode("utf-8", "surrogateescape")) for a in req["argv"]]
     os.chdir(req["cwd"])
     out = os.open(os.path.join(captures, "stdout"), os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o600)
     err = os.open(os.path.join(captures, "stderr"), os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -51,7 +54,7 @@ for line in sys.stdin:
     os.dup2(out, 1); os.dup2(err, 2)
     try:
         try:
-            rc = main(req["argv"])
+            rc = main(argv)
         except SystemExit as exc:
             rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
         except BaseException:
@@ -76,12 +79,14 @@ class Worker:
     """A ``coinwall`` process that runs :func:`coinwall.cases.cli.main.main` for each request.
 
     ``memory`` bytes of address space at most (``ulimit -v``), so a request that would take the machine's
-    memory fails inside the worker instead; ``timeout`` seconds per request.
+    memory fails inside the worker instead; ``timeout`` seconds per request; ``env``: variables set for the worker
+    (``{"PYTHONIOENCODING": "ascii"}``: a terminal that cannot show every character).
     """
 
-    def __init__(self, timeout: float = 60.0, memory: int = 8 * 2 ** 30):
+    def __init__(self, timeout: float = 60.0, memory: int = 8 * 2 ** 30, env: dict | None = None):
         self.timeout = timeout
         self.memory = memory
+        self.env = env
         self.proc = None
 
     def _start(self):
@@ -90,8 +95,10 @@ class Worker:
         def limit():
             resource.setrlimit(resource.RLIMIT_AS, (self.memory, self.memory))
 
+        env = None if self.env is None else {**os.environ, **self.env}
         self.proc = subprocess.Popen([sys.executable, "-c", _WORKER], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.DEVNULL, text=True, preexec_fn=limit)
+                                     stderr=subprocess.DEVNULL, text=True, preexec_fn=limit, env=env,
+                                     encoding="utf-8", errors="surrogateescape")
 
     def run(self, argv, cwd) -> dict:
         """Run ``coinwall ARGV`` in folder ``cwd``; returns ``{"rc", "stdout", "stderr"}``.
