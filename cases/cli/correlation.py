@@ -81,14 +81,19 @@ def _cmd_correlation(args):
         print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
     print(f"table      {table!r}")
-    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}")
+    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}; the "
+          f"errors (±) are from the spread between the {result.orbits} orbits"
+          + (" (fewer than 10: rough)" if result.orbits < 10 else ""))
     print(f"heads      {result.heads_fraction:.4f} ± {result.heads_stderr:.4f}")
     print("n   P(n)      ±")
     for n, (p, e) in enumerate(zip(result.P, result.P_stderr)):
         print(f"{n:<3d} {p:.5f}  {e:.5f}")
-    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} "
-          f"(fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
-    print(f"n_needed   {result.n_needed} (first n with |P(n) − ½| < 0.01; fit: {result.n_needed_fit:.3g})")
+    from coinwall.forward.estimates import finite_text
+
+    print(f"tau        {finite_text(result.tau, missing='not determined (the fit failed)')} ± "
+          f"{finite_text(result.tau_stderr, '.2g')} (fit P(n) − ½ = A exp(−n/τ), A = {finite_text(result.amplitude, '.3g')})")
+    needed = result.n_needed if result.n_needed is not None else f"none up to n = {args.max_lag}"
+    print(f"n_needed   {needed} (first n with |P(n) − ½| < 0.01; fit: {finite_text(result.n_needed_fit, '.3g')})")
     for note in result.notes:
         print(f"note       {note}")
     if args.output:
