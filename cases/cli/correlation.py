@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 
+from .budget import add_allow_long
 from .common import (
     add_command,
     check_positive_count,
@@ -45,6 +46,7 @@ def register(subparsers):
     corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                       help="figure (.png, .svg, .pdf) or .json (repeatable)")
     corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    add_allow_long(corr)
     corr.set_defaults(run=_cmd_correlation)
 
 
@@ -61,6 +63,14 @@ def _cmd_correlation(args):
     if args.max_lag >= args.bounces:
         raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, FIGURE_FORMATS + (".json",))
+    from .budget import check_time
+    from .simulate import NS_PER_COLLISION
+
+    # a bottom bounce takes about two collisions (one with each wall); with --count all, one
+    per_bounce = 2 if args.count == "bottom" else 1
+    check_time(args, args.bounces * per_bounce * NS_PER_COLLISION["kernel"] * 1e-9,
+               f"--bounces {args.bounces} (about {per_bounce} collision(s) each, {NS_PER_COLLISION['kernel']:g} ns "
+               "per collision)", "fewer --bounces")
     _, table = load_table(args)
     bar = progress_bar(args, args.bounces, "bounce")
     try:

@@ -233,7 +233,10 @@ def _run(argv) -> int:
         return 0
     from coinwall.forward.formats.output import command_scope
 
+    from .options import check_options
+
     try:
+        check_options(args.command, parser.commands[args.command], args)  # meaning and conflicts, before any work
         # the files named as positional arguments, and every input file read, cannot be outputs of the command
         with command_scope(_file_arguments(parser.commands[args.command], args)):
             return args.run(args)
