@@ -22,13 +22,15 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import select
 import subprocess
 import sys
 import tempfile
 import time
 
-__all__ = ["Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
+__all__ = ["ENCODINGS", "LONG_REQUESTS", "MEANINGLESS", "NO_DATA", "STORE_DAMAGES", "WRONG_KIND", "damage_store",
+           "reference_store", "store_request", "Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
            "make_folder", "mutate", "with_flag", "MUTATION_TARGETS", "MUTATIONS", "mutation_request"]
 
@@ -139,6 +141,24 @@ def snapshot(folder) -> dict:
     return result
 
 
+_NAN = re.compile(r"(?<![A-Za-z_])nan(?![A-Za-z_])", re.IGNORECASE)
+_NO_DATA = re.compile(r"0\.0+ ± 0\.0+ +\(0 ")
+
+
+def _outputs(argv):
+    """The paths a command writes: its -o/--output/--figure/--out values (scan's store among them)."""
+    flags = ("-o", "--output", "--figure", "--out")
+    names = []
+    for k, arg in enumerate(argv):
+        if arg in flags and k + 1 < len(argv):
+            names.append(argv[k + 1])
+        elif arg.startswith(tuple(f + "=" for f in flags[1:])):
+            names.append(arg.split("=", 1)[1])
+        elif arg.startswith("-o") and len(arg) > 2:
+            names.append(arg[2:])
+    return [os.path.normpath(name) for name in names if name]
+
+
 def check_clean(argv, result, before, after, *, certainly_bad: bool) -> list:
     """The ways ``result`` of ``coinwall ARGV`` breaks the contract (module docstring); empty if none."""
     problems = []
@@ -152,6 +172,18 @@ def check_clean(argv, result, before, after, *, certainly_bad: bool) -> list:
         problems.append("traceback on stderr")
     if "Warning:" in err or "warnings.warn" in err:
         problems.append("raw warning text on stderr")
+    if rc in (0, 1) and _NAN.search(result["stdout"]):
+        problems.append("a NaN printed as an answer")
+    if rc in (0, 1) and _NO_DATA.search(result["stdout"]):
+        problems.append("a share from no data printed as an answer (0 ± 0 from 0 samples)")
+    if "internal error" in err:
+        problems.append("internal error")
+    if rc in (0, 1, 2):  # an input (a file there before that the command does not write) is never changed
+        outputs = set(_outputs(argv))
+        changed = sorted(k for k in before if k not in outputs and not any(k.startswith(o + os.sep) for o in outputs)
+                         and after.get(k) != before[k])
+        if changed:
+            problems.append(f"inputs lost or changed: {changed[:5]}")
     if rc == 2:
         if len(lines) > 2:
             problems.append(f"{len(lines)} stderr lines")
@@ -270,7 +302,8 @@ FILE_COMMANDS = {"solve": "samples.csv", "critical": "samples.csv", "fit": "samp
 
 def valid_files(folder, worker: Worker) -> None:
     """Write the valid inputs the base commands read: samples.csv (a sampled smooth wall), points.csv, and
-    body.json, body.svg, body.dxf (the body of ``1+0.1*cos(2*t)``, written by ``coinwall solve``)."""
+    body.json, body.svg, body.dxf (the body of ``1+0.1*cos(2*t)``, written by ``coinwall solve``); and the walls
+    and outlines of :func:`kind_files`."""
     import math
 
     with open(os.path.join(folder, "samples.csv"), "w") as fh:
@@ -286,6 +319,7 @@ def valid_files(folder, worker: Worker) -> None:
                          "-o", "body.dxf"], folder)
     if result["rc"] != 0:
         raise RuntimeError(f"coinwall solve could not write the valid bodies the fuzz tests start from: {result}")
+    kind_files(folder)
 
 
 def hostile_files(folder) -> dict:
@@ -390,7 +424,8 @@ def mutate(data: bytes, how: str, where: float, junk: bytes) -> bytes:
     return data[:i] + junk + data[i + len(junk):]
 
 
-VALID_FILES = ("samples.csv", "points.csv", "body.json", "body.svg", "body.dxf")
+VALID_FILES = ("samples.csv", "points.csv", "body.json", "body.svg", "body.dxf", "degrees.csv", "angles.csv", "wall.json",
+               "xy.csv", "body.csv")
 
 
 def make_folder(base, tmp=None) -> str:
@@ -401,3 +436,153 @@ def make_folder(base, tmp=None) -> str:
     for name in VALID_FILES:
         shutil.copy(os.path.join(base, name), folder)
     return folder
+
+
+# ------------------------------------------------------------------------------------------- round three
+#: terminals that cannot show every character (a worker is started with each environment)
+ENCODINGS = {
+    "C": {"LANG": "C", "LC_ALL": "C", "PYTHONCOERCECLOCALE": "0", "PYTHONUTF8": "0"},
+    "ascii": {"PYTHONIOENCODING": "ascii", "PYTHONUTF8": "0"},
+    "latin-1": {"PYTHONIOENCODING": "latin-1", "PYTHONUTF8": "0"},
+}
+#: output names with characters such terminals lack (the extension is the command's own)
+ODD_NAMES = ["w\u00e4nde", "k\u00f6rper \u03b8", "\u6570\u636e", "caf\u00e9-\u00b1"]
+
+#: statistics asked of no data, or of too little: each is a clear refusal or a share marked "not enough data"
+NO_DATA = [
+    ["coin3d", "bounce", "--psi", "0", "--samples", "300", "--seed", "1", "--bounces", "3"],
+    ["coin3d", "bounce", "--height", "1e300", "--samples", "300", "--seed", "1"],
+    ["coin3d", "bounce", "--g", "1e-6", "--samples", "300", "--seed", "1"],
+    ["coin3d", "bounce", "--samples", "10", "--seed", "1", "--bounces", "2"],
+    ["coin3d", "caught", "--psi", "70", "--samples", "5", "--seed", "1"],
+    ["coin3d", "caught", "--psi", "0", "--samples", "200", "--seed", "1"],
+    ["toss", "case:coin", "--spread", "2,5,0.05,0.2", "--samples", "3", "--seed", "1"],
+    ["toss", "case:coin", "--e", "1", "--impacts", "10", "--spread", "2,5,0.05,0.2", "--samples", "100", "--seed",
+     "1"],
+    ["toss", "case:coin", "--v0", "0:3", "--omega", "0:8", "--uncertainty", "1e-6:1e-2:3", "--samples", "5",
+     "--seed", "1"],
+    ["simulate", "case:coin", "--H", "3", "--collisions", "1", "--seed", "1"],
+    ["correlation", "case:coin", "--H", "1.5", "--bounces", "500", "--orbits", "2", "--max-lag", "3", "--seed", "1"],
+    ["correlation", "case:coin", "--H", "3", "--bounces", "40", "--orbits", "2", "--max-lag", "30", "--seed", "1"],
+]
+#: files read as what they are not: a wall given as an outline, an outline given as a wall (all refused)
+WRONG_KIND = [["wall", "samples.csv", "-o", "out.csv"], ["mass", "samples.csv"], ["wall", "degrees.csv", "-o", "o.csv"],
+              ["mass", "wall.json"], ["export", "wall.json", "-o", "out.svg"], ["wall", "angles.csv", "-o", "o.csv"],
+              ["solve", "points.csv"], ["critical", "body.json"], ["fit", "body.csv", "-o", "out.json"],
+              ["simulate", "points.csv", "--H", "3", "--collisions", "10"], ["solve", "xy.csv"]]
+#: long requests: refused before any work without --allow-long
+LONG_REQUESTS = [["toss", "case:coin", "--e", "1", "--impacts", "1000000000"],
+                 ["toss", "case:coin", "--e", "1", "--impacts", "100000000", "--v0", "0:3:400", "--omega", "0:8:400"],
+                 ["simulate", "case:coin", "--H", "3", "--collisions", "10000000000000"],
+                 ["correlation", "case:coin", "--H", "3", "--bounces", "10000000000", "--max-lag", "1"],
+                 ["coin3d", "bounce", "--samples", "10000000", "--bounces", "1000"],
+                 ["section", "case:coin", "--H", "3", "--orbits", "100", "--collisions", "100000000", "-o", "s.png"]]
+#: options that mean nothing or conflict (all refused)
+MEANINGLESS = [["toss", "case:coin", "--theta0", "1e300", "--v0", "0:1:2", "--omega", "0:1:2"],
+               ["toss", "case:coin", "--theta0", "-inf", "--v0", "0:1:2", "--omega", "0:1:2"],
+               ["wall", "--polar", "1", "--H", "5e-324", "-o", "out.csv"],
+               ["wall", "body.json", "--H", "1e-3", "-o", "out.csv"],
+               ["export", "body.json", "-o", "out.svg", "--cut", "--dimension"],
+               ["quantum", "1", "--H", "3", "--levels", "4", "--method", "spectral", "--order", "2"]]
+
+
+def kind_files(folder) -> None:
+    """The files :data:`WRONG_KIND` names: walls in degrees and as JSON, headerless angles, outlines as CSV."""
+    with open(os.path.join(folder, "degrees.csv"), "w") as fh:
+        fh.write("theta_deg,b\n" + "".join(f"{d},{1 + 0.1 * math.cos(math.radians(2 * d)):.6f}\n"
+                                            for d in range(0, 360, 4)))
+    with open(os.path.join(folder, "angles.csv"), "w") as fh:
+        fh.write("".join(f"{2 * math.pi * k / 72:.6f},{1 + 0.1 * math.cos(4 * math.pi * k / 72):.6f}\n"
+                         for k in range(72)))
+    with open(os.path.join(folder, "wall.json"), "w") as fh:
+        json.dump({"a0": 1.0, "cos": [0.0, 0.1]}, fh)
+    with open(os.path.join(folder, "xy.csv"), "w") as fh:
+        fh.write("x,y\n" + "".join(f"{math.cos(k / 5):.6f},{0.7 * math.sin(k / 5):.6f}\n" for k in range(31)))
+    with open(os.path.join(folder, "body.csv"), "w") as fh:
+        fh.write("# coinwall body: wall '1', b0=0.0, regime=convex, units of kappa\nx,y,alpha,R,K\n"
+                 + "".join(f"{math.cos(k / 5):.6f},{math.sin(k / 5):.6f},{k / 5},1,1\n" for k in range(31)))
+
+
+# the scan store: a reference made once, then copies damaged in one way and resumed
+STORE_ARGS = ["scan", "chaotic-fraction", "sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=2,8", "--H", "2.5,3",
+              "--orbits", "4", "--collisions", "40", "--seed", "3", "--scheduler", "synchronous", "-o", "s.zarr"]
+#: the ways :func:`damage_store` changes a store, and whether the resume must refuse it (else: resume to the same
+#: arrays as the reference)
+STORE_DAMAGES = {"swap-dims": True, "seed-attr": True, "wall-attr": True, "command-attr": True, "units": True,
+                 "extra-array": True, "fifo-chunk": False, "devzero-chunk": False, "huge-chunk": False,
+                 "truncated-chunk": False, "deleted-chunk": False, "flipped-status": False}
+STORE_NAMES = ("chaotic_fraction", "chaotic_fraction_stderr", "regular_orbits", "orbits_used", "cell_status",
+               "cell_checksum", "cell_seed")
+
+
+def reference_store(folder, worker: Worker) -> None:
+    """``ref.zarr`` in ``folder``: the store :data:`STORE_ARGS` makes."""
+    result = worker.run(STORE_ARGS[:-1] + ["ref.zarr"], folder)
+    if result["rc"] != 0:
+        raise RuntimeError(f"coinwall scan could not make the reference store: {result}")
+
+
+def _edit(path, member, edit):
+    for name, key in ((member, None), (".zmetadata", member)):
+        with open(os.path.join(path, name)) as fh:
+            doc = json.load(fh)
+        edit(doc if key is None else doc["metadata"][key])
+        with open(os.path.join(path, name), "w") as fh:
+            json.dump(doc, fh)
+
+
+def damage_store(path: str, how: str, rng) -> None:
+    """Change the store at ``path`` in one of the :data:`STORE_DAMAGES` ways (a chunk chosen with ``rng``)."""
+    chunk = os.path.join(path, rng.choice(STORE_NAMES[:4]), rng.choice(["0.0", "0.1", "1.0", "1.1"]))
+    if how == "swap-dims":
+        for name in STORE_NAMES[:4]:
+            _edit(path, f"{name}/.zattrs", lambda a: a.update(_ARRAY_DIMENSIONS=a["_ARRAY_DIMENSIONS"][::-1]))
+    elif how.endswith("-attr"):
+        key = how.split("-")[0]
+        _edit(path, ".zattrs", lambda a: a.update({key: 4 if key == "seed" else "something else"}))
+    elif how == "units":
+        _edit(path, "chaotic_fraction/.zattrs", lambda a: a.update(units="m"))
+    elif how == "extra-array":
+        os.mkdir(os.path.join(path, "junk"))
+        with open(os.path.join(path, "junk", ".zarray"), "w") as fh:
+            json.dump({"zarr_format": 2, "shape": [5], "chunks": [5], "dtype": "<f8", "compressor": None,
+                       "fill_value": None, "order": "C", "filters": None}, fh)
+        with open(os.path.join(path, "junk", ".zattrs"), "w") as fh:
+            json.dump({"_ARRAY_DIMENSIONS": ["H"]}, fh)
+    else:
+        if how in ("fifo-chunk", "devzero-chunk", "deleted-chunk"):
+            os.unlink(chunk)
+        if how == "fifo-chunk":
+            os.mkfifo(chunk)
+        elif how == "devzero-chunk":
+            os.symlink("/dev/zero", chunk)
+        elif how == "huge-chunk":
+            with open(chunk, "r+b") as fh:
+                fh.truncate(6 << 30)
+        elif how == "truncated-chunk":
+            with open(chunk, "r+b") as fh:
+                fh.truncate(3)
+        elif how == "flipped-status":
+            status = os.path.join(path, "cell_status", rng.choice(["0.0", "1.1"]))
+            data = bytearray(open(status, "rb").read())
+            data[-1] ^= 0x01
+            open(status, "wb").write(bytes(data))
+
+
+def store_request(base, folder, how, rng):
+    """Copy the reference store into ``folder`` as s.zarr, damage it; returns the resume's argv."""
+    import shutil
+
+    shutil.copytree(os.path.join(base, "ref.zarr"), os.path.join(folder, "s.zarr"), symlinks=True)
+    damage_store(os.path.join(folder, "s.zarr"), how, rng)
+    return list(STORE_ARGS)
+
+
+def store_equal(a, b) -> bool:
+    """Whether two stores hold the same arrays (NaN equal to NaN)."""
+    import numpy as np
+    import zarr
+
+    ga, gb = zarr.open_group(a, mode="r"), zarr.open_group(b, mode="r")
+    return all(np.array_equal(np.asarray(ga[n][...]), np.asarray(gb[n][...]), equal_nan=ga[n].dtype.kind == "f")
+               for n in STORE_NAMES)

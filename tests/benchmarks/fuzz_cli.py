@@ -19,6 +19,7 @@ import argparse
 import collections
 import os
 import random
+import shutil
 import sys
 import tempfile
 import time
@@ -26,6 +27,16 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from cli_fuzz import (  # noqa: E402
+    ENCODINGS,
+    LONG_REQUESTS,
+    MEANINGLESS,
+    NO_DATA,
+    ODD_NAMES,
+    STORE_DAMAGES,
+    WRONG_KIND,
+    reference_store,
+    store_equal,
+    store_request,
     BAD_NUMBERS,
     BAD_OUTPUTS,
     BAD_WALLS,
@@ -55,10 +66,33 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
          b"\n\n\n", b"-", b"[[[[", b"</svg>", b"0\nSECTION\n", b"&a;", b"1e-320"]
 
 
+#: the classes of inputs drawn (each equally often)
+CATEGORIES = ["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name", "input-output",
+              "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
+
+
 def draw(rng: random.Random, base: str, hostile: tuple):
-    """One random request: (category, argv, certainly_bad, files to write into the working folder)."""
-    kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name",
-                       "input-output"])
+    """One random request: (category, argv, certainly_bad, files to write into the working folder); for the
+    "encoding" class the terminal is the last element of the category (``encoding:ascii``), for "store" the
+    damage (``store:fifo-chunk``)."""
+    kind = rng.choice(CATEGORIES)
+    if kind == "encoding":
+        terminal = rng.choice(sorted(ENCODINGS))
+        command = rng.choice(sorted(BASE_COMMANDS))
+        argv = [command] + BASE_COMMANDS[command]
+        if command == "scan":
+            argv = [a for a in argv if a not in ("--workers", "1")] + ["--scheduler", "synchronous"]
+        if "-o" in argv and rng.random() < 0.5:
+            argv = [command] + with_output(argv[1:], rng.choice(ODD_NAMES))
+        return f"encoding:{terminal}", argv, False, {}
+    if kind == "no-data":
+        return kind, list(rng.choice(NO_DATA)), False, {}
+    if kind in ("wrong-kind", "long", "meaningless"):
+        table = {"wrong-kind": WRONG_KIND, "long": LONG_REQUESTS, "meaningless": MEANINGLESS}[kind]
+        return kind, list(rng.choice(table)), True, {}
+    if kind == "store":
+        how = rng.choice(sorted(STORE_DAMAGES))
+        return f"store:{how}", None, STORE_DAMAGES[how], {}
     if kind == "output-name":
         command = rng.choice(OUTPUT_COMMANDS)
         return kind, [command] + with_output(BASE_COMMANDS[command], rng.choice(BAD_OUTPUTS)), True, {}
@@ -109,12 +143,14 @@ def main(argv=None) -> int:
     failures = []
     start = time.perf_counter()
     worker = Worker(timeout=args.timeout)
+    terminals = {}  # a worker per terminal of the "encoding" class, started when first drawn
     with tempfile.TemporaryDirectory() as tmp:
         base = os.path.join(tmp, "base")
         hostile_dir = os.path.join(tmp, "hostile")
         os.mkdir(base)
         os.mkdir(hostile_dir)
         valid_files(base, worker)
+        reference_store(base, worker)
         hostile = (hostile_dir, hostile_files(hostile_dir))
         for k in range(args.inputs):
             kind, request, bad, files = draw(rng, base, hostile)
@@ -122,10 +158,27 @@ def main(argv=None) -> int:
             for name, data in files.items():
                 with open(os.path.join(folder, name), "wb") as fh:
                     fh.write(data)
+            if kind.startswith("store:"):
+                request = store_request(base, folder, kind.split(":", 1)[1], rng)
             before = snapshot(folder)
-            result = worker.run(request, folder)
+            runner = worker
+            if kind.startswith("encoding:"):
+                terminal = kind.split(":", 1)[1]
+                runner = terminals.setdefault(terminal, Worker(timeout=args.timeout, env=ENCODINGS[terminal]))
+            result = runner.run(request, folder)
             problems = check_clean(request, result, before, snapshot(folder), certainly_bad=bad)
+            if kind.startswith("encoding:") and terminal != "latin-1" and result["rc"] in (0, 1) and \
+                    any(ord(c) > 127 for c in result["stdout"] + result["stderr"]):
+                problems.append(f"coinwall {request}: printed a character the {terminal} terminal cannot show")
+            if kind.startswith("store:") and result["rc"] == 0 and not bad and \
+                    not store_equal(os.path.join(folder, "s.zarr"), os.path.join(base, "ref.zarr")):
+                problems.append(f"{kind}: resumed to arrays that differ from the undamaged store's (silently wrong)")
+            if kind.startswith("store:") and not bad and result["rc"] != 0:
+                problems.append(f"{kind}: a repairable store was refused: {result['stderr'][-300:]!r}")
+            if kind == "no-data" and result["rc"] in (0, 1) and "0.0000 ± 0.0000" in result["stdout"]:
+                problems.append(f"coinwall {request}: a share from no data printed as an answer")
             tried[kind] += 1
+            shutil.rmtree(folder, ignore_errors=True)
             if problems:
                 failures += problems
             else:
@@ -133,6 +186,8 @@ def main(argv=None) -> int:
             if (k + 1) % 100 == 0:
                 print(f"{k + 1} inputs, {len(failures)} problems, {time.perf_counter() - start:.0f} s", file=sys.stderr)
     worker.close()
+    for runner in terminals.values():
+        runner.close()
     print(f"seed {args.seed}, {sum(tried.values())} inputs in {time.perf_counter() - start:.0f} s")
     print("| category | tried | handled cleanly |\n|---|---:|---:|")
     for kind in sorted(tried):
