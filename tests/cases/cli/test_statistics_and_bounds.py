@@ -110,6 +110,8 @@ def test_simulate_and_correlation_print_counts_and_no_nan(capsys):
     (["toss", "case:coin", "--e", "1", "--impacts", "1000000000"], "167 days"),
     (["simulate", "case:coin", "--H", "3", "--collisions", "1e13"], "116 days"),
     (["correlation", "case:coin", "--H", "3", "--bounces", "1e10", "--max-lag", "1"], "5.56 hours"),
+    (["scan", "chaotic-fraction", "sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=0.5:30:100log", "--H", "2:8:100",
+      "--orbits", "1000", "--collisions", "100000", "--workers", "2", "-o", "big.zarr"], "13.9 days"),
 ])
 def test_long_runs_are_refused_with_their_estimate(tmp_path, monkeypatch, capsys, argv, needle):
     monkeypatch.chdir(tmp_path)
