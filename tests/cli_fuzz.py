@@ -29,7 +29,7 @@ import sys
 import tempfile
 import time
 
-__all__ = ["ENCODINGS", "LONG_REQUESTS", "MEANINGLESS", "NO_DATA", "STORE_DAMAGES", "WRONG_KIND", "damage_store",
+__all__ = ["random_no_data", "random_wrong_kind", "ENCODINGS", "LONG_REQUESTS", "MEANINGLESS", "NO_DATA", "STORE_DAMAGES", "WRONG_KIND", "damage_store",
            "reference_store", "store_request", "Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
            "make_folder", "mutate", "with_flag", "MUTATION_TARGETS", "MUTATIONS", "mutation_request"]
@@ -586,3 +586,55 @@ def store_equal(a, b) -> bool:
     ga, gb = zarr.open_group(a, mode="r"), zarr.open_group(b, mode="r")
     return all(np.array_equal(np.asarray(ga[n][...]), np.asarray(gb[n][...]), equal_nan=ga[n].dtype.kind == "f")
                for n in STORE_NAMES)
+
+
+def random_wrong_kind(rng, folder):
+    """A wall file written as people write them (header names, delimiters, degrees, rows) given to a command that
+    reads outlines, or an outline's points given to one that reads walls: ``(argv, certainly_bad=True)``."""
+    n = rng.randint(8, 200)
+    delimiter = rng.choice([",", ";", "\t", " "])
+    if rng.random() < 0.5:  # a wall, given as an outline
+        degrees = rng.random() < 0.5
+        header = rng.choice([None, "theta", "θ", "angle", "theta_deg" if degrees else "theta", "Theta (deg)"
+                             if degrees else "t"])
+        value = rng.choice(["b", "h", "wall", "B"])
+        start = rng.randrange(n)
+        rows = []
+        for k in range(n):
+            angle = ((k + start) % n) * (360.0 / n if degrees else 2 * math.pi / n)
+            rad = math.radians(angle) if degrees else angle
+            rows.append(f"{angle:.6g}{delimiter}{1 + 0.1 * math.cos(2 * rad):.6g}")
+        text = ((f"{header}{delimiter}{value}\n" if header else "") + "\n".join(rows) + "\n")
+        name = "kind.csv"
+        argv = rng.choice([["wall", name, "-o", "out.csv"], ["mass", name]])
+    else:  # an outline, given as a wall
+        phase = rng.uniform(0, 2 * math.pi)
+        a, b = rng.uniform(0.5, 2), rng.uniform(0.5, 2)
+        header = rng.choice([None, "x,y", "X,Y"]) if delimiter == "," else None
+        rows = [f"{a * math.cos(phase + 2 * math.pi * k / n):.6g}{delimiter}{b * math.sin(phase + 2 * math.pi * k / n):.6g}"
+                for k in range(n)]
+        text = (header + "\n" if header else "") + "\n".join(rows) + "\n"
+        name = "kind.csv"
+        argv = rng.choice([["solve", name], ["critical", name], ["fit", name, "-o", "out.json"],
+                           ["simulate", name, "--H", "3", "--collisions", "10"]])
+    with open(os.path.join(folder, name), "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return argv
+
+
+def random_no_data(rng):
+    """A statistic asked of little or no data, with random parameters (never certainly bad: a right answer, or
+    "not enough data", or a refusal)."""
+    kind = rng.choice(["bounce", "caught", "spread", "simulate"])
+    if kind == "bounce":
+        return ["coin3d", "bounce", "--psi", f"{rng.choice([0, 1e-9, 5, 45, 90, 179, 180]):g}", "--height",
+                f"{10 ** rng.uniform(-3, 300):.3g}", "--g", f"{10 ** rng.uniform(-8, 3):.3g}", "--samples",
+                str(rng.randint(1, 300)), "--bounces", str(rng.randint(1, 4)), "--seed", "1"]
+    if kind == "caught":
+        return ["coin3d", "caught", "--psi", f"{rng.uniform(0, 180):.4g}", "--samples", str(rng.randint(1, 200)),
+                "--seed", "1"]
+    if kind == "spread":
+        return ["toss", "case:coin", "--e", f"{rng.uniform(0.3, 1):.3g}", "--impacts", str(rng.randint(1, 200)),
+                "--spread", "2,5,0.05,0.2", "--samples", str(rng.randint(1, 200)), "--seed", "1"]
+    return ["simulate", "case:coin", "--H", f"{rng.uniform(1.2, 6):.3g}", "--collisions", str(rng.randint(1, 60)),
+            "--seed", "1"]

@@ -32,6 +32,8 @@ from cli_fuzz import (  # noqa: E402
     MEANINGLESS,
     NO_DATA,
     ODD_NAMES,
+    random_no_data,
+    random_wrong_kind,
     STORE_DAMAGES,
     WRONG_KIND,
     reference_store,
@@ -86,7 +88,9 @@ def draw(rng: random.Random, base: str, hostile: tuple):
             argv = [command] + with_output(argv[1:], rng.choice(ODD_NAMES))
         return f"encoding:{terminal}", argv, False, {}
     if kind == "no-data":
-        return kind, list(rng.choice(NO_DATA)), False, {}
+        return kind, list(rng.choice(NO_DATA)) if rng.random() < 0.3 else random_no_data(rng), False, {}
+    if kind == "wrong-kind" and rng.random() < 0.7:
+        return "wrong-kind:random", None, True, {}
     if kind in ("wrong-kind", "long", "meaningless"):
         table = {"wrong-kind": WRONG_KIND, "long": LONG_REQUESTS, "meaningless": MEANINGLESS}[kind]
         return kind, list(rng.choice(table)), True, {}
@@ -160,6 +164,8 @@ def main(argv=None) -> int:
                     fh.write(data)
             if kind.startswith("store:"):
                 request = store_request(base, folder, kind.split(":", 1)[1], rng)
+            if kind == "wrong-kind:random":
+                request = random_wrong_kind(rng, folder)
             before = snapshot(folder)
             runner = worker
             if kind.startswith("encoding:"):
