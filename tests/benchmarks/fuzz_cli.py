@@ -27,18 +27,6 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from cli_fuzz import (  # noqa: E402
-    ENCODINGS,
-    LONG_REQUESTS,
-    MEANINGLESS,
-    NO_DATA,
-    ODD_NAMES,
-    random_no_data,
-    random_wrong_kind,
-    STORE_DAMAGES,
-    WRONG_KIND,
-    reference_store,
-    store_equal,
-    store_request,
     BAD_NUMBERS,
     BAD_OUTPUTS,
     BAD_WALLS,
@@ -61,6 +49,20 @@ from cli_fuzz import (  # noqa: E402
     valid_files,
     with_flag,
     with_output,
+)
+from cli_fuzz_classes import (  # noqa: E402
+    ENCODINGS,
+    LONG_REQUESTS,
+    MEANINGLESS,
+    NO_DATA,
+    ODD_NAMES,
+    STORE_DAMAGES,
+    WRONG_KIND,
+    random_no_data,
+    random_wrong_kind,
+    reference_store,
+    store_equal,
+    store_request,
 )
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]

@@ -15,14 +15,6 @@ import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
 from cli_fuzz import (  # noqa: E402
-    LONG_REQUESTS,
-    MEANINGLESS,
-    NO_DATA,
-    STORE_DAMAGES,
-    WRONG_KIND,
-    reference_store,
-    store_equal,
-    store_request,
     BAD_NUMBERS,
     BAD_OUTPUTS,
     BAD_WALLS,
@@ -48,6 +40,16 @@ from cli_fuzz import (  # noqa: E402
     valid_files,
     with_flag,
     with_output,
+)
+from cli_fuzz_classes import (  # noqa: E402
+    LONG_REQUESTS,
+    MEANINGLESS,
+    NO_DATA,
+    STORE_DAMAGES,
+    WRONG_KIND,
+    reference_store,
+    store_equal,
+    store_request,
 )
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402

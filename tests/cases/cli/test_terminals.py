@@ -14,13 +14,7 @@ import os
 
 import pytest
 from cli_fuzz import BASE_COMMANDS, Worker, make_folder, valid_files
-
-#: the terminals: name -> environment of the worker
-TERMINALS = {
-    "C": {"LANG": "C", "LC_ALL": "C", "PYTHONCOERCECLOCALE": "0", "PYTHONUTF8": "0"},
-    "ascii": {"PYTHONIOENCODING": "ascii", "PYTHONUTF8": "0"},
-    "latin-1": {"PYTHONIOENCODING": "latin-1", "PYTHONUTF8": "0"},
-}
+from cli_fuzz_classes import ENCODINGS as TERMINALS
 #: every subcommand: the fuzz's valid base commands (scan in this process: no cluster to start) and the rest
 COMMANDS = [[name] + (argv if name != "scan" else [a for a in argv if a not in ("--workers", "1")]
                       + ["--scheduler", "synchronous"]) for name, argv in sorted(BASE_COMMANDS.items())] + [
