@@ -115,9 +115,29 @@ def _ascii_names(error: UnicodeEncodeError):
 
 
 def ascii_fallback(streams=None) -> list:
-    """Let ``streams`` (default: ``sys.stdout`` and ``sys.stderr``) write what their encoding lacks through
-    :data:`ASCII_FALLBACK`; returns ``[(stream, errors before)]`` for :func:`restore_streams`.  A stream that
-    cannot be reconfigured (a test's capture) is left as it is."""
+    """Let ``streams`` write what their encoding lacks through :data:`ASCII_FALLBACK` (module docstring).
+
+    Parameters
+    ----------
+    streams : iterable of io.TextIOWrapper, optional
+        Default: ``sys.stdout`` and ``sys.stderr``.  A stream that cannot be reconfigured (a test's capture) is
+        left as it is.
+
+    Returns
+    -------
+    list
+        ``[(stream, its error handler before)]``, for :func:`restore_streams`.
+
+    Examples
+    --------
+    >>> import io
+    >>> stream = io.TextIOWrapper(io.BytesIO(), encoding="ascii")
+    >>> changed = ascii_fallback([stream])
+    >>> _ = stream.write("θ₀ ± 0.1 rad"); stream.flush()
+    >>> stream.buffer.getvalue()
+    b'theta0 +/- 0.1 rad'
+    >>> restore_streams(changed)
+    """
     import codecs
 
     try:
@@ -136,7 +156,13 @@ def ascii_fallback(streams=None) -> list:
 
 
 def restore_streams(changed) -> None:
-    """Undo :func:`ascii_fallback` (for a caller that runs :func:`main` in its own process)."""
+    """Undo :func:`ascii_fallback` (for a caller that runs :func:`main` in its own process).
+
+    Parameters
+    ----------
+    changed : list
+        What :func:`ascii_fallback` returned.
+    """
     for stream, errors in changed:
         try:
             stream.reconfigure(errors=errors)

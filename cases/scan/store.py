@@ -29,7 +29,7 @@ its status.  The store itself is made in a temporary folder beside the target (a
 Why it survives damage (a chunk truncated, deleted, rewritten or with a flipped byte; a disk error):
 :func:`open_store` first looks at every member without opening it (:func:`_check_members`): each file it will
 read must be a regular file inside the store (no symbolic link, FIFO or device) of at most
-:func:`member_limit` bytes; a chunk of a per-cell array that is not is removed (its cell is computed again),
+:func:`_member_limit` bytes; a chunk of a per-cell array that is not is removed (its cell is computed again),
 anything else makes the store damaged, and a folder holding an array the scan did not make (which would make
 the store unreadable for xarray: "conflicting sizes") too.  It then reads the store's own metadata (not the
 consolidated copy), refuses a store whose identity, metadata, coordinates or array layout are not what they
@@ -65,7 +65,7 @@ _METADATA_DIGEST = "scan_metadata_sha256"
 _METADATA_FILES = (".zarray", ".zattrs", ".zgroup")
 
 
-def member_limit(cells: int) -> int:
+def _member_limit(cells: int) -> int:
     """The largest file a store of ``cells`` cells holds, in bytes: the one chunk of every cell's seed (8 bytes a
     cell, compressed or not) with room to spare, and 64 KiB for metadata and one-cell chunks (a few dozen
     bytes each)."""
@@ -109,7 +109,7 @@ def _json_member(path: str, limit: int):
         return json.loads(fh.read(limit + 1).decode("utf-8"))
 
 
-def metadata_digests(path: str, members, limit: int = 2 ** 16) -> dict:
+def _metadata_digests(path: str, members, limit: int = 2 ** 16) -> dict:
     """``{".": SHA-256 of the store's own attributes, NAME: of the member's .zarray and .zattrs}`` for ``members``
     (the arrays and coordinates), read from the files themselves (canonical JSON: key order and spacing do not
     count)."""
@@ -171,7 +171,7 @@ def _seal(path: str, members) -> None:
     """Record the digests of the metadata as made (``scan_metadata_sha256``) and consolidate them again."""
     import zarr
 
-    digests = metadata_digests(path, members)
+    digests = _metadata_digests(path, members)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         group = zarr.open_group(path, mode="r+", use_consolidated=False)
@@ -217,7 +217,7 @@ def _read(array, shape):
 
 def _check_members(path: str, members, per_cell, cells: int) -> int:
     """Look at every file of the store without opening it: the store's own files must be regular files (no link,
-    FIFO, device or folder in their place) of at most :func:`member_limit` bytes.  A chunk of a ``per_cell`` array
+    FIFO, device or folder in their place) of at most :func:`_member_limit` bytes.  A chunk of a ``per_cell`` array
     that is not is removed (the link, never what it points to) and its cell computed again; anything else, and a
     folder holding an array or group the store was not made with, is a damaged store.  Returns the chunks
     removed."""
@@ -225,7 +225,7 @@ def _check_members(path: str, members, per_cell, cells: int) -> int:
 
     from coinwall.forward.formats.inputfile import file_kind
 
-    limit = member_limit(cells)
+    limit = _member_limit(cells)
     removed = 0
 
     def look(full, name):
@@ -370,7 +370,7 @@ def open_store(path: str, identity: dict, axes, variables, seeds=None) -> Verifi
             raise _damaged(path, f"it has no record of its metadata ({_METADATA_DIGEST}): it was made by an earlier "
                                  "coinwall or edited")
         try:
-            now = metadata_digests(path, members, member_limit(cells))
+            now = _metadata_digests(path, members, _member_limit(cells))
         except (OSError, ValueError):
             raise _damaged(path, "its metadata cannot be read") from None
         changed = [name for name in now if recorded.get(name) != now[name]]

@@ -88,3 +88,10 @@ def test_the_ascii_names():
     latin.write("± θ")  # latin-1 has ±: written as it is
     latin.flush()
     assert latin.buffer.getvalue() == "± theta".encode("latin-1")
+
+
+def test_doctests():
+    import doctest
+    import importlib
+
+    assert doctest.testmod(importlib.import_module("coinwall.cases.cli.main")).failed == 0

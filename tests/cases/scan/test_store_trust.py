@@ -193,3 +193,10 @@ def test_metadata_that_is_a_fifo_is_refused(reference, tmp_path, monkeypatch, ca
     assert main(ARGS) == 2
     err = capsys.readouterr().err
     assert "cell_status/.zarray is a FIFO" in err, err
+
+
+def test_doctests():
+    import doctest
+    import importlib
+
+    assert doctest.testmod(importlib.import_module("coinwall.cases.scan.table")).failed == 0
