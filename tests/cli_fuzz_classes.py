@@ -15,7 +15,7 @@ import os
 from cli_fuzz import Worker
 
 __all__ = ["ENCODINGS", "LONG_REQUESTS", "MEANINGLESS", "NO_DATA", "ODD_NAMES", "STORE_ARGS", "STORE_DAMAGES",
-           "WRONG_KIND", "damage_store", "random_no_data", "random_wrong_kind", "reference_store", "store_equal",
+           "OTHERS", "WRONG_KIND", "damage_store", "others_check", "others_files", "random_no_data", "random_wrong_kind", "reference_store", "store_equal",
            "store_request"]
 
 #: terminals that cannot show every character (a worker is started with each environment)
@@ -200,3 +200,54 @@ def random_no_data(rng):
                 "--spread", "2,5,0.05,0.2", "--samples", str(rng.randint(1, 200)), "--seed", "1"]
     return ["simulate", "case:coin", "--H", f"{rng.uniform(1.2, 6):.3g}", "--collisions", str(rng.randint(1, 60)),
             "--seed", "1"]
+
+
+# classes the other engineers of the same round fix on their branches: in the larger run only, so that its table
+# shows where each stands (owner, what must hold)
+def others_files(folder):
+    with open(os.path.join(folder, "neg.dxf"), "w") as fh:  # a DXF circle of negative radius
+        fh.write("0\nSECTION\n2\nENTITIES\n0\nCIRCLE\n8\n0\n10\n0\n20\n0\n40\n-1\n0\nENDSEC\n0\nEOF\n")
+    with open(os.path.join(folder, "evil.svg"), "w") as fh:  # a transform list the SVG grammar makes invalid
+        fh.write('<svg xmlns="http://www.w3.org/2000/svg"><g transform="scale(2) evil(1)">'
+                 '<rect x="-1" y="-1" width="2" height="1"/></g></svg>')
+    with open(os.path.join(folder, "priv.csv"), "w") as fh:
+        fh.write("private\n")
+    os.chmod(os.path.join(folder, "priv.csv"), 0o600)
+    os.mkfifo(os.path.join(folder, "pipe.csv"))
+
+
+#: (owner, argv, certainly bad): the requests of the other classes of the round
+OTHERS = [
+    ("critical", ["solve", "1+0.1*cos(2*t)", "--b0", "\u00a0-0.3"], True),
+    ("critical", ["wall", "neg.dxf", "-o", "out.csv"], True),
+    ("critical", ["wall", "evil.svg", "-o", "out.csv"], True),
+    ("critical", ["mass", "body.json", "--density", "r**-3"], True),
+    ("critical", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1e308,1e308"], False),
+    ("critical", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1,1e-300"], False),
+    ("critical", ["kam", "--bracket", "5e-324,1", "--H", "3", "--orbits", "8", "--collisions", "200"], False),
+    ("critical", ["critical", "2+0.1*cos(2*t+1e20)", "--json"], False),
+    ("lean", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "priv.csv"], False),
+    ("lean", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "pipe.csv"], True),
+    ("data", ["fit", "samples.csv", "--sigma-b", "1e-300", "-o", "out.json"], False),
+]
+
+
+def others_check(folder, argv, result) -> list:
+    """What the other classes promise beyond :func:`cli_fuzz.check_clean`: a replaced file keeps its mode, a FIFO
+    given as the output is still a FIFO, and b_c of ``2 + 0.1 cos(2t + φ)`` is −1.7 for every phase φ (b + b'' =
+    2 − 0.3 cos(2t + φ)) or the answer is refused."""
+    import stat
+
+    problems = []
+    if "priv.csv" in argv and result["rc"] == 0 and stat.S_IMODE(os.stat(os.path.join(folder, "priv.csv")).st_mode) \
+            != 0o600:
+        problems.append("the replaced file lost its mode 0600")
+    if "pipe.csv" in argv and not stat.S_ISFIFO(os.lstat(os.path.join(folder, "pipe.csv")).st_mode):
+        problems.append("the named pipe given as the output was replaced")
+    if argv[:2] == ["critical", "2+0.1*cos(2*t+1e20)"] and result["rc"] == 0:
+        doc = json.loads(result["stdout"])
+        low, high = doc.get("b_c_lower", doc["b_c"]), doc.get("b_c_upper", doc["b_c"])
+        tolerance = doc.get("b_c_tolerance") or 0.0
+        if not min(low, doc["b_c"] - tolerance) <= -1.7 <= max(high, doc["b_c"] + tolerance):
+            problems.append(f"b_c = {doc['b_c']} ± {tolerance:g} excludes the true -1.7")
+    return problems

@@ -56,8 +56,11 @@ from cli_fuzz_classes import (  # noqa: E402
     MEANINGLESS,
     NO_DATA,
     ODD_NAMES,
+    OTHERS,
     STORE_DAMAGES,
     WRONG_KIND,
+    others_check,
+    others_files,
     random_no_data,
     random_wrong_kind,
     reference_store,
@@ -73,13 +76,21 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
 #: the classes of inputs drawn (each equally often)
 CATEGORIES = ["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name", "input-output",
               "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
+#: with --others: the classes the other engineers of the round fix (each row of the table names its owner)
+OTHER_CATEGORY = "others"
+
+
+OTHERS_ON = False
 
 
 def draw(rng: random.Random, base: str, hostile: tuple):
     """One random request: (category, argv, certainly_bad, files to write into the working folder); for the
     "encoding" class the terminal is the last element of the category (``encoding:ascii``), for "store" the
     damage (``store:fifo-chunk``)."""
-    kind = rng.choice(CATEGORIES)
+    kind = rng.choice(CATEGORIES + ([OTHER_CATEGORY] if OTHERS_ON else []))
+    if kind == OTHER_CATEGORY:
+        owner, argv, bad = rng.choice(OTHERS)
+        return f"others:{owner}", list(argv), bad, {}
     if kind == "encoding":
         terminal = rng.choice(sorted(ENCODINGS))
         command = rng.choice(sorted(BASE_COMMANDS))
@@ -141,7 +152,11 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--smoke", action="store_true", help="5 inputs: checks the script")
+    parser.add_argument("--others", action="store_true",
+                        help="also draw the classes other engineers fix (the 'others:OWNER' rows)")
     args = parser.parse_args(argv)
+    global OTHERS_ON
+    OTHERS_ON = args.others
     if args.smoke:
         args.inputs = 5
     rng = random.Random(args.seed)
@@ -168,6 +183,8 @@ def main(argv=None) -> int:
                 request = store_request(base, folder, kind.split(":", 1)[1], rng)
             if kind == "wrong-kind:random":
                 request = random_wrong_kind(rng, folder)
+            if kind.startswith("others:"):
+                others_files(folder)
             before = snapshot(folder)
             runner = worker
             if kind.startswith("encoding:"):
@@ -183,6 +200,8 @@ def main(argv=None) -> int:
                 problems.append(f"{kind}: resumed to arrays that differ from the undamaged store's (silently wrong)")
             if kind.startswith("store:") and not bad and result["rc"] != 0:
                 problems.append(f"{kind}: a repairable store was refused: {result['stderr'][-300:]!r}")
+            if kind.startswith("others:"):
+                problems += [f"coinwall {request}: {p}" for p in others_check(folder, request, result)]
             if kind == "no-data" and result["rc"] in (0, 1) and "0.0000 ± 0.0000" in result["stdout"]:
                 problems.append(f"coinwall {request}: a share from no data printed as an answer")
             tried[kind] += 1
