@@ -202,8 +202,8 @@ def random_no_data(rng):
             "--seed", "1"]
 
 
-# classes the other engineers of the same round fix on their branches: in the larger run only, so that its table
-# shows where each stands (owner, what must hold)
+# the round's classes that are fixed in other parts of the code (input numerics, the output writer, fit): in the
+# larger run only (--others), so that its table shows where each stands
 def others_files(folder):
     with open(os.path.join(folder, "neg.dxf"), "w") as fh:  # a DXF circle of negative radius
         fh.write("0\nSECTION\n2\nENTITIES\n0\nCIRCLE\n8\n0\n10\n0\n20\n0\n40\n-1\n0\nENDSEC\n0\nEOF\n")
@@ -216,19 +216,19 @@ def others_files(folder):
     os.mkfifo(os.path.join(folder, "pipe.csv"))
 
 
-#: (owner, argv, certainly bad): the requests of the other classes of the round
+#: (area, argv, certainly bad): the requests of the other classes of the round
 OTHERS = [
-    ("critical", ["solve", "1+0.1*cos(2*t)", "--b0", "\u00a0-0.3"], True),
-    ("critical", ["wall", "neg.dxf", "-o", "out.csv"], True),
-    ("critical", ["wall", "evil.svg", "-o", "out.csv"], True),
-    ("critical", ["mass", "body.json", "--density", "r**-3"], True),
-    ("critical", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1e308,1e308"], False),
-    ("critical", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1,1e-300"], False),
-    ("critical", ["kam", "--bracket", "5e-324,1", "--H", "3", "--orbits", "8", "--collisions", "200"], False),
-    ("critical", ["critical", "2+0.1*cos(2*t+1e20)", "--json"], False),
-    ("lean", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "priv.csv"], False),
-    ("lean", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "pipe.csv"], True),
-    ("data", ["fit", "samples.csv", "--sigma-b", "1e-300", "-o", "out.json"], False),
+    ("input-numerics", ["solve", "1+0.1*cos(2*t)", "--b0", "\u00a0-0.3"], True),
+    ("input-numerics", ["wall", "neg.dxf", "-o", "out.csv"], True),
+    ("input-numerics", ["wall", "evil.svg", "-o", "out.csv"], True),
+    ("input-numerics", ["mass", "body.json", "--density", "r**-3"], True),
+    ("input-numerics", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1e308,1e308"], False),
+    ("input-numerics", ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1,1e-300"], False),
+    ("input-numerics", ["kam", "--bracket", "5e-324,1", "--H", "3", "--orbits", "8", "--collisions", "200"], False),
+    ("input-numerics", ["critical", "2+0.1*cos(2*t+1e20)", "--json"], False),
+    ("outputs", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "priv.csv"], False),
+    ("outputs", ["solve", "1+0.1*cos(2*t)", "--points", "256", "-o", "pipe.csv"], True),
+    ("fit", ["fit", "samples.csv", "--sigma-b", "1e-300", "-o", "out.json"], False),
 ]
 
 

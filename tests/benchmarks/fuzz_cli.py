@@ -89,8 +89,8 @@ def draw(rng: random.Random, base: str, hostile: tuple):
     damage (``store:fifo-chunk``)."""
     kind = rng.choice(CATEGORIES + ([OTHER_CATEGORY] if OTHERS_ON else []))
     if kind == OTHER_CATEGORY:
-        owner, argv, bad = rng.choice(OTHERS)
-        return f"others:{owner}", list(argv), bad, {}
+        area, argv, bad = rng.choice(OTHERS)
+        return f"others:{area}", list(argv), bad, {}
     if kind == "encoding":
         terminal = rng.choice(sorted(ENCODINGS))
         command = rng.choice(sorted(BASE_COMMANDS))
@@ -153,7 +153,7 @@ def main(argv=None) -> int:
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--smoke", action="store_true", help="5 inputs: checks the script")
     parser.add_argument("--others", action="store_true",
-                        help="also draw the classes other engineers fix (the 'others:OWNER' rows)")
+                        help="also draw the round's classes fixed in other parts of the code (the 'others:AREA' rows)")
     args = parser.parse_args(argv)
     global OTHERS_ON
     OTHERS_ON = args.others
