@@ -76,7 +76,7 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
 #: the classes of inputs drawn (each equally often)
 CATEGORIES = ["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name", "input-output",
               "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
-#: with --others: the classes the other engineers of the round fix (each row of the table names its owner)
+#: with --others: the round's classes fixed in other parts of the code (each row names its area)
 OTHER_CATEGORY = "others"
 
 
