@@ -194,6 +194,7 @@ def test_users_files_that_look_like_old_temporaries_survive(worker, base, tmp_pa
 
 
 # ------------------------------------------------------------------------------------------- round three
+@pytest.mark.slow  # (each case has its own test in test_statistics_and_bounds.py, in the default run)
 @pytest.mark.parametrize("argv", NO_DATA, ids=" ".join)
 def test_statistics_from_no_data_are_never_numbers(worker, base, tmp_path, argv):
     """A share from no toss, a mean of one flight, a fit of nothing: refused or marked "not enough data", never

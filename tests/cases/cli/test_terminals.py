@@ -58,9 +58,10 @@ def test_every_command_on_an_ascii_terminal(tmp_path):
     _run_all("ascii", tmp_path, COMMANDS)
 
 
-@pytest.mark.parametrize("terminal", ["C", "latin-1"])
+@pytest.mark.parametrize("terminal", ["C", pytest.param("latin-1", marks=pytest.mark.slow)])
 def test_file_names_and_symbols_on_c_and_latin1_terminals(tmp_path, terminal):
-    """LANG=C (the file-system encoding is ASCII too: the name reaches coinwall as undecodable bytes) and latin-1."""
+    """LANG=C (the file-system encoding is ASCII too: the name reaches coinwall as undecodable bytes) and latin-1
+    (in the slow run, with every command on every terminal)."""
     quick = [argv for argv in COMMANDS if argv[0] in ("solve", "wall", "coin3d", "toss", "critical")]
     _run_all(terminal, tmp_path, quick)
 
