@@ -22,13 +22,14 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import select
 import subprocess
 import sys
 import tempfile
 import time
 
-__all__ = ["Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
+__all__ = ["kind_files", "Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
            "make_folder", "mutate", "with_flag", "MUTATION_TARGETS", "MUTATIONS", "mutation_request"]
 
@@ -43,6 +44,9 @@ from coinwall.cases.cli.main import main
 warnings.simplefilter("always")
 for line in sys.stdin:
     req = json.loads(line)
+    # the arguments as the operating system hands them over: bytes (UTF-8 here), decoded by the file system's
+    # encoding (under LANG=C without UTF-8 mode, undecodable bytes become surrogates, as in sys.argv)
+    argv = [os.fsdecode(a.encode("utf-8", "surrogateescape")) for a in req["argv"]]
     os.chdir(req["cwd"])
     out = os.open(os.path.join(captures, "stdout"), os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o600)
     err = os.open(os.path.join(captures, "stderr"), os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -51,7 +55,7 @@ for line in sys.stdin:
     os.dup2(out, 1); os.dup2(err, 2)
     try:
         try:
-            rc = main(req["argv"])
+            rc = main(argv)
         except SystemExit as exc:
             rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
         except BaseException:
@@ -76,12 +80,14 @@ class Worker:
     """A ``coinwall`` process that runs :func:`coinwall.cases.cli.main.main` for each request.
 
     ``memory`` bytes of address space at most (``ulimit -v``), so a request that would take the machine's
-    memory fails inside the worker instead; ``timeout`` seconds per request.
+    memory fails inside the worker instead; ``timeout`` seconds per request; ``env``: variables set for the worker
+    (``{"PYTHONIOENCODING": "ascii"}``: a terminal that cannot show every character).
     """
 
-    def __init__(self, timeout: float = 60.0, memory: int = 8 * 2 ** 30):
+    def __init__(self, timeout: float = 60.0, memory: int = 8 * 2 ** 30, env: dict | None = None):
         self.timeout = timeout
         self.memory = memory
+        self.env = env
         self.proc = None
 
     def _start(self):
@@ -90,8 +96,10 @@ class Worker:
         def limit():
             resource.setrlimit(resource.RLIMIT_AS, (self.memory, self.memory))
 
+        env = None if self.env is None else {**os.environ, **self.env}
         self.proc = subprocess.Popen([sys.executable, "-c", _WORKER], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.DEVNULL, text=True, preexec_fn=limit)
+                                     stderr=subprocess.DEVNULL, text=True, preexec_fn=limit, env=env,
+                                     encoding="utf-8", errors="surrogateescape")
 
     def run(self, argv, cwd) -> dict:
         """Run ``coinwall ARGV`` in folder ``cwd``; returns ``{"rc", "stdout", "stderr"}``.
@@ -132,6 +140,24 @@ def snapshot(folder) -> dict:
     return result
 
 
+_NAN = re.compile(r"(?<![A-Za-z_])nan(?![A-Za-z_])", re.IGNORECASE)
+_NO_DATA = re.compile(r"0\.0+ ± 0\.0+ +\(0 ")
+
+
+def _outputs(argv):
+    """The paths a command writes: its -o/--output/--figure/--out values (scan's store among them)."""
+    flags = ("-o", "--output", "--figure", "--out")
+    names = []
+    for k, arg in enumerate(argv):
+        if arg in flags and k + 1 < len(argv):
+            names.append(argv[k + 1])
+        elif arg.startswith(tuple(f + "=" for f in flags[1:])):
+            names.append(arg.split("=", 1)[1])
+        elif arg.startswith("-o") and len(arg) > 2:
+            names.append(arg[2:])
+    return [os.path.normpath(name) for name in names if name]
+
+
 def check_clean(argv, result, before, after, *, certainly_bad: bool) -> list:
     """The ways ``result`` of ``coinwall ARGV`` breaks the contract (module docstring); empty if none."""
     problems = []
@@ -145,6 +171,18 @@ def check_clean(argv, result, before, after, *, certainly_bad: bool) -> list:
         problems.append("traceback on stderr")
     if "Warning:" in err or "warnings.warn" in err:
         problems.append("raw warning text on stderr")
+    if rc in (0, 1) and _NAN.search(result["stdout"]):
+        problems.append("a NaN printed as an answer")
+    if rc in (0, 1) and _NO_DATA.search(result["stdout"]):
+        problems.append("a share from no data printed as an answer (0 ± 0 from 0 samples)")
+    if "internal error" in err:
+        problems.append("internal error")
+    if rc in (0, 1, 2):  # an input (a file there before that the command does not write) is never changed
+        outputs = set(_outputs(argv))
+        changed = sorted(k for k in before if k not in outputs and not any(k.startswith(o + os.sep) for o in outputs)
+                         and after.get(k) != before[k])
+        if changed:
+            problems.append(f"inputs lost or changed: {changed[:5]}")
     if rc == 2:
         if len(lines) > 2:
             problems.append(f"{len(lines)} stderr lines")
@@ -265,7 +303,8 @@ FILE_COMMANDS = {"solve": "samples.csv", "critical": "samples.csv", "fit": "samp
 
 def valid_files(folder, worker: Worker) -> None:
     """Write the valid inputs the base commands read: samples.csv (a sampled smooth wall), points.csv, and
-    body.json, body.svg, body.dxf (the body of ``1+0.1*cos(2*t)``, written by ``coinwall solve``)."""
+    body.json, body.svg, body.dxf (the body of ``1+0.1*cos(2*t)``, written by ``coinwall solve``); and the walls
+    and outlines of :func:`kind_files`."""
     import math
 
     with open(os.path.join(folder, "samples.csv"), "w") as fh:
@@ -281,6 +320,7 @@ def valid_files(folder, worker: Worker) -> None:
                          "-o", "body.dxf"], folder)
     if result["rc"] != 0:
         raise RuntimeError(f"coinwall solve could not write the valid bodies the fuzz tests start from: {result}")
+    kind_files(folder)
 
 
 def hostile_files(folder) -> dict:
@@ -385,7 +425,8 @@ def mutate(data: bytes, how: str, where: float, junk: bytes) -> bytes:
     return data[:i] + junk + data[i + len(junk):]
 
 
-VALID_FILES = ("samples.csv", "points.csv", "body.json", "body.svg", "body.dxf")
+VALID_FILES = ("samples.csv", "points.csv", "body.json", "body.svg", "body.dxf", "degrees.csv", "angles.csv", "wall.json",
+               "xy.csv", "body.csv")
 
 
 def make_folder(base, tmp=None) -> str:
@@ -396,3 +437,20 @@ def make_folder(base, tmp=None) -> str:
     for name in VALID_FILES:
         shutil.copy(os.path.join(base, name), folder)
     return folder
+
+
+def kind_files(folder) -> None:
+    """The files :data:`WRONG_KIND` names: walls in degrees and as JSON, headerless angles, outlines as CSV."""
+    with open(os.path.join(folder, "degrees.csv"), "w") as fh:
+        fh.write("theta_deg,b\n" + "".join(f"{d},{1 + 0.1 * math.cos(math.radians(2 * d)):.6f}\n"
+                                            for d in range(0, 360, 4)))
+    with open(os.path.join(folder, "angles.csv"), "w") as fh:
+        fh.write("".join(f"{2 * math.pi * k / 72:.6f},{1 + 0.1 * math.cos(4 * math.pi * k / 72):.6f}\n"
+                         for k in range(72)))
+    with open(os.path.join(folder, "wall.json"), "w") as fh:
+        json.dump({"a0": 1.0, "cos": [0.0, 0.1]}, fh)
+    with open(os.path.join(folder, "xy.csv"), "w") as fh:
+        fh.write("x,y\n" + "".join(f"{math.cos(k / 5):.6f},{0.7 * math.sin(k / 5):.6f}\n" for k in range(31)))
+    with open(os.path.join(folder, "body.csv"), "w") as fh:
+        fh.write("# coinwall body: wall '1', b0=0.0, regime=convex, units of kappa\nx,y,alpha,R,K\n"
+                 + "".join(f"{math.cos(k / 5):.6f},{math.sin(k / 5):.6f},{k / 5},1,1\n" for k in range(31)))

@@ -1,7 +1,7 @@
 """What every test folder shares.
 
 The tests mirror the package (``tests/forward/dynamics/``, ``tests/inverse/``, ``tests/cases/cli/``, …);
-helpers that several folders use live here in ``tests/`` (``walldata.py``, ``cli_fuzz.py``,
+helpers that several folders use live here in ``tests/`` (``walldata.py``, ``cli_fuzz.py``, ``cli_fuzz_classes.py``,
 ``benettin_loop.py``) and are imported by name, so this folder goes on the path.  coinwall itself must be
 installed (``pip install -e ".[test]"``): its three parts are mapped to their folders by the install
 (``package-dir`` in ``pyproject.toml``), so a bare checkout cannot import ``coinwall.forward``; the run

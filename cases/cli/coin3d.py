@@ -103,15 +103,22 @@ def _caught(args):
         raise InvalidArgument("`coin3d caught` needs --psi (degrees, 0 to 180)")
     if not 0 <= args.psi <= 180:
         raise InvalidArgument(f"--psi must be an angle in degrees from 0 to 180, got {args.psi}")
+    from coinwall.forward.estimates import MIN_SAMPLES, require, share
+
+    require(args.samples, MIN_SAMPLES, "P(same side)", "raise --samples")
     p, se = simulate_caught(math.radians(args.psi), args.samples, seed=args.seed)
     dhm = float(dhm_same_side(math.radians(args.psi)))
+    one = share(round(p * args.samples), args.samples)
+    # (a share of 0 or 1 has no binomial error: its distance from DHM is not a number of standard errors)
+    z = (p - dhm) / se if se > 0 else None
     out = {"psi_degrees": args.psi, "samples": args.samples, "seed": args.seed, "same_side": p, "stderr": se,
-           "dhm": dhm, "z": (p - dhm) / se if se > 0 else 0.0}
+           "dhm": dhm, "z": z}
     if args.json:
-        print(json.dumps(out, indent=1))
+        print(json.dumps(out, indent=1, allow_nan=False))
     else:
-        print(f"caught     ψ = {args.psi:g}°, {args.samples} tosses: P(same side) = {p:.5f} ± {se:.5f}")
-        print(f"DHM        ½ + arcsin(cot²ψ)/π = {dhm:.5f}  (difference {out['z']:+.2f} standard errors)")
+        print(f"caught     ψ = {args.psi:g}°: P(same side) = {one.text('tosses', 5)}")
+        difference = f"difference {z:+.2f} standard errors" if z is not None else f"difference {p - dhm:+.5f}"
+        print(f"DHM        ½ + arcsin(cot²ψ)/π = {dhm:.5f}  ({difference})")
     return 0
 
 
@@ -152,29 +159,75 @@ def _fit(args):
     return 0
 
 
+#: bounce: the measured cost of following one toss to one bounce (2 shared cores: 20,000 tosses × 10 bounces in
+#: about 6 s, 30 µs, at the default height and field), counted as 100 µs per second of the first flight (at least
+#: one); a toss the search cannot follow may take up to a second, which the estimate does not foresee
+US_PER_BOUNCE_SECOND = 100.0
+#: bounce: the fastest first impact followed (m/s; a coin dropped from about 130 m).  Beyond it the search fails
+#: for a growing share of tosses (measured: 0.5 % at 31 m/s, 4 % at 89 m/s, 27 % at 198 m/s)
+MAX_IMPACT_SPEED = 50.0
+#: bounce: the most the coin may turn in its first flight (radians, spin × flight time): the phase of a longer
+#: flight keeps too few digits to place the contact (measured: 1 % of tosses failed at 1.6e5 rad, 16 % at 1.6e6)
+MAX_FLIGHT_TURNS = 1e6
+
+
+def _first_flight(args, speed, spin):
+    """Seconds and turns of the first flight (up, then down to the floor) of the fastest toss."""
+    top = max(abs(v) for v in speed)
+    if args.g > 0:
+        impact = math.sqrt(top ** 2 + 2 * args.g * args.height)
+        seconds = (top + impact) / args.g
+    else:  # between two walls without a field: up to the ceiling at constant speed
+        impact = top
+        seconds = (args.ceiling - args.height) / top
+    return seconds, impact, seconds * (spin[0] + 3 * spin[1])
+
+
 def _bounce(args):
     from coinwall.cases.bartos import bartos_fits
     from coinwall.forward.dynamics.coin3d.bounced import same_side_by_bounce
     from coinwall.forward.errors import InvalidArgument
+    from coinwall.forward.estimates import MIN_SAMPLES, require
+
+    from .budget import check_time
 
     if not 0 < args.e <= 1:
         raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.g < 0 or (args.g == 0 and args.ceiling is None):
         raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
+    if not args.height > 0:
+        raise InvalidArgument(f"--height must be a positive launch height in metres, got {args.height:g}")
     fitted = args.psi is None
     psi = bartos_fits().overall.psi if fitted else args.psi
     speed = (2.2, 2.7) if args.g > 0 else (-2.7, -2.2)
+    spin = (240.0, 20.0)
+    seconds, impact, turns = _first_flight(args, speed, spin)
+    if impact > MAX_IMPACT_SPEED:
+        raise InvalidArgument(f"--height {args.height:g} with --g {args.g:g}: the coin meets the floor at {impact:.3g} m/s; "
+                              f"the bounces are followed up to {MAX_IMPACT_SPEED:g} m/s (a drop of about "
+                              f"{MAX_IMPACT_SPEED ** 2 / (2 * args.g) if args.g > 0 else math.inf:.3g} m at this --g)")
+    if turns > MAX_FLIGHT_TURNS:
+        raise InvalidArgument(f"--g {args.g:g} with --height {args.height:g}: the first flight lasts {seconds:.3g} s, in "
+                              f"which the coin turns {turns:.3g} rad; beyond {MAX_FLIGHT_TURNS:g} rad its phase keeps "
+                              "too few digits to place the contact: raise --g or lower --height")
+    check_time(args, args.samples * args.bounces * US_PER_BOUNCE_SECOND * 1e-6 * max(1.0, seconds),
+               f"--samples {args.samples} × --bounces {args.bounces} (a first flight of {seconds:.3g} s)",
+               "fewer --samples or --bounces")
     bar = progress_bar(args, args.samples, "toss")
     try:
         study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,
-                                    height=args.height, ceiling=args.ceiling, speed=speed,
+                                    height=args.height, ceiling=args.ceiling, speed=speed, spin=spin,
                                     progress=bar.update if bar is not None else None)
     finally:
         if bar is not None:
             bar.close()
+    failed = study.failed
+    require(int(study.reached.max(initial=0)), MIN_SAMPLES, "P(same side) at any bounce",
+            f"of {args.samples} tosses {int(study.reached[0]) if study.reached.size else 0} reached the first bounce "
+            f"(status: {', '.join(f'{k}: {v}' for k, v in study.status.items())})")
     if args.json:
-        print(json.dumps(study.to_dict(), indent=1))
-        return 0
+        print(json.dumps(study.to_dict(), indent=1, allow_nan=False))
+        return 1 if failed > 0.01 * args.samples else 0
     import numpy as np
 
     where = f"a ceiling {args.ceiling:g} m above the floor" if args.ceiling is not None else "a floor"
@@ -188,23 +241,33 @@ def _bounce(args):
     for k, name in enumerate(names):
         shown = "followed to the last bounce" if name == "impact budget reached" else name
         print(f"{'ended' if k == 0 else '':<11}{study.status[name]:>8}  {shown}")
-    print(f"{'bounce':>8}  {'P(same side)':>12}  {'± stderr':>9}  {'tosses':>8}")
-    for n, (p, s, k) in enumerate(zip(study.same, study.stderr, study.reached), start=1):
-        print(f"{n:>8}  {p:>12.4f}  {s:>9.4f}  {k:>8}")
+    print(f"{'bounce':>8}  P(same side) ± standard error (tosses that reached the bounce)")
+    for n, one in enumerate(study.shares(), start=1):
+        print(f"{n:>8}  {one.text('tosses')}")
+    ok = study.enough
     n = study.bounces_to_fair()
+    far = np.flatnonzero(ok & (np.abs(study.same - 0.5) - 2 * study.stderr > 0.001))
+    last = int(np.flatnonzero(ok)[-1]) + 1
     if n:
         verdict = f"within 0.001 of ½ from bounce {n}"
-    elif np.any(np.abs(study.same - 0.5) - 2 * study.stderr > 0.001):
-        far = int(np.flatnonzero(np.abs(study.same - 0.5) - 2 * study.stderr > 0.001)[-1]) + 1
-        verdict = (f"not fair: at bounce {far} P(same side) is more than 0.001 from ½ by two standard errors "
-                   "(on a frictionless floor L_z and L₃ are kept, see docs/coin3d.md)")
+    elif far.size:
+        verdict = (f"not fair: at bounce {int(far[-1]) + 1} P(same side) is more than 0.001 from ½ by two standard "
+                   "errors (on a frictionless floor L_z and L₃ are kept, see docs/coin3d.md)")
     else:
         verdict = ("not resolved: two standard errors (±{:.4f}) are wider than 0.001 at every bounce; raise "
-                   "--samples".format(2 * float(np.min(study.stderr))))
+                   "--samples".format(2 * float(np.min(study.stderr[ok]))))
+    if last < ok.size:
+        verdict += f" (bounces after {last} were reached by fewer than {MIN_SAMPLES} tosses: no share there)"
     print("fair       " + verdict)
     stopped = int(study.reached[0] - study.reached[-1]) if study.reached.size else 0
     if stopped > 0.01 * max(int(study.reached[0]), 1):
         print(f"note       {stopped} of {int(study.reached[0])} tosses stopped before bounce {study.reached.size} "
               "(a face flat on the floor, or a graze the search could not resolve; see the tosses above): "
               "each bounce's share is over the tosses that reached it")
+    if failed > 0.01 * args.samples:
+        import sys
+
+        print(f"warning: the search could not follow {failed} of {args.samples} tosses ({failed / args.samples:.1%}): "
+              "the shares are over the others, and may be biased", file=sys.stderr)
+        return 1
     return 0

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 
+from .budget import add_allow_long
 from .common import (
     add_command,
     check_positive_count,
@@ -47,6 +48,7 @@ def register(subparsers):
                       help="figure (.png, .svg, .pdf) or .json (repeatable)")
     corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
     device_argument(corr)
+    add_allow_long(corr)
     corr.set_defaults(run=_cmd_correlation)
 
 
@@ -63,6 +65,14 @@ def _cmd_correlation(args):
     if args.max_lag >= args.bounces:
         raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, FIGURE_FORMATS + (".json",))
+    from .budget import check_time
+    from .simulate import NS_PER_COLLISION
+
+    # a bottom bounce takes about two collisions (one with each wall); with --count all, one
+    per_bounce = 2 if args.count == "bottom" else 1
+    check_time(args, args.bounces * per_bounce * NS_PER_COLLISION["kernel"] * 1e-9,
+               f"--bounces {args.bounces} (about {per_bounce} collision(s) each, {NS_PER_COLLISION['kernel']:g} ns "
+               "per collision)", "fewer --bounces")
     _, table = load_table(args)
     bar = progress_bar(args, args.bounces, "bounce")
     try:
@@ -84,14 +94,19 @@ def _cmd_correlation(args):
         print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
     print(f"table      {table!r}")
-    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}")
+    print(f"bounces    {result.bounces} ({result.count} collisions) in {result.orbits} orbits, seed {args.seed}; the "
+          f"errors (±) are from the spread between the {result.orbits} orbits"
+          + (" (fewer than 10: rough)" if result.orbits < 10 else ""))
     print(f"heads      {result.heads_fraction:.4f} ± {result.heads_stderr:.4f}")
     print("n   P(n)      ±")
     for n, (p, e) in enumerate(zip(result.P, result.P_stderr)):
         print(f"{n:<3d} {p:.5f}  {e:.5f}")
-    print(f"tau        {result.tau:.4g} ± {result.tau_stderr:.2g} "
-          f"(fit P(n) − ½ = A exp(−n/τ), A = {result.amplitude:.3g})")
-    print(f"n_needed   {result.n_needed} (first n with |P(n) − ½| < 0.01; fit: {result.n_needed_fit:.3g})")
+    from coinwall.forward.estimates import finite_text
+
+    print(f"tau        {finite_text(result.tau, missing='not determined (the fit failed)')} ± "
+          f"{finite_text(result.tau_stderr, '.2g')} (fit P(n) − ½ = A exp(−n/τ), A = {finite_text(result.amplitude, '.3g')})")
+    needed = result.n_needed if result.n_needed is not None else f"none up to n = {args.max_lag}"
+    print(f"n_needed   {needed} (first n with |P(n) − ½| < 0.01; fit: {finite_text(result.n_needed_fit, '.3g')})")
     for note in result.notes:
         print(f"note       {note}")
     if args.output:

@@ -19,6 +19,13 @@ any other exception        ``coinwall: internal error: TYPE: MESSAGE -- this is 
                            bug ...`` (asks for a report; EX_SOFTWARE of sysexits.h)
 ========================== ======================================================== ======
 
+Terminals that cannot show every character: the command line writes θ, κ, ±, ≤ and friends.  On a stream whose
+encoding lacks one (``LANG=C`` without Python's UTF-8 mode, ``PYTHONIOENCODING=ascii``, a latin-1 terminal, a
+Windows console in cp1252) :func:`main` writes it through the error handler :data:`ASCII_FALLBACK` instead of
+failing: a symbol becomes its ASCII name (θ → theta, ε → eps, κ → kappa, ± → +/-, ≤ → <=, θ₀ → theta0), any
+other character a Python escape (``w\\xe4nde.csv``; a byte of a file name the locale could not decode,
+``\\xc3``), so a file name stays unambiguous.  A character the stream can encode is written as it is.
+
 Warnings (NumPy's RuntimeWarnings such as "invalid value encountered in divide", a library's
 UserWarning) never reach the terminal as raw warning text: they are recorded while the command runs
 and summarised in *one* ``coinwall: note:`` line at the end, with how many there were.  They are not
@@ -41,7 +48,8 @@ os.environ.setdefault("NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING", "1")
 
 from coinwall.forward.display import one_line  # noqa: E402 - after the variable above (display imports no numba)
 
-__all__ = ["EX_INTERRUPTED", "EX_SOFTWARE", "flag_message", "main"]
+__all__ = ["ASCII_FALLBACK", "EX_INTERRUPTED", "EX_SOFTWARE", "ascii_fallback", "flag_message", "main",
+           "restore_streams"]
 
 #: exit status for a bug in coinwall (sysexits.h: "an internal software error has been detected")
 EX_SOFTWARE = 70
@@ -66,6 +74,100 @@ _quiet_scan_worker()
 _ARGUMENT = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)`")
 # warnings meant for developers (hidden by Python's default filters too)
 _DEVELOPER_WARNINGS = (DeprecationWarning, PendingDeprecationWarning, ImportWarning)
+
+
+#: the name of the codec error handler that writes what a terminal cannot show in ASCII (module docstring)
+ASCII_FALLBACK = "coinwall-ascii"
+_GREEK = ("alpha beta gamma delta eps zeta eta theta iota kappa lambda mu nu xi omicron pi rho sigma sigma "
+          "tau upsilon phi chi psi omega").split()
+#: symbols by their ASCII names (Greek letters: lower case U+03B1..U+03C9, upper case U+0391..U+03A9)
+_NAMES = {**{chr(0x3B1 + k): name for k, name in enumerate(_GREEK)},
+          **{chr(0x391 + k): name.capitalize() for k, name in enumerate(_GREEK) if k != 17},
+          "\u03d5": "phi", "\u03f5": "eps", "\u2113": "l", "\u0127": "hbar", "\u00b5": "u",
+          "\u00b0": " deg", "\u00b1": "+/-", "\u2213": "-/+", "\u00d7": "x", "\u00b7": "*", "\u2212": "-",
+          "\u2013": "-", "\u2014": "--", "\u2026": "...", "\u2032": "'", "\u2033": "''", "\u2192": "->",
+          "\u21a6": "|->", "\u21d2": "=>", "\u21d4": "<=>", "\u2264": "<=", "\u2265": ">=", "\u2248": "~",
+          "\u2260": "!=", "\u2261": "==", "\u226a": "<<", "\u226b": ">>", "\u2272": "<~", "\u221e": "inf",
+          "\u221a": "sqrt", "\u2202": "d", "\u2207": "grad", "\u2208": " in ", "\u221d": "~", "\u222b": "int",
+          "\u22a5": "perp", "\u27c2": "perp", "\u27e8": "<", "\u27e9": ">", "\u2016": "||", "\u00bd": "1/2",
+          "\u00bc": "1/4", "\u00be": "3/4", "\u2153": "1/3", "\u00a7": "S", "\u00a0": " ", "\u2019": "'",
+          "\u2018": "'", "\u201c": '"', "\u201d": '"', "\u2022": "*", "\u0307": "dot", "\u0308": "ddot",
+          "\u0302": "hat", "\u0304": "bar", "\u1e8b": "xdot", "\u1e8f": "ydot", "\u1e91": "zhat",
+          "\u2096": "n", "\u1d62": "i", "\u208a": "+", "\u208b": "-", "\u207a": "^+", "\u207b": "^-",
+          "\u207d": "^(", "\u207e": "^)", "\u1d40": "^T",
+          **{chr(0x2080 + k): str(k) for k in range(10)},  # subscripts: θ₀ -> theta0
+          **{ch: f"^{k}" for k, ch in enumerate("\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")}}
+
+
+def _ascii_names(error: UnicodeEncodeError):
+    """The codec error handler :data:`ASCII_FALLBACK`: what the stream cannot encode, in ASCII (module docstring)."""
+    if not isinstance(error, UnicodeEncodeError):
+        raise error
+    out = []
+    for char in error.object[error.start:error.end]:
+        if char in _NAMES:
+            out.append(_NAMES[char])
+        elif 0xDC80 <= ord(char) <= 0xDCFF:  # a byte of a file name the locale did not decode (surrogateescape)
+            out.append(f"\\x{ord(char) - 0xDC00:02x}")
+        else:
+            out.append(char.encode("ascii", "backslashreplace").decode("ascii"))
+    return "".join(out), error.end
+
+
+def ascii_fallback(streams=None) -> list:
+    """Let ``streams`` write what their encoding lacks through :data:`ASCII_FALLBACK` (module docstring).
+
+    Parameters
+    ----------
+    streams : iterable of io.TextIOWrapper, optional
+        Default: ``sys.stdout`` and ``sys.stderr``.  A stream that cannot be reconfigured (a test's capture) is
+        left as it is.
+
+    Returns
+    -------
+    list
+        ``[(stream, its error handler before)]``, for :func:`restore_streams`.
+
+    Examples
+    --------
+    >>> import io
+    >>> stream = io.TextIOWrapper(io.BytesIO(), encoding="ascii")
+    >>> changed = ascii_fallback([stream])
+    >>> _ = stream.write("θ₀ ± 0.1 rad"); stream.flush()
+    >>> stream.buffer.getvalue()
+    b'theta0 +/- 0.1 rad'
+    >>> restore_streams(changed)
+    """
+    import codecs
+
+    try:
+        codecs.lookup_error(ASCII_FALLBACK)
+    except LookupError:
+        codecs.register_error(ASCII_FALLBACK, _ascii_names)
+    changed = []
+    for stream in (sys.stdout, sys.stderr) if streams is None else streams:
+        errors = getattr(stream, "errors", None)
+        try:
+            stream.reconfigure(errors=ASCII_FALLBACK)
+        except (AttributeError, ValueError, OSError):
+            continue
+        changed.append((stream, errors))
+    return changed
+
+
+def restore_streams(changed) -> None:
+    """Undo :func:`ascii_fallback` (for a caller that runs :func:`main` in its own process).
+
+    Parameters
+    ----------
+    changed : list
+        What :func:`ascii_fallback` returned.
+    """
+    for stream, errors in changed:
+        try:
+            stream.reconfigure(errors=errors)
+        except (AttributeError, ValueError, OSError):
+            pass
 
 
 def flag_message(message: str, flags: dict) -> str:
@@ -106,13 +208,17 @@ def main(argv=None) -> int:
     """
     import warnings
 
-    if _debug():  # the developer's view: warnings and tracebacks as Python shows them
-        return _run(argv)
-    with warnings.catch_warnings(record=True) as caught:
-        try:
-            return _guarded(argv)
-        finally:
-            _note_warnings(caught)
+    streams = ascii_fallback()
+    try:
+        if _debug():  # the developer's view: warnings and tracebacks as Python shows them
+            return _run(argv)
+        with warnings.catch_warnings(record=True) as caught:
+            try:
+                return _guarded(argv)
+            finally:
+                _note_warnings(caught)
+    finally:
+        restore_streams(streams)
 
 
 def _guarded(argv) -> int:
@@ -153,7 +259,10 @@ def _run(argv) -> int:
         return 0
     from coinwall.forward.formats.output import command_scope
 
+    from .options import check_options
+
     try:
+        check_options(args.command, parser.commands[args.command], args)  # meaning and conflicts, before any work
         # the files named as positional arguments, and every input file read, cannot be outputs of the command
         with command_scope(_file_arguments(parser.commands[args.command], args)):
             return args.run(args)

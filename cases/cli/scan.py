@@ -7,6 +7,7 @@ import os
 import shlex
 import sys
 
+from .budget import add_allow_long, check_time
 from .common import LibraryChoices, add_command, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
@@ -89,6 +90,7 @@ def register(subparsers):
     scan.add_argument("--figure", action="append", default=[], metavar="FILE",
                       help="figure of the result (.png, .svg, .pdf; repeatable): phase diagram or τ(H)")
     scan.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
+    add_allow_long(scan)
     scan.set_defaults(run=_cmd_scan)
 
 
@@ -147,6 +149,25 @@ def _command(args) -> str:
     return " ".join(shlex.quote(p) for p in parts)
 
 
+def _check_work(args, table, grid, options) -> None:
+    """The scan's time at 1 µs per collision over its workers (the whole grid: a resume is estimated as a new
+    scan); refused past one hour without --allow-long.  The quantum splitting is bounded per cell by its mesh."""
+    import math
+    import os
+
+    from coinwall.cases.scan.driver import make_axes
+    from coinwall.cases.scan.quantities import check_options, work_of
+
+    work = work_of(args.quantity, check_options(args.quantity, options))
+    if not math.isfinite(work):
+        return
+    cells = math.prod(len(axis) for axis in make_axes(dict(grid), table))
+    local = args.scheduler in (None, "local", "synchronous")
+    workers = 1 if args.scheduler == "synchronous" else args.workers or (os.cpu_count() or 1 if local else 1)
+    check_time(args, cells * work * 1e-6 / workers, f"{cells} cells of about {work:.3g} collisions each ({workers} "
+               "worker(s), 1 µs per collision)", "fewer cells or less work per cell")
+
+
 def _cmd_scan(args):
     from coinwall.cases.scan import scan
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
@@ -157,6 +178,7 @@ def _cmd_scan(args):
     table, grid = _table(args)
     grid["H"] = args.H
     options = {name: getattr(args, name) for name in _OPTIONS if getattr(args, name) is not None}
+    _check_work(args, table, grid, options)
     bar = None
 
     def progress(done, todo):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 
+from .budget import add_allow_long
 from .common import (
     add_command,
     check_positive_count,
@@ -43,6 +44,7 @@ def register(subparsers):
                          help="figure (.png, .svg, .pdf), .csv (theta_c,phi_c,orbit) or .json (repeatable)")
     section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
     device_argument(section)
+    add_allow_long(section)
     section.set_defaults(run=_cmd_section)
 
 
@@ -56,6 +58,12 @@ def _cmd_section(args):
     check_seed(args.seed)
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     _check_section_memory(args, FIGURE_FORMATS)
+    from .budget import check_time
+    from .simulate import NS_PER_COLLISION
+
+    check_time(args, args.orbits * args.collisions * NS_PER_COLLISION["kernel"] * 1e-9,
+               f"--orbits {args.orbits} × --collisions {args.collisions} ({NS_PER_COLLISION['kernel']:g} ns per "
+               "collision)", "fewer --orbits or --collisions")
     _, table = load_table(args)
     bar = progress_bar(args, args.orbits, "orbit")
     try:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import time
 
+from .budget import MAX_SECONDS, add_allow_long, check_time, duration
 from .common import (
     add_command,
     check_positive_count,
@@ -19,10 +20,9 @@ from .common import (
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
 #: Measured cost of one collision (2 shared cores under load): the numba kernel ~540 ns (1.9·10^6/s for
-#: the eps=99 ellipse wall), the numpy reference stepper ~320 µs; counted with a margin as 1 µs and 500 µs.
+#: the eps=99 ellipse wall), the numpy reference stepper ~320 µs; counted with a margin as 1 µs and 500 µs
+#: (``section`` and ``correlation`` count their collisions at the kernel's cost too).
 NS_PER_COLLISION = {"kernel": 1_000.0, "reference": 500_000.0}
-#: The largest run started without --allow-long: one hour by the estimate above.
-MAX_SECONDS = 3600.0
 
 DESCRIPTION = """\
 Follow orbits of the billiard equivalent to the body between the walls (the paper's eqs. 1–8).
@@ -52,8 +52,7 @@ def register(subparsers):
     parser.add_argument("--method", choices=["kernel", "reference"], default="kernel",
                         help="numba kernel (default) or the slow plain-numpy reference stepper")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
-    parser.add_argument("--allow-long", action="store_true",
-                        help="run even when the estimated time exceeds one hour (the estimate is in the output)")
+    add_allow_long(parser)
     device_argument(parser)
     parser.set_defaults(run=_cmd_simulate)
 
@@ -61,15 +60,6 @@ def register(subparsers):
 def estimated_seconds(collisions: int, method: str) -> float:
     """The run time of ``collisions`` collisions with ``method`` at the measured cost per collision."""
     return collisions * NS_PER_COLLISION[method] * 1e-9
-
-
-def _duration(seconds: float) -> str:
-    if seconds == 3600.0:
-        return "one hour"
-    for unit, size in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
-        if seconds >= size:
-            return f"{seconds / size:.3g} {unit}"
-    return f"{seconds:.3g} s"
 
 
 def _cmd_simulate(args):
@@ -83,21 +73,16 @@ def _cmd_simulate(args):
     check_seed(args.seed)
     if args.orbits > 1 or args.device != "cpu":
         return _simulate_ensemble(args)
-    estimate = estimated_seconds(args.collisions, args.method)
-    if estimate > MAX_SECONDS and not args.allow_long:
-        from coinwall.forward.errors import InvalidArgument
-
-        raise InvalidArgument(
-            f"--collisions {args.collisions} with --method {args.method} would take about {_duration(estimate)} "
-            f"({NS_PER_COLLISION[args.method]:g} ns per collision), more than the {_duration(MAX_SECONDS)} allowed "
-            f"without --allow-long; ask for at most {round(MAX_SECONDS / (NS_PER_COLLISION[args.method] * 1e-9))} "
-            "collisions or add --allow-long")
+    estimate = check_time(args, estimated_seconds(args.collisions, args.method),
+                          f"--collisions {args.collisions} with --method {args.method} "
+                          f"({NS_PER_COLLISION[args.method]:g} ns per collision)",
+                          f"at most {round(MAX_SECONDS / (NS_PER_COLLISION[args.method] * 1e-9))} collisions")
     wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
     bar = progress_bar(args, args.collisions, "coll") if args.collisions > CHUNK else None
     if bar is not None:
-        bar.set_description(f"estimate {_duration(estimate)}")
+        bar.set_description(f"estimate {duration(estimate)}")
     start = time.perf_counter()
     try:
         stats = orbit_statistics(table, state, args.collisions, method=args.method,
@@ -125,11 +110,15 @@ def _cmd_simulate(args):
     print(f"table      {table!r}")
     print(f"start      θ={state[0]:.6g} η={state[1]:.6g} v=({state[2]:.6g}, {state[3]:.6g}) (seed {args.seed})")
     print(f"collisions {done} in {seconds:.3g} s ({summary['collisions_per_second'] or 0:.3g}/s; "
-          f"compile/load {compile_seconds:.3g} s, not included; estimated {_duration(estimate)} beforehand)")
+          f"compile/load {compile_seconds:.3g} s, not included; estimated {duration(estimate)} beforehand)")
     if done:
-        print(f"free time  mean {summary['mean_free_time']:.6g} "
+        from coinwall.forward.estimates import mean_text
+
+        # (the collisions of one orbit are not independent samples: no binomial error is claimed)
+        print(f"free time  mean {mean_text(summary['mean_free_time'], done, 'free flights')} "
               f"(Santaló π·A/P = {summary['santalo_mean_free_time']:.6g})")
-        print(f"bottom     fraction of collisions with the bottom wall {summary['bottom_fraction']:.4f}")
+        print(f"bottom     fraction of collisions with the bottom wall "
+              f"{mean_text(summary['bottom_fraction'], done, 'collisions', '.4f')}")
     if stats.note:
         print(f"note       {stats.note}")
     return 0
@@ -147,12 +136,10 @@ def _simulate_ensemble(args):
     if args.method != "kernel":
         raise InvalidArgument("--orbits and --device follow orbits with the kernel; --method reference runs one orbit")
     total = args.orbits * args.collisions
-    estimate = estimated_seconds(total, "kernel")
-    if estimate > MAX_SECONDS and not args.allow_long and args.device == "cpu":
-        raise InvalidArgument(
-            f"--orbits {args.orbits} × --collisions {args.collisions} would take about {_duration(estimate)} "
-            f"({NS_PER_COLLISION['kernel']:g} ns per collision), more than the {_duration(MAX_SECONDS)} allowed "
-            "without --allow-long; ask for fewer, add --allow-long, or use --device gpu")
+    if args.device == "cpu":  # the estimate is the CPU kernel's cost; a GPU runs such ensembles fifty times faster
+        check_time(args, estimated_seconds(total, "kernel"),
+                   f"--orbits {args.orbits} × --collisions {args.collisions} ({NS_PER_COLLISION['kernel']:g} ns per "
+                   "collision)", "fewer, or --device gpu,")
     wall, table = load_table(args)
     states = random_states(table, args.orbits, args.seed)
     compile_seconds = compile_kernel(table, device=args.device)

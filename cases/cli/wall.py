@@ -144,6 +144,12 @@ def run(args):
     _check_size(outline, args.kappa)
     theta = np.linspace(0, 2 * math.pi, samples, endpoint=False)
     lower, upper = wall_functions(outline, theta, H)
+    if upper is not None and not np.any(upper > lower):
+        from coinwall.forward.errors import InvalidArgument
+
+        narrowest = float(np.min(lower + (H - upper)))  # b(θ) + b(θ + π): the body's width across the walls
+        raise InvalidArgument(f"--H {H:g} is below the body's narrowest width {narrowest:.6g}: the upper wall "
+                              "H − b(θ + π) lies below the lower wall b(θ) at every angle (no strip the body fits in)")
     # a body read from a file is checked by its reader; this is the last guard before a file of nan rows
     refuse_non_finite("the wall", b=lower, **({} if upper is None else {"t": upper}))
     files = {}

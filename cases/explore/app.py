@@ -59,6 +59,16 @@ MAX_CONCURRENT_UPLOADS = 2
 MAX_WAITING_UPLOADS = 8
 #: seconds an upload waits for a slot
 _UPLOAD_WAIT = 60.0
+#: a request body must keep coming: READ_GRACE seconds, plus one more for every MIN_READ_RATE bytes received (a
+#: client that sends a byte every two seconds holds an upload slot for READ_GRACE seconds, not for ever; 16 MiB
+#: at the slowest rate allowed arrive in under nine minutes)
+READ_GRACE = 5.0
+MIN_READ_RATE = 32 * 2**10
+#: bytes of a refused request body read and thrown away before the answer, so that a client still sending
+#: receives the answer instead of a connection reset
+MAX_DRAIN_BYTES = 64 * 2**20
+#: the longest upload name kept (its extension, which says what the file is, always kept)
+MAX_NAME_CHARS = 200
 #: longest number literal in a JSON request (Python refuses integers over 4,300 digits with a ValueError)
 MAX_NUMBER_CHARS = 100
 #: uploads kept for a restarted worker (by id), the oldest dropped first
@@ -93,20 +103,64 @@ def _size(limit: int) -> str:
     return f"{limit // 2**20} MiB" if limit >= 2**20 else f"{limit // 1024} KiB"
 
 
+async def _chunks(request):
+    """The chunks of the request body, each within its deadline (:data:`READ_GRACE`, :data:`MIN_READ_RATE`):
+    a body that stops coming, or trickles, is a 408, and the server's shutdown a 503, instead of a request held
+    open for ever (or cancelled by uvicorn with a traceback)."""
+    loop = asyncio.get_running_loop()
+    start, size = loop.time(), 0
+    stream = request.stream().__aiter__()
+    app = request.scope.get("app") if hasattr(request, "scope") else None
+    stopping = getattr(getattr(app, "state", None), "stopping", None)
+    while True:
+        left = start + READ_GRACE + size / MIN_READ_RATE - loop.time()
+        waits = [asyncio.ensure_future(stream.__anext__())]
+        if stopping is not None:
+            waits.append(asyncio.ensure_future(stopping.wait()))
+        done, pending = await asyncio.wait(waits, timeout=max(left, 0.0), return_when=asyncio.FIRST_COMPLETED)
+        for task in pending:
+            task.cancel()
+        if waits[0] not in done:
+            with contextlib.suppress(BaseException):
+                await asyncio.gather(*pending, return_exceptions=True)
+            if stopping is not None and stopping.is_set():
+                raise RequestError("the server is stopping", 503)
+            raise RequestError(f"the request arrived too slowly ({size} bytes in {loop.time() - start:.0f} s; at "
+                               f"least {MIN_READ_RATE // 1024} KiB/s are needed)", 408)
+        try:
+            chunk = waits[0].result()
+        except StopAsyncIteration:
+            return
+        size += len(chunk)
+        yield chunk
+
+
 async def _read_limited(request, limit: int, field=None) -> bytes:
     """The request body, refused as soon as it exceeds ``limit`` bytes (a declared length is checked first,
-    before any byte of the body is read)."""
+    before any byte of the body is read), and read within its deadline (:func:`_chunks`)."""
     what = "the file" if field == "upload" else "the request"
     declared = request.headers.get("content-length")
     if declared is not None and (not declared.isdigit() or int(declared) > limit):
         raise RequestError(f"{what} is larger than {_size(limit)}", 413, field)
     chunks, size = [], 0
-    async for chunk in request.stream():
+    stream = _chunks(request) if hasattr(request, "receive") else request.stream()
+    async for chunk in stream:
         size += len(chunk)
         if size > limit:
             raise RequestError(f"{what} is larger than {_size(limit)}", 413, field)
         chunks.append(chunk)
     return b"".join(chunks)
+
+
+async def _drain(request) -> None:
+    """Read and throw away what is left of a refused request's body (at most :data:`MAX_DRAIN_BYTES`, within the
+    read deadline), so that a client still sending gets the answer rather than a reset connection."""
+    size = 0
+    with contextlib.suppress(Exception):
+        async for chunk in _chunks(request):
+            size += len(chunk)
+            if size > MAX_DRAIN_BYTES:
+                break
 
 
 def _number(text: str, kind):
@@ -120,7 +174,11 @@ def _constant(text: str):
 
 
 #: request fields that must be text when given (anything else is a 400 naming the field)
-_TEXT_FIELDS = {"expression": "wall", "case": "case", "upload": "upload", "format": "format", "units": "kappa"}
+_TEXT_FIELDS = {"expression": "wall", "case": "case", "upload": "upload", "format": "format", "units": "kappa",
+                "field": "wall"}
+#: request fields that must be JSON booleans when given: ``"false"`` (a string) and ``[]`` are not false, and a
+#: truth value read from them would be a guess
+_BOOLEAN_FIELDS = {"allow_unrealizable": "kappa"}
 
 
 async def _read_json(request) -> dict:
@@ -135,6 +193,9 @@ async def _read_json(request) -> dict:
     for key, field in _TEXT_FIELDS.items():
         if value.get(key) is not None and not isinstance(value[key], str):
             raise RequestError(f"`{key}` must be text, got {type(value[key]).__name__}", field=field)
+    for key, field in _BOOLEAN_FIELDS.items():
+        if key in value and not isinstance(value[key], bool):
+            raise RequestError(f"`{key}` must be true or false, got {json.dumps(value[key])[:40]}", field=field)
     params = value.get("params")
     if params is not None and not isinstance(params, (str, dict)):
         raise RequestError("the parameters must be NAME=VALUE pairs", field="params")
@@ -219,22 +280,30 @@ async def _export(request):
 async def _upload(request):
     from starlette.responses import JSONResponse
 
-    name = os.path.basename(request.query_params.get("name", ""))[:200]
+    name = _upload_name(request.query_params.get("name", ""))
     declared = request.headers.get("content-length")
     if declared is not None and (not declared.isdigit() or int(declared) > MAX_UPLOAD_BYTES):
+        await _drain(request)
         raise RequestError(f"the file is larger than {_size(MAX_UPLOAD_BYTES)}", 413, "upload")  # before waiting
     state = request.app.state
     if state.uploads_waiting >= MAX_WAITING_UPLOADS:
+        await _drain(request)
         raise RequestError("the server is busy reading other files; try again in a moment", 503, "upload")
     state.uploads_waiting += 1
     try:
         await asyncio.wait_for(state.upload_slots.acquire(), _UPLOAD_WAIT)
     except TimeoutError:
+        await _drain(request)
         raise RequestError("the server is busy reading other files; try again in a moment", 503, "upload") from None
     finally:
         state.uploads_waiting -= 1
     try:  # one of MAX_CONCURRENT_UPLOADS slots: the body is read, hashed and handed to the worker
-        data = await _read_limited(request, MAX_UPLOAD_BYTES, "upload")
+        try:
+            data = await _read_limited(request, MAX_UPLOAD_BYTES, "upload")
+        except RequestError as exc:
+            if exc.status == 413:
+                await _drain(request)
+            raise
         if not data:
             raise RequestError("the file is empty", field="upload")
         key = hashlib.sha256(data).hexdigest()[:16]
@@ -248,6 +317,23 @@ async def _upload(request):
     while len(uploads) > _MAX_UPLOADS:
         uploads.popitem(last=False)
     return JSONResponse(result)
+
+
+def _upload_name(text: str) -> str:
+    """The upload's file name (its last path part) cut to :data:`MAX_NAME_CHARS` characters, keeping its extension
+    (``.csv``, ``.svg``: it says how the file is read).
+
+    Examples
+    --------
+    >>> _upload_name("../" + "w" * 300 + ".csv")[-8:], len(_upload_name("w" * 300 + ".csv"))
+    ('wwww.csv', 200)
+    """
+    name = os.path.basename(text)
+    if len(name) <= MAX_NAME_CHARS:
+        return name
+    stem, ext = os.path.splitext(name)
+    ext = ext[:16]
+    return stem[:MAX_NAME_CHARS - len(ext)] + ext
 
 
 async def _index(request):
@@ -337,6 +423,8 @@ def create_app(*, warm: bool = True, host: str = "127.0.0.1"):
         app.state.uploads = collections.OrderedDict()
         app.state.upload_slots = asyncio.Semaphore(MAX_CONCURRENT_UPLOADS)
         app.state.uploads_waiting = 0
+        app.state.stopping = asyncio.Event()  # set by the server's shutdown (server.py): bodies being read end
+        app.state.loop = asyncio.get_running_loop()
         try:
             yield
         finally:

@@ -63,9 +63,13 @@ def serve(host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, open_browser: b
     class Server(uvicorn.Server):
         def handle_exit(self, sig, frame):
             # stop the computations first: a request waiting for a long job (a beam) then ends at once with
-            # a message, instead of being cancelled by uvicorn after its grace period (with a traceback)
+            # a message, instead of being cancelled by uvicorn after its grace period (with a traceback); a
+            # request whose body is being read ends too (app.state.stopping: a 503)
             for worker in getattr(app.state, "workers", {}).values():
                 worker.close()
+            stopping, loop = getattr(app.state, "stopping", None), getattr(app.state, "loop", None)
+            if stopping is not None and loop is not None:
+                loop.call_soon_threadsafe(stopping.set)
             super().handle_exit(sig, frame)
 
     config = uvicorn.Config(app, host=host, port=port, log_level=log_level, access_log=False, lifespan="on",

@@ -13,8 +13,13 @@ Layout (``xarray.open_zarr(path)`` reads it as it is):
   its values (float64, in the order of the variables) and its status (:func:`cell_checksum`); 0 until the
   cell is written;
 * attributes: ``coinwall_version``, ``quantity``, ``seed``, ``options``, ``wall``, ``params``, ``b0``,
-  ``kappa``, ``command``, ``scan_identity`` (the JSON that a resumed scan must match) and
-  ``scan_identity_sha256`` (its SHA-256, so that a damaged or edited identity is seen).
+  ``kappa``, ``command``, ``scan_identity`` (the JSON that a resumed scan must match: a wall that is not an
+  expression is in it by the SHA-256 of its data, :func:`.table.wall_digest`), ``scan_identity_sha256`` (its
+  SHA-256, so that a damaged or edited identity is seen) and ``scan_metadata_sha256``: the SHA-256 of the
+  metadata of every member as made (``{".": of the attributes above, NAME: of the array's .zarray and .zattrs:
+  dtype, shape, chunks, fill value, dimensions, units}``), so that an attribute rewritten (``seed``, ``wall``,
+  ``command``), dimension names swapped or an array's metadata edited are seen, not resumed and shown to
+  readers.
 
 Why it survives a kill: every array is chunked one chunk per cell, Zarr's local store writes each chunk
 file atomically (a temporary, then a rename), and a cell is written values first, then its checksum, then
@@ -22,9 +27,14 @@ its status.  The store itself is made in a temporary folder beside the target (a
 :func:`coinwall.forward.formats.output.marked_name`) and renamed into place when complete.
 
 Why it survives damage (a chunk truncated, deleted, rewritten or with a flipped byte; a disk error):
-:func:`open_store` reads the store's own metadata (not the consolidated copy), refuses a store whose
-identity, coordinates or array layout are not what they were made as (one line, exit status 2: its cells
-cannot be told apart from another scan's), and verifies every stored cell: a cell whose chunks cannot be
+:func:`open_store` first looks at every member without opening it (:func:`_check_members`): each file it will
+read must be a regular file inside the store (no symbolic link, FIFO or device) of at most
+:func:`_member_limit` bytes; a chunk of a per-cell array that is not is removed (its cell is computed again),
+anything else makes the store damaged, and a folder holding an array the scan did not make (which would make
+the store unreadable for xarray: "conflicting sizes") too.  It then reads the store's own metadata (not the
+consolidated copy), refuses a store whose identity, metadata, coordinates or array layout are not what they
+were made as (one line, exit status 2: its cells cannot be told apart from another scan's), and verifies
+every stored cell: a cell whose chunks cannot be
 read, whose status is not 0, 1 or 2, or whose checksum does not match its values and status is computed
 again, with a note.  Seeds that do not match the coordinates are written again; the consolidated
 metadata is rewritten from the arrays' own.  So a resumed store always ends equal to an undamaged run.
@@ -48,6 +58,18 @@ __all__ = ["STATUS_DONE", "STATUS_REFUSED", "STATUS_TODO", "CellWriter", "Verifi
 
 STATUS_TODO, STATUS_DONE, STATUS_REFUSED = 0, 1, 2
 _PER_CELL = ("cell_status", "cell_checksum")
+#: the store's own attributes (a user may add others: they are not the store's record and are not checked)
+OWN_ATTRIBUTES = ("coinwall_version", "quantity", "seed", "options", "wall", "params", "b0", "kappa", "command",
+                  "title", "scan_identity", "scan_identity_sha256")
+_METADATA_DIGEST = "scan_metadata_sha256"
+_METADATA_FILES = (".zarray", ".zattrs", ".zgroup")
+
+
+def _member_limit(cells: int) -> int:
+    """The largest file a store of ``cells`` cells holds, in bytes: the one chunk of every cell's seed (8 bytes a
+    cell, compressed or not) with room to spare, and 64 KiB for metadata and one-cell chunks (a few dozen
+    bytes each)."""
+    return 16 * int(cells) + 2 ** 16
 
 
 def _identity_text(identity: dict) -> str:
@@ -70,6 +92,36 @@ def cell_checksum(digest: bytes, index, values, status: int) -> int:
     h.update(numbers.tobytes())
     h.update(int(status).to_bytes(2, "little", signed=True))
     return int.from_bytes(h.digest()[:8], "little") or 1
+
+
+def _json_member(path: str, limit: int):
+    """The JSON document of a metadata file, or None where it is missing; an error where it is not a regular file
+    of at most ``limit`` bytes or not JSON (the caller says "damaged")."""
+    import stat
+
+    try:
+        info = os.lstat(path)
+    except FileNotFoundError:
+        return None
+    if not stat.S_ISREG(info.st_mode) or info.st_size > limit:
+        raise ValueError(f"{os.path.basename(path)} is not a small regular file")
+    with open(path, "rb") as fh:
+        return json.loads(fh.read(limit + 1).decode("utf-8"))
+
+
+def _metadata_digests(path: str, members, limit: int = 2 ** 16) -> dict:
+    """``{".": SHA-256 of the store's own attributes, NAME: of the member's .zarray and .zattrs}`` for ``members``
+    (the arrays and coordinates), read from the files themselves (canonical JSON: key order and spacing do not
+    count)."""
+    def digest(doc):
+        return hashlib.sha256(json.dumps(doc, sort_keys=True, allow_nan=True).encode()).hexdigest()
+
+    attrs = _json_member(os.path.join(path, ".zattrs"), limit) or {}
+    own = {key: attrs.get(key) for key in OWN_ATTRIBUTES}
+    digests = {".": digest(own)}
+    for name in members:
+        digests[name] = digest({f: _json_member(os.path.join(path, name, f), limit) for f in (".zarray", ".zattrs")})
+    return digests
 
 
 def create_store(path: str, axes, variables: dict, seeds: np.ndarray, attrs: dict, identity: dict) -> None:
@@ -108,10 +160,23 @@ def create_store(path: str, axes, variables: dict, seeds: np.ndarray, attrs: dic
         # Zarr format 2 with consolidated metadata: read by every Zarr implementation (format 3 warns that
         # consolidation is not part of its specification yet)
         dataset.to_zarr(partial, mode="w-", encoding=encoding, consolidated=True, zarr_format=2, compute=False)
+        _seal(partial, list(data) + list(dims))
         os.rename(partial, path)  # the store appears complete or not at all
     finally:
         if os.path.lexists(partial):
             shutil.rmtree(partial, ignore_errors=True)
+
+
+def _seal(path: str, members) -> None:
+    """Record the digests of the metadata as made (``scan_metadata_sha256``) and consolidate them again."""
+    import zarr
+
+    digests = _metadata_digests(path, members)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        group = zarr.open_group(path, mode="r+", use_consolidated=False)
+        group.attrs[_METADATA_DIGEST] = digests
+        zarr.consolidate_metadata(group.store, zarr_format=2)
 
 
 class Verified:
@@ -150,6 +215,56 @@ def _read(array, shape):
     return values, readable
 
 
+def _check_members(path: str, members, per_cell, cells: int) -> int:
+    """Look at every file of the store without opening it: the store's own files must be regular files (no link,
+    FIFO, device or folder in their place) of at most :func:`_member_limit` bytes.  A chunk of a ``per_cell`` array
+    that is not is removed (the link, never what it points to) and its cell computed again; anything else, and a
+    folder holding an array or group the store was not made with, is a damaged store.  Returns the chunks
+    removed."""
+    import stat
+
+    from coinwall.forward.formats.inputfile import file_kind
+
+    limit = _member_limit(cells)
+    removed = 0
+
+    def look(full, name):
+        info = os.lstat(full)
+        if stat.S_ISLNK(info.st_mode):
+            return "a symbolic link"
+        if not stat.S_ISREG(info.st_mode):
+            return file_kind(info.st_mode)
+        if info.st_size > limit:
+            return f"a file of {info.st_size} bytes (a store of {cells} cells holds none over {limit})"
+        return None
+
+    if os.path.islink(path):
+        raise _damaged(path, "it is a symbolic link, not the folder coinwall made")
+    for name in sorted(os.listdir(path)):
+        full = os.path.join(path, name)
+        if os.path.isdir(full) and not os.path.islink(full):
+            if name not in members:
+                if any(os.path.lexists(os.path.join(full, f)) for f in _METADATA_FILES):
+                    raise _damaged(path, f"it holds an array {name!r} it was not made with")
+                continue  # a folder of the user's own: zarr and xarray never read it
+            for entry in sorted(os.listdir(full)):
+                why = look(os.path.join(full, entry), entry)
+                if why is None:
+                    continue
+                if name in per_cell and entry not in _METADATA_FILES:
+                    os.unlink(os.path.join(full, entry))
+                    removed += 1
+                    continue
+                raise _damaged(path, f"{name}/{entry} is {why}")
+        elif name in _METADATA_FILES or name in members:
+            why = look(full, name)
+            if why is not None:
+                raise _damaged(path, f"{name} is {why}")
+        elif name == ".zmetadata" and look(full, name) is not None:
+            os.unlink(full)  # the consolidated copy: written again from the arrays' own (_repair)
+    return removed
+
+
 def _check_layout(path, group, axes, variables):
     """Refuse a store whose arrays are not the ones it was made with (names, dtypes, shapes, chunks)."""
     shape = tuple(len(a) for a in axes)
@@ -165,6 +280,10 @@ def _check_layout(path, group, axes, variables):
         if array.dtype != dtype or tuple(array.shape) != shape or (chunks and tuple(array.chunks) != chunks):
             raise _damaged(path, f"the array {name} is {array.dtype} {tuple(array.shape)} in chunks "
                                  f"{tuple(array.chunks)}; it was made {dtype} {shape}")
+        dims = array.attrs.get("_ARRAY_DIMENSIONS")
+        if dims != [a.name for a in axes]:  # swapped names: a square grid would be read transposed
+            raise _damaged(path, f"the array {name} has the dimensions {dims}; it was made with "
+                                 f"{[a.name for a in axes]}")
         arrays[name] = array
     for axis in axes:
         try:
@@ -207,6 +326,13 @@ def open_store(path: str, identity: dict, axes, variables, seeds=None) -> Verifi
 
     variables = list(variables)
     shape = tuple(len(a) for a in axes)
+    per_cell = variables + ["cell_status", "cell_checksum", "cell_seed"]
+    members = per_cell + [a.name for a in axes]
+    cells = int(np.prod(shape))
+    if os.path.isdir(path) and os.path.lexists(os.path.join(path, ".zgroup")):
+        removed = _check_members(path, members, per_cell, cells)
+    else:
+        removed = 0
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # zarr's remarks about formats are not the user's business
         try:
@@ -231,10 +357,28 @@ def open_store(path: str, identity: dict, axes, variables, seeds=None) -> Verifi
         if stored != json.loads(_identity_text(identity)):
             diffs = [k for k in sorted(set(stored) | set(identity)) if stored.get(k) != identity.get(k)]
             key = diffs[0] if diffs else "?"
+            if key == "wall_sha256":
+                raise InvalidArgument(f"`output` {path!r} was made from another wall: the data of the wall "
+                                      f"{identity.get('wall')!r} (a file's content) are not those its cells were "
+                                      "computed for; delete it or choose another name")
             raise InvalidArgument(f"`output` {path!r} was made by a different scan ({key}: {stored.get(key)!r} "
                                   f"there, {identity.get(key)!r} now); resume with the same command or choose another "
                                   "name")
         arrays = _check_layout(path, group, axes, variables)
+        recorded = attrs.get(_METADATA_DIGEST)
+        if not isinstance(recorded, dict):
+            raise _damaged(path, f"it has no record of its metadata ({_METADATA_DIGEST}): it was made by an earlier "
+                                 "coinwall or edited")
+        try:
+            now = _metadata_digests(path, members, _member_limit(cells))
+        except (OSError, ValueError):
+            raise _damaged(path, "its metadata cannot be read") from None
+        changed = [name for name in now if recorded.get(name) != now[name]]
+        if changed or set(recorded) != set(now):
+            what = "its attributes (.zattrs)" if "." in changed else \
+                f"the metadata of {(changed or sorted(set(recorded) ^ set(now)))[0]}"
+            raise InvalidArgument(f"`output` {path!r}: {what} were changed on disk since it was made; what it says of "
+                                  "its cells can no longer be trusted: delete it or choose another name")
         status, ok = _read(arrays["cell_status"], shape)
         checksum, ok_sum = _read(arrays["cell_checksum"], shape)
         ok &= ok_sum
@@ -252,6 +396,9 @@ def open_store(path: str, identity: dict, axes, variables, seeds=None) -> Verifi
         written = (status != STATUS_TODO) | (checksum != 0) | ~ok
         damaged = int(np.count_nonzero(written & ~trusted))
         notes = []
+        if removed:
+            notes.append(f"{removed} chunk(s) of the store were not regular files of a chunk's size (a link, a FIFO, "
+                         "a device, a huge file): removed, their cells computed again")
         if damaged:
             notes.append(f"{damaged} cell(s) of the store failed their checksum (damaged or cut off while being "
                          "written); computing them again")

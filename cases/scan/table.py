@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.wall import Wall
 
-__all__ = ["DEFAULT_RESTITUTION", "TOSS_AXES", "TableSpec"]
+__all__ = ["DEFAULT_RESTITUTION", "TOSS_AXES", "TableSpec", "wall_digest"]
 
 #: axis names that are not wall parameters: the toss quantities read them (the coefficient of restitution)
 TOSS_AXES = ("restitution",)
@@ -97,6 +97,58 @@ class TableSpec:
                           b0=float(self.b0) / kappa)
 
     def identity(self) -> dict:
-        """JSON-ready description (compared when a scan resumes into an existing store)."""
-        return {"wall": self.description, "params": dict(self.params), "b0": float(self.b0),
-                "kappa": None if self.kappa is None else float(self.kappa)}
+        """JSON-ready description (compared when a scan resumes into an existing store).  A wall that is not an
+        expression (samples, Fourier coefficients, arcs: a file's content) is there by :func:`wall_digest`, so a
+        wall file whose content changed under the same name is another scan."""
+        identity = {"wall": self.description, "params": dict(self.params), "b0": float(self.b0),
+                    "kappa": None if self.kappa is None else float(self.kappa)}
+        if not isinstance(self.wall, str):
+            identity["wall_sha256"] = wall_digest(self.wall)
+        return identity
+
+
+#: angles at which :func:`wall_digest` evaluates a wall (no sample grid falls on them)
+_DIGEST_ANGLES = 4099
+
+
+def wall_digest(wall: Wall) -> str:
+    """SHA-256 (hex) of what a wall is: its kind, its description, its samples as intervals (angles, values,
+    half-widths, counts) or its coefficients, and b, b', b'' at 4099 angles.
+
+    Parameters
+    ----------
+    wall : Wall
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits; equal for walls read from equal data, different when any number changed.
+
+    Examples
+    --------
+    >>> theta = [k * math.pi / 4 for k in range(8)]
+    >>> a = Wall.from_samples(theta, [1.0, 1.1, 1.2, 1.1, 1.0, 1.1, 1.2, 1.1])
+    >>> wall_digest(a) == wall_digest(Wall.from_samples(theta, [1.0, 1.1, 1.2, 1.1, 1.0, 1.1, 1.2, 1.1]))
+    True
+    >>> wall_digest(a) == wall_digest(Wall.from_samples(theta, [1.0, 1.1, 1.2, 1.1, 1.0, 1.1, 1.2, 1.15]))
+    False
+    """
+    import hashlib
+
+    import numpy as np
+
+    h = hashlib.sha256(f"{wall.kind}\n{wall.description}\n".encode())
+    arrays = []
+    data = wall.sample_data
+    if data is not None:
+        arrays += [data.theta, data.b, data.halfwidth, data.sigma_b, data.sigma_theta, data.count]
+    elif wall.samples is not None:
+        arrays += [*wall.samples, wall.sample_rounding if wall.sample_rounding is not None else []]
+    arrays += [getattr(wall._backend, name) for name in ("a0", "cos", "sin", "angles", "centres", "radii")
+               if hasattr(wall._backend, name)]
+    arrays += list(wall.derivatives(np.linspace(0.0, 2 * math.pi, _DIGEST_ANGLES, endpoint=False) + 1e-3))
+    for array in arrays:
+        values = np.ascontiguousarray(np.asarray(array, dtype="<f8")).ravel()
+        h.update(values.size.to_bytes(8, "little"))
+        h.update(values.tobytes())
+    return h.hexdigest()

@@ -191,6 +191,9 @@ def read_body_json(path: str) -> BodyJson:
     from .inputfile import read_json
 
     doc = read_json(path, what="body file", error=InvalidOutline)
+    from .kinds import BODY, json_kind, refuse_kind
+
+    refuse_kind(path, json_kind(doc), BODY, InvalidOutline, "body file")  # a wall's samples are not an outline
     key = OUTLINE_KEY if isinstance(doc, dict) and OUTLINE_KEY in doc else POINTS_KEY
     if not isinstance(doc, dict) or key not in doc or not isinstance(doc[key], list):
         raise InvalidOutline(f"body file {path!r}: no {OUTLINE_KEY!r} or {POINTS_KEY!r} list of [x, y] points")

@@ -44,6 +44,9 @@ def read_points_csv(path: str):
     from .inputfile import read_text
 
     text = read_text(path, what="body file", error=InvalidOutline)
+    from .kinds import BODY, csv_kind, refuse_kind
+
+    refuse_kind(path, csv_kind(text), BODY, InvalidOutline, "body file")  # a wall's samples are not an outline
     lines = text.splitlines()
     coinwall = bool(lines) and lines[0].startswith(HEADER_PREFIX)
     rows = [(number, line.split("#", 1)[0].strip()) for number, line in enumerate(lines, start=1)]

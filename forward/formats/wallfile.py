@@ -249,6 +249,9 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     import numpy as np
 
     text = _read_text(path)
+    from .kinds import WALL, csv_kind, refuse_kind
+
+    refuse_kind(path, csv_kind(text), WALL, InvalidWall, "wall file")  # an outline's points are not a wall
     head = _data_rows(text, most=6)  # the first rows decide the delimiter and the header
     if not head:
         raise InvalidWall(f"wall file {path!r} has no rows")
@@ -365,6 +368,9 @@ def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, si
     from .inputfile import read_json
 
     doc = read_json(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
+    from .kinds import WALL, json_kind, refuse_kind
+
+    refuse_kind(path, json_kind(doc), WALL, InvalidWall, "wall file")  # a body's outline is not a wall
     if not isinstance(doc, dict):
         raise InvalidWall(f"wall file {path!r}: expected an object with {', '.join(FOURIER_KEYS)} "
                           f"or with {', '.join(SAMPLE_KEYS)}")

@@ -19,6 +19,7 @@ import argparse
 import collections
 import os
 import random
+import shutil
 import sys
 import tempfile
 import time
@@ -49,16 +50,66 @@ from cli_fuzz import (  # noqa: E402
     with_flag,
     with_output,
 )
+from cli_fuzz_classes import (  # noqa: E402
+    ENCODINGS,
+    LONG_REQUESTS,
+    MEANINGLESS,
+    NO_DATA,
+    ODD_NAMES,
+    OTHERS,
+    STORE_DAMAGES,
+    WRONG_KIND,
+    others_check,
+    others_files,
+    random_no_data,
+    random_wrong_kind,
+    reference_store,
+    store_equal,
+    store_request,
+)
 
 _TOKENS = list("t0123456789.+-*/^()e ,") + ["cos", "sin", "sqrt", "log", "pi", "abs", "exp", "tan", "**"]
 _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"\xff\xfe", b"1e400", b'"x"',
          b"\n\n\n", b"-", b"[[[[", b"</svg>", b"0\nSECTION\n", b"&a;", b"1e-320"]
 
 
+#: the classes of inputs drawn (each equally often)
+CATEGORIES = ["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name", "input-output",
+              "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
+#: with --others: the round's classes fixed in other parts of the code (each row names its area)
+OTHER_CATEGORY = "others"
+
+
+OTHERS_ON = False
+
+
 def draw(rng: random.Random, base: str, hostile: tuple):
-    """One random request: (category, argv, certainly_bad, files to write into the working folder)."""
-    kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name",
-                       "input-output"])
+    """One random request: (category, argv, certainly_bad, files to write into the working folder); for the
+    "encoding" class the terminal is the last element of the category (``encoding:ascii``), for "store" the
+    damage (``store:fifo-chunk``)."""
+    kind = rng.choice(CATEGORIES + ([OTHER_CATEGORY] if OTHERS_ON else []))
+    if kind == OTHER_CATEGORY:
+        area, argv, bad = rng.choice(OTHERS)
+        return f"others:{area}", list(argv), bad, {}
+    if kind == "encoding":
+        terminal = rng.choice(sorted(ENCODINGS))
+        command = rng.choice(sorted(BASE_COMMANDS))
+        argv = [command] + BASE_COMMANDS[command]
+        if command == "scan":
+            argv = [a for a in argv if a not in ("--workers", "1")] + ["--scheduler", "synchronous"]
+        if "-o" in argv and rng.random() < 0.5:
+            argv = [command] + with_output(argv[1:], rng.choice(ODD_NAMES))
+        return f"encoding:{terminal}", argv, False, {}
+    if kind == "no-data":
+        return kind, list(rng.choice(NO_DATA)) if rng.random() < 0.3 else random_no_data(rng), False, {}
+    if kind == "wrong-kind" and rng.random() < 0.7:
+        return "wrong-kind:random", None, True, {}
+    if kind in ("wrong-kind", "long", "meaningless"):
+        table = {"wrong-kind": WRONG_KIND, "long": LONG_REQUESTS, "meaningless": MEANINGLESS}[kind]
+        return kind, list(rng.choice(table)), True, {}
+    if kind == "store":
+        how = rng.choice(sorted(STORE_DAMAGES))
+        return f"store:{how}", None, STORE_DAMAGES[how], {}
     if kind == "output-name":
         command = rng.choice(OUTPUT_COMMANDS)
         return kind, [command] + with_output(BASE_COMMANDS[command], rng.choice(BAD_OUTPUTS)), True, {}
@@ -101,7 +152,11 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--smoke", action="store_true", help="5 inputs: checks the script")
+    parser.add_argument("--others", action="store_true",
+                        help="also draw the round's classes fixed in other parts of the code (the 'others:AREA' rows)")
     args = parser.parse_args(argv)
+    global OTHERS_ON
+    OTHERS_ON = args.others
     if args.smoke:
         args.inputs = 5
     rng = random.Random(args.seed)
@@ -109,12 +164,14 @@ def main(argv=None) -> int:
     failures = []
     start = time.perf_counter()
     worker = Worker(timeout=args.timeout)
+    terminals = {}  # a worker per terminal of the "encoding" class, started when first drawn
     with tempfile.TemporaryDirectory() as tmp:
         base = os.path.join(tmp, "base")
         hostile_dir = os.path.join(tmp, "hostile")
         os.mkdir(base)
         os.mkdir(hostile_dir)
         valid_files(base, worker)
+        reference_store(base, worker)
         hostile = (hostile_dir, hostile_files(hostile_dir))
         for k in range(args.inputs):
             kind, request, bad, files = draw(rng, base, hostile)
@@ -122,10 +179,33 @@ def main(argv=None) -> int:
             for name, data in files.items():
                 with open(os.path.join(folder, name), "wb") as fh:
                     fh.write(data)
+            if kind.startswith("store:"):
+                request = store_request(base, folder, kind.split(":", 1)[1], rng)
+            if kind == "wrong-kind:random":
+                request = random_wrong_kind(rng, folder)
+            if kind.startswith("others:"):
+                others_files(folder)
             before = snapshot(folder)
-            result = worker.run(request, folder)
+            runner = worker
+            if kind.startswith("encoding:"):
+                terminal = kind.split(":", 1)[1]
+                runner = terminals.setdefault(terminal, Worker(timeout=args.timeout, env=ENCODINGS[terminal]))
+            result = runner.run(request, folder)
             problems = check_clean(request, result, before, snapshot(folder), certainly_bad=bad)
+            if kind.startswith("encoding:") and terminal != "latin-1" and result["rc"] in (0, 1) and \
+                    any(ord(c) > 127 for c in result["stdout"] + result["stderr"]):
+                problems.append(f"coinwall {request}: printed a character the {terminal} terminal cannot show")
+            if kind.startswith("store:") and result["rc"] == 0 and not bad and \
+                    not store_equal(os.path.join(folder, "s.zarr"), os.path.join(base, "ref.zarr")):
+                problems.append(f"{kind}: resumed to arrays that differ from the undamaged store's (silently wrong)")
+            if kind.startswith("store:") and not bad and result["rc"] != 0:
+                problems.append(f"{kind}: a repairable store was refused: {result['stderr'][-300:]!r}")
+            if kind.startswith("others:"):
+                problems += [f"coinwall {request}: {p}" for p in others_check(folder, request, result)]
+            if kind == "no-data" and result["rc"] in (0, 1) and "0.0000 ± 0.0000" in result["stdout"]:
+                problems.append(f"coinwall {request}: a share from no data printed as an answer")
             tried[kind] += 1
+            shutil.rmtree(folder, ignore_errors=True)
             if problems:
                 failures += problems
             else:
@@ -133,6 +213,8 @@ def main(argv=None) -> int:
             if (k + 1) % 100 == 0:
                 print(f"{k + 1} inputs, {len(failures)} problems, {time.perf_counter() - start:.0f} s", file=sys.stderr)
     worker.close()
+    for runner in terminals.values():
+        runner.close()
     print(f"seed {args.seed}, {sum(tried.values())} inputs in {time.perf_counter() - start:.0f} s")
     print("| category | tried | handled cleanly |\n|---|---:|---:|")
     for kind in sorted(tried):

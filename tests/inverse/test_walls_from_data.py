@@ -254,7 +254,7 @@ def test_csv_variants(tmp_path, capsys):
 @pytest.mark.parametrize("text,needle", [
     ("theta,b\n0,1\n0.5,x\n", "line 3"),
     ("1\n2\n3\n", "columns"),
-    ("x,y\n0,1\n1,1\n", "name one angle column"),
+    ("x,y\n0,1\n1,1\n", "looks like a body file (columns x, y)"),
     ("", "no rows"),
 ])
 def test_bad_csv_is_one_line(text, needle, tmp_path, capsys):

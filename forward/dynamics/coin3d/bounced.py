@@ -44,20 +44,45 @@ class BounceStudy:
     status: dict
     inputs: dict
 
+    @property
+    def enough(self) -> np.ndarray:
+        """Whether each bounce was reached by enough tosses for its share (:data:`~coinwall.forward.estimates.MIN_SAMPLES`)."""
+        from ...estimates import MIN_SAMPLES
+
+        return self.reached >= MIN_SAMPLES
+
+    def shares(self) -> list:
+        """P(same side) at each bounce as a :class:`~coinwall.forward.estimates.Share` (with its sample size)."""
+        from ...estimates import share
+
+        return [share(round(p * k), k) for p, k in zip(self.same, self.reached)]
+
+    @property
+    def failed(self) -> int:
+        """Tosses the search could not follow (:data:`.top.STATUS` 7): missing data, not physics."""
+        from .top import STATUS
+
+        return int(self.status.get(STATUS[7], 0))
+
     def bounces_to_fair(self, within: float = 0.001):
-        """The first n with ``|P − ½| < within`` by more than two standard errors' margin (None if none)."""
-        ok = np.abs(self.same - 0.5) + 2 * self.stderr < within
+        """The first n with ``|P − ½| < within`` by more than two standard errors' margin, among the bounces
+        reached by enough tosses (None if none)."""
+        ok = (np.abs(self.same - 0.5) + 2 * self.stderr < within) & self.enough
         idx = np.flatnonzero(ok)
         return int(idx[0]) + 1 if idx.size else None
 
     def to_dict(self) -> dict:
-        return {"same": self.same.tolist(), "stderr": self.stderr.tolist(), "reached": self.reached.tolist(),
+        """JSON-ready: each bounce's share is null where fewer than enough tosses reached it."""
+        ok = self.enough
+        return {"same": [float(p) if k else None for p, k in zip(self.same, ok)],
+                "stderr": [float(e) if k else None for e, k in zip(self.stderr, ok)],
+                "reached": self.reached.tolist(), "enough": ok.tolist(), "failed": self.failed,
                 "settled": self.settled, "status": self.status, "inputs": self.inputs,
                 "bounces_to_fair_0.001": self.bounces_to_fair()}
 
     @safe_repr
     def __repr__(self):
-        head = ", ".join(f"{p:.4f}" for p in self.same[:5])
+        head = ", ".join(f"{p:.4f}" if k else "—" for p, k in zip(self.same[:5], self.enough[:5]))
         return (f"BounceStudy(e={self.inputs['e']:g}, ψ={self.inputs['psi_degrees']:g}°: P(same) by bounce "
                 f"{head}{', …' if self.same.size > 5 else ''}; settled {self.settled:.3f})")
 
@@ -127,8 +152,9 @@ def plot_studies(studies, caught: float | None = None):
     with house_style():
         fig, ax = new_figure(figsize=(7, 4.2), constrained_layout=True)
         for label, study in studies.items():
-            n = np.arange(1, study.same.size + 1)
-            ax.errorbar(n, study.same, yerr=2 * study.stderr, marker="o", ms=3, capsize=2, lw=1, label=label)
+            ok = study.enough  # a bounce reached by too few tosses has no share to draw
+            n = np.arange(1, study.same.size + 1)[ok]
+            ax.errorbar(n, study.same[ok], yerr=2 * study.stderr[ok], marker="o", ms=3, capsize=2, lw=1, label=label)
         ax.axhline(0.5, color="k", lw=0.8, ls="--", label="fair")
         if caught is not None:
             ax.axhline(caught, color="0.4", lw=0.8, ls=":", label=f"caught in the hand (data): {caught:.4f}")

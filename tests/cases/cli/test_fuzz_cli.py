@@ -41,6 +41,16 @@ from cli_fuzz import (  # noqa: E402
     with_flag,
     with_output,
 )
+from cli_fuzz_classes import (  # noqa: E402
+    LONG_REQUESTS,
+    MEANINGLESS,
+    NO_DATA,
+    STORE_DAMAGES,
+    WRONG_KIND,
+    reference_store,
+    store_equal,
+    store_request,
+)
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
@@ -181,3 +191,51 @@ def test_users_files_that_look_like_old_temporaries_survive(worker, base, tmp_pa
     assert result["rc"] == 0, result
     after = snapshot(folder)
     assert {name: after.get(name) for name in LOOKALIKES} == {name: before[name] for name in LOOKALIKES}
+
+
+# ------------------------------------------------------------------------------------------- round three
+@pytest.mark.slow  # (each case has its own test in test_statistics_and_bounds.py, in the default run)
+@pytest.mark.parametrize("argv", NO_DATA, ids=" ".join)
+def test_statistics_from_no_data_are_never_numbers(worker, base, tmp_path, argv):
+    """A share from no toss, a mean of one flight, a fit of nothing: refused or marked "not enough data", never
+    "0.0 ± 0.0" or NaN (:func:`cli_fuzz.check_clean` looks for both)."""
+    result = run_checked(worker, base, tmp_path, argv, certainly_bad=False)
+    if result["rc"] == 2:
+        assert "not enough data" in result["stderr"] or "--" in result["stderr"], result["stderr"]
+
+
+@pytest.mark.parametrize("argv", WRONG_KIND + LONG_REQUESTS + MEANINGLESS, ids=" ".join)
+def test_wrong_kinds_long_runs_and_meaningless_options_are_refused(worker, base, tmp_path, argv):
+    run_checked(worker, base, tmp_path, argv, certainly_bad=True)
+
+
+@pytest.fixture(scope="module")
+def store_base(base, worker):
+    pytest.importorskip("zarr")
+    reference_store(base, worker)
+    return base
+
+
+@pytest.mark.parametrize("how", ["swap-dims", "command-attr", "extra-array", "devzero-chunk"])
+def test_a_damaged_store_is_refused_or_resumed_to_the_same_arrays(worker, store_base, tmp_path, how):
+    _store_case(worker, store_base, tmp_path, how)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("how", sorted(STORE_DAMAGES))
+def test_every_store_damage(worker, store_base, tmp_path, how):
+    _store_case(worker, store_base, tmp_path, how)
+
+
+def _store_case(worker, base, tmp_path, how):
+    import random
+
+    folder = make_folder(base, tmp_path)
+    argv = store_request(base, folder, how, random.Random(how))
+    before = snapshot(folder)
+    result = worker.run(argv, folder)
+    problems = check_clean(argv, result, before, snapshot(folder), certainly_bad=STORE_DAMAGES[how])
+    assert not problems, "\n".join(problems)
+    if not STORE_DAMAGES[how]:
+        assert result["rc"] == 0, result
+        assert store_equal(os.path.join(folder, "s.zarr"), os.path.join(base, "ref.zarr"))

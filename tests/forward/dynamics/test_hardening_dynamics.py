@@ -338,10 +338,11 @@ def test_random_states_has_a_budget(monkeypatch):
     (["simulate", "case:coin", "--H", "3e9", "--kappa", "1e-9"], "max |b| <= 1e+06"),
     (["section", "case:coin", "--H", "3", "--collisions", "10000000000"], "of memory"),
     (["section", "case:coin", "--H", "3", "--orbits", "1000000000"], "of memory"),
-    (["correlation", "case:coin", "--H", "3", "--bounces", "1000000000000"], "comparisons"),
+    # (their time, 23 days and 2.3 days, is refused first: the one-hour bound without --allow-long)
+    (["correlation", "case:coin", "--H", "3", "--bounces", "1000000000000"], "--allow-long"),
     (["correlation", "case:coin", "--H", "3", "--bounces", "10000000", "--max-lag", "90000"], "comparisons"),
     (["correlation", "case:coin", "--H", "3", "--bounces", "100000000000", "--max-lag", "1", "--orbits", "2"],
-     "of memory"),
+     "--allow-long"),
     (["kam", "--H", "3", "--collisions", "10000000000", "--orbits", "2"], "collisions of work"),
     (["kam", "--H", "1e100"], "--H must be between"),
 ])
