@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+from .budget import add_allow_long
 from .common import add_command, check_positive_count, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
@@ -56,6 +57,7 @@ def register(subparsers):
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="fit: figure of the data against the model (.png, .svg, .pdf; repeatable)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_allow_long(parser)
     parser.set_defaults(run=_cmd_coin3d)
 
 

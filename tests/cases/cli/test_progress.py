@@ -141,7 +141,7 @@ def test_ctrl_c_stops_coin3d_bounce_within_a_second():
     import signal
     import time
 
-    argv = ["coin3d", "bounce", "--e", "0.6", "--bounces", "20", "--samples", "2000000", "--seed", "1"]
+    argv = ["coin3d", "bounce", "--e", "0.6", "--bounces", "20", "--samples", "2000000", "--seed", "1", "--allow-long"]
     env = dict(os.environ)
     env["PYTHONPATH"] = ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     command = [sys.executable, "-c", "import sys; from coinwall.cases.cli import main; sys.exit(main())", *argv]

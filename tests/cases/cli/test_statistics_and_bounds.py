@@ -57,7 +57,7 @@ def test_coin3d_bounce_from_no_data(capsys):
     args = ["coin3d", "bounce", "--psi", "0", "--samples", "300", "--seed", "1", "--bounces", "3"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "bounce   1: P(same side) = 1.0000 (300 of 300 tosses" in out
+    assert "       1  1.0000 (300 of 300 tosses" in out
     assert out.count("not enough data (0 tosses; at least 30 needed)") == 2
     assert "0.0000 ± 0.0000" not in out and "bounces after 1 were reached by fewer than 30 tosses" in out
     assert main(args + ["--json"]) == 0
