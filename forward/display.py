@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 import math
 
-__all__ = ["safe_repr", "format_number", "json_number", "json_numbers", "one_line"]
+__all__ = ["safe_repr", "format_number", "json_number", "json_numbers", "one_line", "significant_digits"]
 
 
 def safe_repr(method):
@@ -36,6 +36,18 @@ def format_number(value, tolerance: float = 0.0, digits: int = 6) -> str:
         return "0"
     text = f"{value:.{digits}g}"
     return "0" if text in ("-0", "0") else text
+
+
+def significant_digits(value: float, tolerance: float) -> int:
+    """Significant digits of ``value`` down to the decade of ``tolerance`` (1 to 15): what a number known to
+    ``tolerance`` should print with (``format_number(value, tolerance, significant_digits(value, tolerance))``).
+
+    >>> significant_digits(-0.19999999999999996, 1e-9), significant_digits(2.5, 0.0)
+    (9, 15)
+    """
+    if value == 0 or not tolerance > 0 or not math.isfinite(value):
+        return 15
+    return int(min(15, max(1, math.floor(math.log10(abs(value))) - math.floor(math.log10(tolerance)) + 1)))
 
 
 def json_number(value, digits: int | None = None):

@@ -56,7 +56,7 @@ class CurvatureRanges:
 
 
 def curvature_ranges(wall) -> CurvatureRanges:
-    """The certified ranges of ``ρ = b + b''`` of a formula wall (cached on the wall, which is immutable).
+    """The certified ranges of ``ρ = b + b''`` of a formula wall.
 
     Parameters
     ----------
@@ -80,9 +80,6 @@ def curvature_ranges(wall) -> CurvatureRanges:
     >>> bool(lower[0] <= 0.2 <= upper[0] and upper[0] - lower[0] < 1e-14)
     True
     """
-    cached = wall.__dict__.get("_curvature_ranges")
-    if cached is not None:
-        return cached
     from .wall import _ExpressionBackend
     from .wallbackends import _ArcsBackend, _FourierBackend
 
@@ -90,15 +87,12 @@ def curvature_ranges(wall) -> CurvatureRanges:
     kinks = [k.angle for k in wall.kinks]
     cuts = kinks + list(wall.breaks)
     if isinstance(backend, _ExpressionBackend):
-        made = CurvatureRanges(_expression_ranges(backend.parsed), cuts, kinks, "affine arithmetic")
-    elif isinstance(backend, _ArcsBackend):
-        made = CurvatureRanges(_arcs_ranges(backend), cuts + list(backend.angles), kinks, "exact")
-    elif isinstance(backend, _FourierBackend) and wall.samples is None:
-        made = CurvatureRanges(_fourier_ranges(backend), cuts, kinks, "Taylor bound")
-    else:
-        raise ValueError(f"wall {wall.description!r}: certified ranges of b + b'' are for formula walls, not samples")
-    object.__setattr__(wall, "_curvature_ranges", made)
-    return made
+        return CurvatureRanges(_expression_ranges(backend.parsed), cuts, kinks, "affine arithmetic")
+    if isinstance(backend, _ArcsBackend):
+        return CurvatureRanges(_arcs_ranges(backend), cuts + list(backend.angles), kinks, "exact")
+    if isinstance(backend, _FourierBackend) and wall.samples is None:
+        return CurvatureRanges(_fourier_ranges(backend), cuts, kinks, "Taylor bound")
+    raise ValueError(f"wall {wall.description!r}: certified ranges of b + b'' are for formula walls, not samples")
 
 
 def _expression_ranges(parsed):

@@ -22,7 +22,8 @@ from .criticalcells import CELLS
 from .discrete import DiscreteSupport, _gaps, discrete_support, machine_rounding
 from .tolerances import ANGLE_TOLERANCE, OFFSET_TOLERANCE
 
-__all__ = ["CriticalOffset", "critical_offset", "data_critical_offset", "regime_of", "sampled_critical_offset"]
+__all__ = ["CriticalOffset", "critical_offset", "data_critical_offset", "format_critical_angles", "regime_of",
+           "sampled_critical_offset"]
 
 
 @dataclass(frozen=True)
@@ -104,6 +105,35 @@ class CriticalOffset:
         return f"CriticalOffset(b_c={format_number(self.b_c, self.b_c_tolerance, 12)}{within}, angles=[{angles}])"
 
 
+def format_critical_angles(angles, errors=(), digits: int = 6) -> tuple[str, str]:
+    """The critical angles as a reader sees them, and their uncertainty: ``("0, 2.0944, 4.18879", "±6e-08 rad")``.
+
+    One text for every front end (``coinwall critical``, ``coinwall solve``, the explorer).  An angle
+    within its uncertainty (:attr:`CriticalOffset.angle_errors`; :data:`ANGLE_TOLERANCE` without one) of 0 or
+    2π prints as 0.  The second part gives the largest uncertainty of the isolated angles (the middles of
+    intervals are left out: the intervals say where those minima are); it is empty without errors.
+
+    Examples
+    --------
+    >>> format_critical_angles([6.283185307179, 3.14159265], [6e-8, 5e-8])
+    ('0, 3.14159', '±6e-08 rad')
+    """
+    from .criticalcells import INTERVAL_WIDTH
+
+    given = len(errors) > 0
+    errors = tuple(errors) if given else (ANGLE_TOLERANCE,) * len(angles)
+    shown, isolated = [], []
+    for angle, error in zip(angles, errors):
+        point = 2.0 * error < INTERVAL_WIDTH
+        tolerance = max(error, 1e-15) if point else ANGLE_TOLERANCE
+        angle = 0.0 if abs(angle - TWO_PI) <= tolerance else angle
+        shown.append(format_number(angle, tolerance, digits))
+        if point:
+            isolated.append(error)
+    spread = f"±{max(isolated):.1g} rad" if given and isolated else ""
+    return ", ".join(shown) or "—", spread
+
+
 def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     """Exact critical offset of ``wall``, ``b_c = −min_θ (b + b'')``, with every angle where it is attained.
 
@@ -152,6 +182,9 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
         return CriticalOffset(math.inf, tuple(k.angle for k in concave))
+    cached = wall.__dict__.get("_critical_offset")  # a wall is immutable: its b_c is computed once
+    if cached is not None and cached[0] == cells:
+        return cached[1]
     ranges = curvature_ranges(wall)
     found = certified_minimum(ranges, ranges.cuts, ranges.kinks, cells=cells)
     if not (math.isfinite(found.lower) and math.isfinite(found.upper)):
@@ -165,15 +198,18 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
             hi = lo + TWO_PI
         if hi - lo >= INTERVAL_WIDTH:
             intervals.append((float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + (hi - lo))))
-        angles.append(float(np.mod(0.5 * lo + 0.5 * hi, TWO_PI)))
-        errors.append(float(0.5 * (hi - lo)))
+        angle, error = float(np.mod(0.5 * lo + 0.5 * hi, TWO_PI)), float(0.5 * (hi - lo))
+        angles.append(0.0 if TWO_PI - angle <= min(error, 0.5 * INTERVAL_WIDTH) else angle)  # at 0, not 2π
+        errors.append(error)
     order = np.argsort(angles)
     point_errors = [e for e in errors if 2.0 * e < INTERVAL_WIDTH]
     tolerance = max(found.upper - found.value, found.value - found.lower)
     # + 0.0: a minimum of exactly 0 is b_c = 0, not -0
-    return CriticalOffset(-found.value + 0.0, tuple(angles[i] for i in order), tuple(sorted(intervals)),
-                          max(point_errors) if point_errors else ANGLE_TOLERANCE, float(tolerance),
-                          angle_errors=tuple(errors[i] for i in order), spread=float(found.spread))
+    result = CriticalOffset(-found.value + 0.0, tuple(angles[i] for i in order), tuple(sorted(intervals)),
+                            max(point_errors) if point_errors else ANGLE_TOLERANCE, float(tolerance),
+                            angle_errors=tuple(errors[i] for i in order), spread=float(found.spread))
+    object.__setattr__(wall, "_critical_offset", (cells, result))
+    return result
 
 
 def _cyclic_runs(mask):

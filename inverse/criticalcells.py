@@ -200,23 +200,33 @@ def certified_minimum(ranges, cuts=(), kinks=(), *, cells: int = CELLS, min_widt
 
 
 def _windows(lo, hi, kinks):
-    """Runs of touching cells, not joined across a kink; a run through 0 is one window."""
+    """Runs of touching cells; a run through 0 is one window.  Two runs that meet at a kink stay apart when
+    both are at least :data:`INTERVAL_WIDTH` long (arcs of minima either side of an edge: the stick's), and
+    are one window otherwise (a minimum at the kink itself, approached from both sides)."""
     order = np.argsort(lo, kind="stable")
     lo, hi = lo[order], hi[order]
     kinks = np.mod(np.asarray(kinks, dtype=float), TWO_PI)
-
-    def is_kink(angle):
-        return bool(kinks.size) and bool(np.min(np.abs(np.angle(np.exp(1j * (kinks - angle))))) < 1e-12)
-
-    breaks = np.flatnonzero(lo[1:] != hi[:-1])
-    joined = [j for j in np.flatnonzero(lo[1:] == hi[:-1]) if is_kink(hi[j])]
-    ends = np.union1d(breaks, np.asarray(joined, dtype=int)).astype(int)
+    ends = np.flatnonzero(lo[1:] != hi[:-1])
     starts = np.concatenate([[0], ends + 1])
     stops = np.concatenate([ends, [lo.size - 1]])
-    windows = [[float(lo[a]), float(hi[b])] for a, b in zip(starts, stops)]
-    first, last = windows[0], windows[-1]
-    if len(windows) > 1 and abs(last[1] - (first[0] + TWO_PI)) < 1e-12 and not is_kink(first[0]):
-        windows[0] = [last[0], first[1] + TWO_PI]  # across the seam: from the last window's start
+    runs = [[float(lo[a]), float(hi[b])] for a, b in zip(starts, stops)]
+    if len(runs) > 1 and abs(runs[-1][1] - (runs[0][0] + TWO_PI)) < 1e-12:
+        runs[0] = [runs[-1][0], runs[0][1] + TWO_PI]  # across the seam: from the last run's start
+        runs.pop()
+    if len(runs) == 1 and runs[0][1] - runs[0][0] >= TWO_PI - 1e-12 and kinks.size:
+        runs = [[float(kinks[0]), float(kinks[0]) + TWO_PI]]  # the whole circle: start at a kink
+    windows = []
+    for run in runs:  # each run, cut again at the kinks inside it
+        cuts = sorted(run[0] + np.mod(k - run[0], TWO_PI) for k in kinks)
+        edges = [run[0]] + [c for c in cuts if run[0] < c < run[1]] + [run[1]]
+        for a, b in zip(edges[:-1], edges[1:]):
+            if windows and windows[-1][1] == a and min(b - a, windows[-1][1] - windows[-1][0]) < INTERVAL_WIDTH:
+                windows[-1][1] = b
+            else:
+                windows.append([a, b])
+    if len(windows) > 1 and abs(windows[-1][1] - (windows[0][0] + TWO_PI)) < 1e-12 and \
+            min(windows[0][1] - windows[0][0], windows[-1][1] - windows[-1][0]) < INTERVAL_WIDTH:
+        windows[0] = [windows[-1][0], windows[0][1] + TWO_PI]  # a minimum at a kink at 0
         windows.pop()
     out = []
     for a, b in windows:

@@ -123,7 +123,8 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     if accuracy is None:
         accuracy = WALL_ACCURACY * max(1.0, wall.scale)
     return Body(
-        wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles, regime=regime, method=method,
+        wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles,
+        critical_angle_errors=critical.angle_errors, regime=regime, method=method,
         outline=outline, x=x, y=y, K=curvature,
         phi_in=np.mod(nodes.phi_in, TWO_PI), phi_out=np.mod(nodes.phi_in, TWO_PI) + widths,
         corners=tuple(corners), folds=tuple(extras.get("folds", ())), max_wall_error=max_wall_error,
