@@ -124,13 +124,16 @@ class AffineProgram:
 
         names, op_const, op_input, op_output = _codes()
         steps, free = [], 1
+        written = {}  # work slot -> the step that last wrote it (the values, as the algorithm's data flow)
+        compared, pairs = {}, {}
         for op, ins, outs, constant in instructions(func):
             if op == op_const:
-                steps.append(("const", outs[0], constant, ()))
+                step = ("const", outs[0], constant, ())
             elif op == op_input:
-                steps.append(("input", outs[0], None, ()))
+                step = ("input", outs[0], None, ())
             elif op == op_output:
                 steps.append(("output", outs[0], None, (ins[0],)))
+                continue
             elif op in names:
                 name = names[op]
                 need = 0 if name in _LINEAR else _NEEDS.get(name, 1)
@@ -138,9 +141,23 @@ class AffineProgram:
                 for _ in range(need):
                     cols.append(free if free < symbols else -1)
                     free += 1
-                steps.append((name, outs[0], tuple(cols), tuple(ins)))
+                sources = tuple(written.get(i) for i in ins)
+                if name in ("le", "lt"):
+                    compared[len(steps)] = sources
+                elif name == "add" and all(x in compared for x in sources) \
+                        and compared[sources[0]] == compared[sources[1]][::-1]:
+                    # (a ≤ b) + (b ≤ a): the denominator of min/max's derivative weights, at least 1 everywhere
+                    pairs[len(steps)] = (sources, free if free < symbols else -1)
+                    free += 1
+                elif name == "div" and sources[1] in pairs and sources[0] in pairs[sources[1]][0]:
+                    pair, col = pairs[sources[1]]
+                    name = "weight"
+                    cols = (col, 1.0 if sources[0] == pair[0] else -1.0)
+                step = (name, outs[0], tuple(cols), tuple(ins))
             else:
                 raise ValueError(f"casadi operation {op} has no certified counterpart")
+            written[outs[0]] = len(steps)
+            steps.append(step)
         self._steps = tuple(steps)
         self._symbols = max(1, min(symbols, free))
         self._n_out = func.n_out()
@@ -309,6 +326,8 @@ class _Ops:
             return self.mul(args[0], args[1], col)
         if name == "div":
             return self.div(args[0], args[1], cols)
+        if name == "weight":
+            return self.weight(args[0], args[1], *cols)
         if name == "sq":
             return self.sq(args[0], col)
         if name == "pow":
@@ -347,6 +366,24 @@ class _Ops:
             cx, ax, rx = x
             return self.finish(cx / cy, ax / cy[:, None], rx / np.abs(cy))
         return self.mul(x, self.unary("inv", y, cols[0]), cols[1])
+
+    def weight(self, x, y, col, sign):
+        """``(a ≤ b) / ((a ≤ b) + (b ≤ a))`` (``sign`` +1) or its partner (−1), the weights casadi gives the two
+        branches of min/max in their derivatives: 1 and 0, or ½ and ½ at a tie.  Where the cell leaves the
+        comparison open they are ``½ ± ½ ε`` with one unknown ε for both, so they still add up to 1 (the
+        derivative of a min of two equal branches is their common derivative, not a range around it)."""
+        plain = self.div(x, y, (-1, -1))
+        open_ = self.radius(y) > 0.25  # an open comparison adds ½ (0 or 1); decided ones add rounding
+        if not np.any(open_):
+            return plain
+        half = np.full(1, 0.5)
+        a = np.zeros((1, self.k))
+        r = np.zeros(1)
+        a, r = self._add_symbol(a, r, int(col), half)
+        if 0 <= col < self.k:
+            a[:, int(col)] *= sign
+        shape = np.ones(np.broadcast(open_, plain[0]).shape, dtype=bool)
+        return self.select(open_ * shape, (half, a, r), plain)
 
     def power(self, x, y, cols):
         cy, ay, ry = y
@@ -428,9 +465,16 @@ class _Ops:
         elif name == "sign":
             branches = (one, self.constant(-1.0), (np.sign(xl), np.sign(xh)))
         elif name in ("fmin", "fmax"):
-            (yl, yh) = ranges[1]
-            pick = np.minimum if name == "fmin" else np.maximum
-            branches = (args[0], args[1], (pick(xl, yl), pick(xh, yh)))
+            # undecided: max(x, y) = (x + y)/2 + |x − y|/2 (min: −), which keeps the ties of two equal branches
+            x, y = args
+            half_sum = self.finish(0.5 * x[0] + 0.5 * y[0], 0.5 * x[1] + 0.5 * y[1], 0.5 * x[2] + 0.5 * y[2])
+            dl, dh = self.range(self.finish(x[0] - y[0], x[1] - y[1], x[2] + y[2]))
+            gap = 0.5 * np.maximum(np.abs(dl), np.abs(dh))
+            gap = self.fresh(0.0 * gap, gap, col)
+            if name == "fmin":
+                gap = (-gap[0], -gap[1], gap[2])
+            both = self.finish(half_sum[0] + gap[0], half_sum[1] + gap[1], half_sum[2] + gap[2])
+            return self.select(choice == 1, x, self.select(choice == 2, y, both))
         elif name == "if_else_zero":
             (yl, yh) = ranges[1]
             branches = (args[1], zero, (np.minimum(yl, 0.0), np.maximum(yh, 0.0)))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 import math
 
-__all__ = ["safe_repr", "format_number", "json_number", "json_numbers", "one_line", "significant_digits"]
+__all__ = ["format_number", "json_number", "json_numbers", "one_line", "safe_repr", "significant_digits"]
 
 
 def safe_repr(method):

@@ -64,6 +64,11 @@ class CriticalOffset:
     spread : float
         For a formula wall: on every window, ``b + b''`` is within ``spread`` of its certified lower bound
         (``−b_c − b_c_tolerance``): an angle is reported only that close to the minimum.  0 for data.
+    uncertified : tuple of (float, float)
+        For a formula wall, angle ranges the certificate leaves out (usually none): where ``b''`` grows
+        without bound (the flat points of a superellipse, ~1e-11 rad around them) or where its ranges did
+        not narrow within the search's budget; there ``b + b''`` counts by sampled values, and
+        :attr:`b_c_tolerance` holds everywhere else (:mod:`coinwall.inverse.criticalcells`).
     """
 
     b_c: float
@@ -77,6 +82,7 @@ class CriticalOffset:
     samples_used: int = 0
     angle_errors: tuple[float, ...] = ()
     spread: float = 0.0
+    uncertified: tuple[tuple[float, float], ...] = ()
 
     def regimes(self, b0: float, scale: float = 1.0) -> tuple[str, ...]:
         """The regimes an offset ``b0`` may be in: one for a formula wall (:func:`regime_of`); for data,
@@ -167,7 +173,7 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     --------
     >>> from coinwall.forward import Wall
     >>> found = critical_offset(Wall.from_expression("1 + 0.1*cos(3*t)"))   # b + b'' = 1 − 0.8 cos 3θ
-    >>> found.b_c, [found.format_angle(a) for a in found.angles]
+    >>> round(found.b_c, 12), [found.format_angle(a) for a in found.angles]
     (-0.2, ['0', '2.0944', '4.18879'])
     >>> bool(found.b_c_tolerance < 1e-13 and max(found.angle_errors) < 1e-6)
     True
@@ -207,7 +213,8 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     # + 0.0: a minimum of exactly 0 is b_c = 0, not -0
     result = CriticalOffset(-found.value + 0.0, tuple(angles[i] for i in order), tuple(sorted(intervals)),
                             max(point_errors) if point_errors else ANGLE_TOLERANCE, float(tolerance),
-                            angle_errors=tuple(errors[i] for i in order), spread=float(found.spread))
+                            angle_errors=tuple(errors[i] for i in order), spread=float(found.spread),
+                            uncertified=tuple((float(lo), float(hi)) for lo, hi in found.uncertified))
     object.__setattr__(wall, "_critical_offset", (cells, result))
     return result
 

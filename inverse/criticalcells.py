@@ -18,6 +18,7 @@ grid is found because the range of a cell that holds it reaches down into it.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -37,9 +38,10 @@ MIN_WIDTH = 1e-11
 INTERVAL_WIDTH = 1e-3
 #: Width (rad) of the cell beside each kink or break that follows its own side's formula up to it.
 BESIDE = 1e-4
-#: Most cells judged in one search: a wall whose ranges do not narrow (no formula seen so far) stops
-#: there, with the certificate of what was reached.
-_BUDGET = 400_000
+#: Most cells judged in one search (about 1.5 s on one core for a formula of a hundred operations; the walls
+#: of the tests need a few hundred to a few thousand): a wall whose ranges narrow only in proportion to the
+#: cells (two branches of a max equal on a whole arc) stops there, with the certificate it reached.
+_BUDGET = 12_000
 _EPS = float(np.finfo(float).eps)
 _SPLIT = 8  # children of a cell that is cut again: three halvings per round
 
@@ -62,7 +64,12 @@ class CellMinimum:
     cells : int
         How many cells were judged.
     complete : bool
-        False when the search stopped at its budget (the bounds still hold, but are wider).
+        Whether the certificate covers the whole period (False when :attr:`uncertified` is not empty).
+    uncertified : tuple of (float, float)
+        Where ρ has no finite range on cells of the least width though its values are finite (``b''``
+        unbounded: the flat points of a superellipse), or where the budget ran out before the ranges
+        narrowed (two branches of a max equal on a whole arc, the square root of a square): there ρ
+        counts by its values at the cells' middles; :attr:`lower` and :attr:`spread` are certified outside.
     """
 
     value: float
@@ -72,6 +79,7 @@ class CellMinimum:
     spread: float
     cells: int
     complete: bool = True
+    uncertified: tuple = ()
 
     @safe_repr
     def __repr__(self) -> str:
@@ -149,7 +157,6 @@ def certified_minimum(ranges, cuts=(), kinks=(), *, cells: int = CELLS, min_widt
     best, best_value = math.inf, math.nan
     kept = []
     judged = 0
-    complete = True
     tau = 0.0
     while lo.size:
         n = lo.size
@@ -167,21 +174,30 @@ def certified_minimum(ranges, cuts=(), kinks=(), *, cells: int = CELLS, min_widt
         alive = ~(cell_lo > best)
         rounding = np.where(np.isfinite(point_hi - point_lo), point_hi - point_lo, np.inf)
         settled = alive & ((cell_hi - cell_lo <= np.maximum(tau, 4.0 * rounding)) | (hi - lo <= min_width))
-        kept.append((lo[settled], hi[settled], cell_lo[settled], cell_hi[settled]))
         split = alive & ~settled
-        if judged + _SPLIT * int(split.sum()) > budget:
-            kept.append((lo[split], hi[split], cell_lo[split], cell_hi[split]))
-            complete = False
+        out_of_budget = judged + _SPLIT * int(split.sum()) > budget
+        keep = alive if out_of_budget else settled
+        # a kept cell is certified where its range is finite and it was settled (not left by the budget)
+        kept.append((lo[keep], hi[keep], cell_lo[keep], cell_hi[keep], point_lo[keep],
+                     np.isfinite(cell_lo[keep]) & settled[keep]))
+        if out_of_budget:
             break
         lo, hi, ref = lo[split], hi[split], ref[split]
         inner = lo[:, None] + (hi - lo)[:, None] * (np.arange(1, _SPLIT) / _SPLIT)[None, :]
         edges = np.concatenate([lo[:, None], inner, hi[:, None]], axis=1)
         lo, hi, ref = edges[:, :-1].ravel(), edges[:, 1:].ravel(), np.repeat(ref, _SPLIT)
-    k_lo, k_hi, k_low, k_high = (np.concatenate(parts) for parts in zip(*kept))
-    left = ~(k_low > best)
-    k_lo, k_hi, k_low, k_high = k_lo[left], k_hi[left], k_low[left], k_high[left]
-    if not k_lo.size or not math.isfinite(best):
+    k_lo, k_hi, k_low, k_high, k_mid, certain = (np.concatenate(parts) for parts in zip(*kept))
+    if not math.isfinite(best) or not np.all(np.isfinite(k_mid) | certain):
         return CellMinimum(best_value, -math.inf, best, ((0.0, TWO_PI),), math.inf, judged, False)
+    # what the certificate leaves out: cells whose range is not finite (b'' unbounded: a superellipse's flat
+    # point, the square root of a square at a kink) and cells the budget left unsettled; there ρ counts by its
+    # value at the cell's middle, and they are named
+    k_low = np.where(certain, k_low, k_mid)
+    k_high = np.where(certain, k_high, k_mid)
+    left = ~(k_low > best)
+    open_cells = ~certain
+    uncertified = _windows(k_lo[open_cells], k_hi[open_cells], ()) if open_cells.any() else ()
+    k_lo, k_hi, k_low, k_high = k_lo[left], k_hi[left], k_low[left], k_high[left]
     lower = float(np.min(k_low))
     spread = float(np.max(k_high)) - lower
     windows = _windows(k_lo, k_hi, kinks)
@@ -189,14 +205,13 @@ def certified_minimum(ranges, cuts=(), kinks=(), *, cells: int = CELLS, min_widt
     # by the window's width, and ρ by its curvature times that squared)
     a, b = min(windows, key=lambda w: w[1] - w[0])
     across = np.linspace(a, b, 65)
-    decide = np.full(across.size, np.nan)
-    low, high = ranges(across, across, decide)
+    low, high = ranges(across, across, np.full(across.size, np.nan))
     with np.errstate(invalid="ignore"):
         centre = 0.5 * low + 0.5 * high
     if np.isfinite(centre).any():
         best_value = min(best_value, float(np.nanmin(np.where(np.isfinite(centre), centre, np.nan))))
     value = min(max(best_value, lower), best)
-    return CellMinimum(value, lower, best, windows, spread, judged, complete)
+    return CellMinimum(value, lower, best, windows, spread, judged, not uncertified, uncertified)
 
 
 def _windows(lo, hi, kinks):
@@ -219,7 +234,7 @@ def _windows(lo, hi, kinks):
     for run in runs:  # each run, cut again at the kinks inside it
         cuts = sorted(run[0] + np.mod(k - run[0], TWO_PI) for k in kinks)
         edges = [run[0]] + [c for c in cuts if run[0] < c < run[1]] + [run[1]]
-        for a, b in zip(edges[:-1], edges[1:]):
+        for a, b in itertools.pairwise(edges):
             if windows and windows[-1][1] == a and min(b - a, windows[-1][1] - windows[-1][0]) < INTERVAL_WIDTH:
                 windows[-1][1] = b
             else:

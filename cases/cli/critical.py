@@ -53,9 +53,8 @@ def run(args):
                "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
         if result.angle_errors:
             doc.update({"angle_errors": list(result.angle_errors), "spread": result.spread})
-        if result.lower is not None:
-            doc.update({"b_c_lower": result.lower, "b_c_upper": result.upper, "assumption": result.assumption,
-                        "samples": int(wall.samples[0].size), "samples_used": result.samples_used})
+        if result.uncertified:
+            doc["uncertified"] = [list(w) for w in result.uncertified]
         print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
     print(f"wall       {wall!r}")
@@ -63,7 +62,8 @@ def run(args):
         tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
         line = f"b_c        {format_number(result.b_c, tolerance, significant_digits(result.b_c, tolerance))}"
         if result.angle_errors:
-            line += f" (certified to ±{result.b_c_tolerance:.1g})"
+            outside = " outside the angles noted below" if result.uncertified else ""
+            line += f" (certified to ±{result.b_c_tolerance:.1g}{outside})"
         if result.lower is not None:
             fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
             line = (f"b_c        {format_number(result.b_c, fine, 6)} (best estimate), certified in "
@@ -83,4 +83,9 @@ def run(args):
     print(f"angles     {angles} (rad, where b + b'' is smallest{every})")
     for lo, hi in result.intervals:
         print(f"interval   b + b'' is minimal on [{format_number(lo)}, {format_number(hi)}]")
+    if result.uncertified:
+        where = ", ".join(f"θ = {0.5 * (lo + hi):.6g} ± {0.5 * (hi - lo):.0e}" if hi - lo < 1e-6 else
+                          f"[{format_number(lo)}, {format_number(hi)}]" for lo, hi in result.uncertified)
+        print(f"note       not certified at {where}: b + b'' has no bound there that narrows (b'' unbounded, or "
+              "two branches of a max equal on an arc); its sampled values stand in")
     return 0
