@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 import math
 
-__all__ = ["format_number", "json_number", "json_numbers", "one_line", "safe_repr", "significant_digits"]
+__all__ = ["format_number", "format_within", "json_number", "json_numbers", "one_line", "safe_repr"]
 
 
 def safe_repr(method):
@@ -38,16 +38,23 @@ def format_number(value, tolerance: float = 0.0, digits: int = 6) -> str:
     return "0" if text in ("-0", "0") else text
 
 
-def significant_digits(value: float, tolerance: float) -> int:
-    """Significant digits of ``value`` down to the decade of ``tolerance`` (1 to 15): what a number known to
-    ``tolerance`` should print with (``format_number(value, tolerance, significant_digits(value, tolerance))``).
+def format_within(value: float, tolerance: float) -> str:
+    """The shortest decimal within ``tolerance`` of ``value``: a number known to ``tolerance`` as a reader should
+    see it (``-0.2`` for ``-0.20000000000000018`` known to 1e-14; ``0`` within the tolerance of 0).
 
-    >>> significant_digits(-0.19999999999999996, 1e-9), significant_digits(2.5, 0.0)
-    (9, 15)
+    >>> format_within(-0.20000000000000018, 1e-14), format_within(0.8755555555555562, 2e-14)
+    ('-0.2', '0.87555555555556')
     """
-    if value == 0 or not tolerance > 0 or not math.isfinite(value):
-        return 15
-    return int(min(15, max(1, math.floor(math.log10(abs(value))) - math.floor(math.log10(tolerance)) + 1)))
+    value = float(value)
+    if not math.isfinite(value):
+        return str(value)
+    if abs(value) <= tolerance:
+        return "0"
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= tolerance:
+            return text
+    return repr(value)
 
 
 def json_number(value, digits: int | None = None):

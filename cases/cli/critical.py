@@ -38,7 +38,7 @@ def register(subparsers):
 
 def run(args):
     """Compute the critical offset and print it."""
-    from coinwall.forward.display import format_number, significant_digits
+    from coinwall.forward.display import format_number, format_within
     from coinwall.inverse import critical_offset
     from coinwall.inverse.critical import format_critical_angles
 
@@ -59,8 +59,8 @@ def run(args):
         return 0
     print(f"wall       {wall!r}")
     if finite:
-        tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
-        line = f"b_c        {format_number(result.b_c, tolerance, significant_digits(result.b_c, tolerance))}"
+        # the shortest decimal the certificate allows (a data wall prints its interval below)
+        line = f"b_c        {format_within(result.b_c, result.b_c_tolerance)}"
         if result.angle_errors:
             outside = " outside the angles noted below" if result.uncertified else ""
             line += f" (certified to ±{result.b_c_tolerance:.1g}{outside})"

@@ -244,9 +244,9 @@ def cases(request: dict) -> dict:
 
 
 def _bc_text(wall, result) -> str:
-    """b_c at its precision: the digits down to its tolerance (`coinwall critical`'s rule), so the coin's
-    b_c = −1/100 prints as -0.01, not -0.0099999999999999."""
-    from coinwall.forward.display import format_number, significant_digits
+    """b_c at its precision: the shortest decimal within its certified tolerance (`coinwall critical`'s rule),
+    so the coin's b_c = −1/100 prints as -0.01, not -0.0099999999999998."""
+    from coinwall.forward.display import format_number, format_within
     from coinwall.inverse.tolerances import OFFSET_TOLERANCE
 
     if not math.isfinite(result.b_c):
@@ -255,8 +255,7 @@ def _bc_text(wall, result) -> str:
     if result.lower is not None:  # data: the certified interval, as `coinwall critical` prints it
         return (f"{format_number(result.b_c, fine, 6)}, certified in [{format_number(result.lower, fine, 6)}, "
                 f"{format_number(result.upper, fine, 6)}]")
-    tolerance = max(fine, result.b_c_tolerance)
-    return format_number(result.b_c, tolerance, significant_digits(result.b_c, tolerance))
+    return format_within(result.b_c, result.b_c_tolerance)
 
 
 def _angles_text(result) -> str:
