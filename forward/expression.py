@@ -143,7 +143,7 @@ def parse_param(text: str) -> tuple[str, float]:
     """
     if not isinstance(text, str) or "=" not in text:
         raise InvalidParameter(f"parameter {_show(text)} must have the form NAME=VALUE, e.g. eps=0.5")
-    name, _, raw = (part.strip() for part in text.partition("="))
+    name, _, raw = (part.strip(" \t") for part in text.partition("="))
     if not name:
         raise InvalidParameter(f"parameter {_show(text)} has no name; use NAME=VALUE, e.g. eps=0.5")
     _check_name(name)
@@ -417,7 +417,7 @@ def parse_expression(text: str, params: Mapping[str, float] | None = None) -> Pa
     if not isinstance(params, Mapping):
         raise InvalidParameter(f"parameters must be a mapping name -> value, got {type(params).__name__}")
     values = {_check_name(name): _check_value(name, value) for name, value in params.items()}
-    source = text.strip()  # a leading blank would be an IndentationError
+    source = text.strip(" \t\n\r\f\v")  # a leading blank would be an IndentationError; ASCII ones only
     check_ascii(source)
     check_one_line(source)
     if not source:

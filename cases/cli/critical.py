@@ -51,6 +51,9 @@ def run(args):
         doc = {"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
                "b_c_tolerance": result.b_c_tolerance,
                "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
+        if result.lower is not None:
+            doc.update({"b_c_lower": result.lower, "b_c_upper": result.upper, "assumption": result.assumption,
+                        "samples": int(wall.samples[0].size), "samples_used": result.samples_used})
         if result.angle_errors:
             doc.update({"angle_errors": list(result.angle_errors), "spread": result.spread})
         if result.uncertified:

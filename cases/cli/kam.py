@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import os
 
-from .common import add_command, check_positive_count, check_seed, count, progress_bar, written_lines
+from .common import add_command, check_positive_count, check_seed, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -32,7 +32,7 @@ def register(subparsers):
     kam.add_argument("--orbits", type=count, default=100, help="orbits per (ε, H) (default 100)")
     kam.add_argument("--collisions", type=count, default=1000, help="collisions per orbit (default 1000)")
     kam.add_argument("--steps", type=count, default=7, help="bisection steps in log ε (default 7)")
-    kam.add_argument("--regular-max", type=float, default=0.01, help="criterion: regular fraction below this (0.01)")
+    kam.add_argument("--regular-max", type=number, default=0.01, help="criterion: regular fraction below this (0.01)")
     kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
     kam.add_argument("--seed", type=count, default=0, help="seed (default 0)")
     kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",

@@ -51,9 +51,11 @@ def read_points_csv(path: str):
     if len(rows) > MAX_POINTS + 1:
         raise InvalidOutline(f"body file {path!r} has {len(rows)} rows; at most {MAX_POINTS} points are read")
 
+    from ..validation import parse_number  # the one grammar of numbers: ASCII, no 1_0
+
     def numbers(line):
         try:
-            return [float(cell) for cell in line.split(",")]
+            return [parse_number(cell) for cell in line.split(",")]
         except ValueError:
             return None
 
@@ -73,9 +75,9 @@ def read_points_csv(path: str):
             raise InvalidOutline(f"body file {path!r}, line {number}: {len(cells)} columns, expected {width} "
                                  f"(x, y first)")
         try:
-            x, y = float(cells[0]), float(cells[1])
+            x, y = parse_number(cells[0]), parse_number(cells[1])
         except ValueError:
-            raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be numbers, got "
+            raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be ASCII decimal numbers, got "
                                  f"{line[:60]!r}") from None
         if not (math.isfinite(x) and math.isfinite(y)):
             raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be finite, got {line[:60]!r}")
