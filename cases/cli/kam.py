@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 
 from .common import add_command, check_positive_count, check_seed, count, number, progress_bar, written_lines
 
@@ -78,9 +79,13 @@ def _cmd_kam(args):
         else:
             files[path] = json.dumps(result.to_dict()).encode()
     written = write_all(files)
+    missing = result.not_found()
+    status = 1 if missing else 0  # a bracket without the boundary is no answer: said, and exit status 1
     if args.json:
         print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
-        return 0
+        for line in missing:
+            print(f"warning: {line} (--bracket)", file=sys.stderr)
+        return status
     print(result.table())
     print(f"criterion  regular fraction < {result.regular_max:g} among {result.orbits} orbits × {result.collisions} "
           f"collisions (orbit regular if λ/collision ≤ 3 ln N / N)")
@@ -89,4 +94,6 @@ def _cmd_kam(args):
     if args.output:
         for line in written_lines(written, written.replaced):
             print(line)
-    return 0
+    for line in missing:
+        print(f"warning: {line} (--bracket)", file=sys.stderr)
+    return status
