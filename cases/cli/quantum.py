@@ -17,7 +17,11 @@ from .common import (
     written_lines,
 )
 
-__all__ = ["register"]
+__all__ = ["MAX_SECONDS", "register"]
+
+#: The longest solve started without --allow-long, by the library's estimate (one idle core; measured figures in
+#: coinwall.forward.quantum.spectrum.estimated_seconds).
+MAX_SECONDS = 120.0
 
 DESCRIPTION = """\
 The lowest levels of the quantum body between the walls (docs/quantum.md).
@@ -68,6 +72,9 @@ def register(subparsers):
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="figure (.png, .svg, .pdf: counting function and |ψ|², or Δλ(H) for a scan) or .json")
     parser.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    # dest max_seconds: the library's bound, so that its messages name this flag
+    parser.add_argument("--allow-long", dest="max_seconds", action="store_const", const=None, default=MAX_SECONDS,
+                        help="solve even when the estimated time exceeds two minutes (the estimate is printed)")
     parser.set_defaults(run=_cmd_quantum)
 
 
@@ -110,7 +117,7 @@ def _solve(args, wall, H, bar):
     # --method auto picks the solver as the library does: the elements when --cells or --order is given or
     # --splittings needs eigenvectors, else the fastest accurate one for the strip
     spectrum = quantum_spectrum(strip, levels=args.levels, method=args.method, cells=args.cells, order=args.order,
-                                eigenvectors=args.splittings,
+                                eigenvectors=args.splittings, max_seconds=args.max_seconds,
                                 progress=(lambda n: bar.update(n)) if bar is not None else None)
     splittings = None
     if args.splittings and strip.periodic and spectrum.symmetry_names:
