@@ -94,6 +94,24 @@ _BRANCHES = {
 }
 
 
+# the same choices made the way floating point makes them, from the computed values (the forms' centres): for
+# bounding the rounding of a point's evaluation, which takes one branch even where the ranges leave both open
+_FLOAT_BRANCHES = {
+    "fabs": lambda x: (x >= 0, x < 0),
+    "sign": lambda x: (x > 0, x < 0),
+    "fmin": lambda x, y: (x <= y, y < x),
+    "fmax": lambda x, y: (x >= y, y > x),
+    "lt": lambda x, y: (x < y, x >= y),
+    "le": lambda x, y: (x <= y, x > y),
+    "eq": lambda x, y: (x == y, x != y),
+    "ne": lambda x, y: (x != y, x == y),
+    "not": lambda x: (x == 0, x != 0),
+    "and": lambda x, y: ((x != 0) & (y != 0), (x == 0) | (y == 0)),
+    "or": lambda x, y: ((x != 0) | (y != 0), (x == 0) & (y == 0)),
+    "if_else_zero": lambda x, y: (x != 0, x == 0),
+}
+
+
 class AffineProgram:
     """A casadi ``SX`` function of one angle, evaluated with certified ranges on arrays of cells.
 
@@ -168,7 +186,7 @@ class AffineProgram:
         """Number of outputs."""
         return self._n_out
 
-    def enclose(self, lo, hi, *, decide=None, trace: bool = False):
+    def enclose(self, lo, hi, *, decide=None, trace: bool = False, float_branches: bool = False):
         """Certified ranges of every output on the cells ``[lo[i], hi[i]]`` (``lo == hi``: points).
 
         Parameters
@@ -184,6 +202,9 @@ class AffineProgram:
         trace : bool
             Also return, per instruction, ``(name, input ranges, output range)`` (for naming the
             operation that loses precision).
+        float_branches : bool
+            For points: where the ranges leave a branch open, take the one floating point takes (from the
+            computed values), so that the ranges bound the rounding of the floating-point evaluation itself.
 
         Returns
         -------
@@ -193,7 +214,7 @@ class AffineProgram:
         """
         lo = np.ascontiguousarray(lo, dtype=float).ravel()
         hi = np.ascontiguousarray(hi, dtype=float).ravel()
-        ops = _Ops(self._symbols, lo.size)
+        ops = _Ops(self._symbols, lo.size, "float" if float_branches else "")
         if decide is not None:
             decide = np.asarray(decide, dtype=float).ravel()
             forced = np.isfinite(decide)
@@ -240,7 +261,9 @@ class _Ops:
     def __init__(self, symbols: int, n: int, mode: str = "", log=None, forced=None):
         self.k = symbols
         self.n = n
-        self.mode = mode  # "record": keep each branch choice; "force": settle undecided ones of `forced` cells
+        # "record": keep each branch choice; "force": settle undecided ones of `forced` cells; "float": settle
+        # undecided ones as floating point does
+        self.mode = mode
         self.log = [] if log is None else log
         self.used = []
         self.forced = forced
@@ -451,6 +474,9 @@ class _Ops:
             return self.fresh(*self._loose(name, ranges), col)
         first, second = _BRANCHES[name](*ranges)
         choice = np.where(first, 1, np.where(second, 2, 0)) * np.ones(self.n, dtype=int)
+        if self.mode == "float":
+            first, second = _FLOAT_BRANCHES[name](*(x[0] for x in args))
+            choice = np.where(choice == 0, np.where(first, 1, np.where(second, 2, 0)), choice)
         if self.mode == "record":
             self.log.append(choice)
         elif self.mode == "force":
@@ -481,6 +507,8 @@ class _Ops:
         else:  # comparisons and logic: 1 or 0
             branches = (one, zero, (0.0, 1.0))
         undecided = self.fresh(*branches[2], col)
+        if self.mode == "float" and name == "sign":  # floating point's sign(0) is 0
+            undecided = self.select((args[0][0] == 0) * np.ones(self.n, dtype=bool), zero, undecided)
         return self.select(choice == 1, branches[0], self.select(choice == 2, branches[1], undecided))
 
     @staticmethod

@@ -36,6 +36,8 @@ MIN_WIDTH = 1e-11
 #: A window at least this wide (rad) is reported as an interval of minima (the stick's arcs), a narrower
 #: one as an angle with its half-width as uncertainty.
 INTERVAL_WIDTH = 1e-3
+#: Windows closer than this (rad) are reported as one.
+WINDOW_GAP = 1e-5
 #: Width (rad) of the cell beside each kink or break that follows its own side's formula up to it.
 BESIDE = 1e-4
 #: Most cells judged in one search (about 1.5 s on one core for a formula of a hundred operations; the walls
@@ -214,6 +216,10 @@ def certified_minimum(ranges, cuts=(), kinks=(), *, cells: int = CELLS, min_widt
     return CellMinimum(value, lower, best, windows, spread, judged, not uncertified, uncertified)
 
 
+def _kink_between(a, b, kinks) -> bool:
+    return bool(kinks.size) and bool(np.any(np.mod(kinks - a, TWO_PI) <= b - a))
+
+
 def _windows(lo, hi, kinks):
     """Runs of touching cells; a run through 0 is one window.  Two runs that meet at a kink stay apart when
     both are at least :data:`INTERVAL_WIDTH` long (arcs of minima either side of an edge: the stick's), and
@@ -243,6 +249,19 @@ def _windows(lo, hi, kinks):
             min(windows[0][1] - windows[0][0], windows[-1][1] - windows[-1][0]) < INTERVAL_WIDTH:
         windows[0] = [windows[-1][0], windows[0][1] + TWO_PI]  # a minimum at a kink at 0
         windows.pop()
+    # windows a hair apart (cells between them dropped on the rounding of one value) are one: their union still
+    # holds every minimiser, and one minimum is not reported twice
+    merged = []
+    for window in sorted(windows):
+        if merged and window[0] - merged[-1][1] < WINDOW_GAP and not _kink_between(merged[-1][1], window[0], kinks):
+            merged[-1][1] = max(merged[-1][1], window[1])
+        else:
+            merged.append(list(window))
+    if len(merged) > 1 and merged[0][0] + TWO_PI - merged[-1][1] < WINDOW_GAP \
+            and not _kink_between(merged[-1][1], merged[0][0] + TWO_PI, kinks):
+        merged[0] = [merged[-1][0], merged[0][1] + TWO_PI]
+        merged.pop()
+    windows = merged
     out = []
     for a, b in windows:
         shift = TWO_PI * math.floor(a / TWO_PI)

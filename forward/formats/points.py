@@ -40,18 +40,17 @@ def read_points_csv(path: str):
     """
     import math
 
+    from ..validation import ASCII_BLANKS, parse_number  # the one grammar of numbers: ASCII, no 1_0
     from .geometry import MAX_POINTS
     from .inputfile import read_text
 
     text = read_text(path, what="body file", error=InvalidOutline)
     lines = text.splitlines()
     coinwall = bool(lines) and lines[0].startswith(HEADER_PREFIX)
-    rows = [(number, line.split("#", 1)[0].strip()) for number, line in enumerate(lines, start=1)]
+    rows = [(number, line.split("#", 1)[0].strip(ASCII_BLANKS)) for number, line in enumerate(lines, start=1)]
     rows = [(number, line) for number, line in rows if line]
     if len(rows) > MAX_POINTS + 1:
         raise InvalidOutline(f"body file {path!r} has {len(rows)} rows; at most {MAX_POINTS} points are read")
-
-    from ..validation import parse_number  # the one grammar of numbers: ASCII, no 1_0
 
     def numbers(line):
         try:
@@ -70,7 +69,7 @@ def read_points_csv(path: str):
         raise InvalidOutline(f"body file {path!r}: {width} column; expected 2 columns x,y (or more, x and y first)")
     points = []
     for number, line in rows:
-        cells = [cell.strip() for cell in line.split(",")]
+        cells = [cell.strip(ASCII_BLANKS) for cell in line.split(",")]
         if len(cells) != width:
             raise InvalidOutline(f"body file {path!r}, line {number}: {len(cells)} columns, expected {width} "
                                  f"(x, y first)")

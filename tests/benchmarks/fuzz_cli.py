@@ -1,7 +1,8 @@
 """The larger command-line fuzz run, outside the default test run.
 
 Draws random inputs from the same tables as ``tests/cases/cli/test_fuzz_cli.py`` (bad numbers for every numeric
-flag, bad and odd walls, random expression text, hostile files, valid files broken in one place) and
+flag, bad and odd walls, random expression text, hostile files, valid files broken in one place, whole requests
+that must be refused) and
 checks each against the same contract (``tests/cli_fuzz.py``).  Prints, per category, the inputs tried
 and those handled cleanly, and lists every failure; the counts of the last run are in
 docs/cli.md ("Fuzz tests").
@@ -28,6 +29,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from cli_fuzz import (  # noqa: E402
     BAD_NUMBERS,
     BAD_OUTPUTS,
+    BAD_REQUESTS,
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
@@ -58,7 +60,9 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
 def draw(rng: random.Random, base: str, hostile: tuple):
     """One random request: (category, argv, certainly_bad, files to write into the working folder)."""
     kind = rng.choice(["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name",
-                       "input-output"])
+                       "input-output", "request"])
+    if kind == "request":
+        return kind, list(rng.choice(BAD_REQUESTS)), True, {}
     if kind == "output-name":
         command = rng.choice(OUTPUT_COMMANDS)
         return kind, [command] + with_output(BASE_COMMANDS[command], rng.choice(BAD_OUTPUTS)), True, {}
