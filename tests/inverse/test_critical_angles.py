@@ -189,3 +189,19 @@ def test_solve_lists_every_angle_and_draws_every_corner():
     body = solve_body(Wall.from_expression("1+0.02*cos(5*t)+0.02*cos(10*t)"), 1.0)
     assert len(body.critical_angles) == 5 == len(body.critical_angle_errors)
     assert body.regime == "corner" and len(body.corners) == 5
+
+
+def test_the_explorer_and_the_figure_list_the_same_angles():
+    """The explorer's wall panel prints the list `coinwall critical` prints; the figure's ρ panel marks each."""
+    from coinwall.cases.explore.compute import wall_info
+    from coinwall.forward.formats.figure import new_figure  # noqa: F401  (matplotlib, as the exporters use it)
+    from coinwall.inverse.export.figure import figure
+
+    info = wall_info({"expression": "1+0.1*cos(3*t)", "params": {}})
+    assert info["critical_angles_text"].startswith("θ = 0, 2.0944, 4.18879 (each ±")
+    assert len(info["critical_angles"]) == len(info["critical_angle_errors"]) == 3
+    body = solve_body(Wall.from_expression("1+0.1*cos(3*t)"), -0.3)
+    fig = figure(body)
+    marks = [line for ax in fig.axes for line in ax.get_lines() if str(line.get_label()).startswith("min ρ")]
+    assert len(marks) == 1 and len(marks[0].get_xdata()) == 3
+    assert np.allclose(sorted(marks[0].get_xdata()), sorted(body.critical_angles))
