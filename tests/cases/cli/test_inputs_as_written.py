@@ -193,11 +193,10 @@ def test_a_body_whose_energies_leave_floating_point_is_refused(body, tmp_path, c
 def test_quantum_solves_past_the_time_bound_are_refused(argv, tmp_path, capsys):
     err = _refused(["quantum", "1", *argv, "-o", "q.json"], tmp_path, capsys, "--allow-long")
     if "fits" in err:  # the height it suggests is within the bounds it states
+        from coinwall.cases.cli.quantum import MAX_SECONDS
         from coinwall.forward import Wall
         from coinwall.forward.quantum import make_strip
         from coinwall.forward.quantum.spectrum import MAX_DOFS, default_cells, estimated_seconds, fem_dofs
-
-        from coinwall.cases.cli.quantum import MAX_SECONDS
 
         H = float(err.split("H ≥ ")[1].split()[0])
         strip = make_strip(Wall.from_expression("1"), H, 0.0)
