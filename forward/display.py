@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 import math
 
-__all__ = ["safe_repr", "format_number", "json_number", "json_numbers", "one_line"]
+__all__ = ["format_number", "format_within", "json_number", "json_numbers", "one_line", "safe_repr"]
 
 
 def safe_repr(method):
@@ -36,6 +36,25 @@ def format_number(value, tolerance: float = 0.0, digits: int = 6) -> str:
         return "0"
     text = f"{value:.{digits}g}"
     return "0" if text in ("-0", "0") else text
+
+
+def format_within(value: float, tolerance: float) -> str:
+    """The shortest decimal within ``tolerance`` of ``value``: a number known to ``tolerance`` as a reader should
+    see it (``-0.2`` for ``-0.20000000000000018`` known to 1e-14; ``0`` within the tolerance of 0).
+
+    >>> format_within(-0.20000000000000018, 1e-14), format_within(0.8755555555555562, 2e-14)
+    ('-0.2', '0.87555555555556')
+    """
+    value = float(value)
+    if not math.isfinite(value):
+        return str(value)
+    if abs(value) <= tolerance:
+        return "0"
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= tolerance:
+            return text
+    return repr(value)
 
 
 def json_number(value, digits: int | None = None):

@@ -28,8 +28,9 @@ from .display import safe_repr
 __all__ = ["ParsedExpression", "check_ascii", "check_one_line", "parse_expression", "parse_param", "parse_params"]
 
 MAX_LENGTH = 2000
-MAX_NODES = 1000
-# a left-leaning sum of n terms is n deep, so this is also the longest plain sum
+#: Most levels of nesting: parentheses, calls, signs and powers inside one another.  A chain of one
+#: operator (``a + b − c + …``, ``a * b / c …``) is one level however long: nesting counts nesting, and the
+#: length of an expression is bounded by :data:`MAX_LENGTH` alone (each node takes at least one character).
 MAX_DEPTH = 200
 
 _VARIABLES = ("t", "theta")
@@ -142,7 +143,7 @@ def parse_param(text: str) -> tuple[str, float]:
     """
     if not isinstance(text, str) or "=" not in text:
         raise InvalidParameter(f"parameter {_show(text)} must have the form NAME=VALUE, e.g. eps=0.5")
-    name, _, raw = (part.strip() for part in text.partition("="))
+    name, _, raw = (part.strip(" \t") for part in text.partition("="))
     if not name:
         raise InvalidParameter(f"parameter {_show(text)} has no name; use NAME=VALUE, e.g. eps=0.5")
     _check_name(name)
@@ -242,7 +243,13 @@ class _Translator:
             operand = self.visit(node.operand)
             return -operand if isinstance(node.op, ast.USub) else operand
         if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-            return _BINOPS[type(node.op)](self.visit(node.left), self.visit(node.right))
+            chain = [node]  # a + b − c + …: walked as a loop, not one recursion per term
+            while _chained(chain[-1], chain[-1].left) and type(chain[-1].left.op) in _BINOPS:
+                chain.append(chain[-1].left)
+            value = self.visit(chain[-1].left)
+            for link in reversed(chain):
+                value = _BINOPS[type(link.op)](value, self.visit(link.right))
+            return value
         if isinstance(node, ast.Call):
             return self.call(node)
         self.reject(node)
@@ -356,15 +363,25 @@ def _parse_tree(text: str, source: str) -> ast.Expression:
     except (RecursionError, MemoryError):
         raise InvalidExpression(f"expression {_show(text)} is too deeply nested "
                                 f"(at most {MAX_DEPTH} levels)") from None
-    nodes, stack = 0, [(tree.body, 1)]
+    stack = [(tree.body, 1)]
     while stack:  # iterative, so the check itself cannot hit the recursion limit
         node, depth = stack.pop()
-        nodes += 1
-        if nodes > MAX_NODES or depth > MAX_DEPTH:
-            what = f"more than {MAX_NODES} nodes" if nodes > MAX_NODES else f"more than {MAX_DEPTH} levels of nesting"
-            raise InvalidExpression(f"expression {_show(source)} is too complex ({what})")
-        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node) if isinstance(child, ast.expr))
+        if depth > MAX_DEPTH:
+            raise InvalidExpression(f"expression {_show(source)} is too complex (more than {MAX_DEPTH} levels of "
+                                    "nesting)")
+        stack.extend((child, depth + (0 if _chained(node, child) else 1))
+                     for child in ast.iter_child_nodes(node) if isinstance(child, ast.expr))
     return tree
+
+
+_GROUPS = {ast.Add: "+", ast.Sub: "+", ast.Mult: "*", ast.Div: "*"}
+
+
+def _chained(parent, child) -> bool:
+    """Whether ``child`` continues the chain of ``parent`` (``a + b − c``: the left operand of the same kind of
+    operator), so that it adds no level of nesting."""
+    return (isinstance(parent, ast.BinOp) and isinstance(child, ast.BinOp) and child is parent.left
+            and _GROUPS.get(type(parent.op), "?") == _GROUPS.get(type(child.op), "!"))
 
 
 def parse_expression(text: str, params: Mapping[str, float] | None = None) -> ParsedExpression:
@@ -400,7 +417,7 @@ def parse_expression(text: str, params: Mapping[str, float] | None = None) -> Pa
     if not isinstance(params, Mapping):
         raise InvalidParameter(f"parameters must be a mapping name -> value, got {type(params).__name__}")
     values = {_check_name(name): _check_value(name, value) for name, value in params.items()}
-    source = text.strip()  # a leading blank would be an IndentationError
+    source = text.strip(" \t\n\r\f\v")  # a leading blank would be an IndentationError; ASCII ones only
     check_ascii(source)
     check_one_line(source)
     if not source:

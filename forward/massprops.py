@@ -29,7 +29,8 @@ import numpy as np
 from .display import safe_repr
 from .errors import InvalidArgument, InvalidExpression, InvalidOutline, InvalidParameter
 
-__all__ = ["MassProperties", "mass_properties", "outline_moments", "parse_density", "DENSITY_VARIABLES", "MAX_DENSITY"]
+__all__ = ["DENSITY_VARIABLES", "MAX_DENSITY", "SINGULAR_EXPONENT", "MassProperties", "check_integrable", "mass_properties", "outline_moments",
+           "parse_density"]
 
 #: names a density expression may use: Cartesian body coordinates and the distance from the origin
 DENSITY_VARIABLES = ("x", "y", "r")
@@ -94,6 +95,9 @@ class MassProperties:
 
 #: largest density value integrated (see :func:`mass_properties`)
 MAX_DENSITY = 1e100
+#: a density growing faster than d^-SINGULAR_EXPONENT near a point of the body is refused even when integrable
+#: (see :func:`check_integrable`)
+SINGULAR_EXPONENT = 0.25
 
 
 def _from_moments(mass, area, first, second, density, method, elements=0, min_density=1.0):
@@ -187,6 +191,86 @@ def parse_density(text: str, params=None):
     return rho
 
 
+def check_integrable(rho, density, polygon, start) -> None:
+    """Refuse a density whose mass is infinite: one that grows too fast near some point of the body.
+
+    What is checked: from ``start`` (where the sampled density is largest) the density is followed uphill,
+    zooming in by a factor 3 at a time down to 1e-9 of the body's size, to the point ``c`` it grows towards.
+    Then its growth ``ρ ~ d^(−p)`` with the distance ``d`` from ``c`` is measured on circles of radius
+    1e-3 … 1e-7 of the body's size (64 directions, inside the body).  A density that grows like that around
+    an isolated point has a finite mass only for ``p < 2`` (``∫ d^(−p) d dd``); across a singular curve (the
+    largest value on a circle keeps growing as the directions close in on one, ``1/|x|``) only for ``p < 1``.
+    A density bounded near ``c`` has ``p ≈ 0``.  Exponents within 0.02 of the limit count as not integrable.
+    A density with ``p`` above :data:`SINGULAR_EXPONENT` that is integrable is refused too: its mass is
+    finite, but quadrature at fixed points misses the spike (``r**-1.9`` gave half its mass).  A logarithmic
+    growth (``-log(r)``) passes.  Singularities outside the body do not matter.
+
+    Raises
+    ------
+    InvalidArgument
+        Naming the point, the exponent and the limit.
+    """
+    polygon = np.asarray(polygon, float)
+    size = float(np.max(np.ptp(polygon, axis=0)))
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    sign = np.sign(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))  # +1 for a counter-clockwise outline
+
+    def inside(p):
+        cross = (b[None, :, 0] - a[None, :, 0]) * (p[:, None, 1] - a[None, :, 1]) \
+            - (b[None, :, 1] - a[None, :, 1]) * (p[:, None, 0] - a[None, :, 0])
+        return np.all(sign * cross >= -1e-12 * size * size, axis=1)
+
+    def values(p):
+        with np.errstate(all="ignore"):
+            v = rho(p[:, 0], p[:, 1])
+        return np.where(np.isnan(v), -np.inf, np.where(np.isinf(v), np.inf, v))
+
+    centre, half = np.asarray(start, float), size / 10.0
+    offsets = np.stack(np.meshgrid(np.linspace(-1, 1, 9), np.linspace(-1, 1, 9)), axis=-1).reshape(-1, 2)
+    while half > 1e-9 * size:
+        trial = centre + half * offsets
+        trial = trial[inside(trial)]
+        v = values(trial)
+        if trial.size and np.max(v) > -np.inf:
+            centre = trial[int(np.argmax(v))]
+        half /= 3.0
+    angles = np.linspace(0.0, 2 * math.pi, 64, endpoint=False)
+    ring = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    radii = size * 10.0 ** -np.arange(3, 8)
+    typical, lowest, curve = [], [], False
+    for d in radii:
+        pts = centre + d * ring
+        v = values(pts[inside(pts)])
+        v = v[v > -np.inf]
+        if not v.size:
+            return
+        typical.append(float(np.median(v)))
+        lowest.append(float(np.min(v)))
+        if d == radii[0]:  # across a curve the largest value keeps growing as the directions close in on it
+            k = int(np.argmax(v))
+            fine = np.linspace(angles[k] - 0.1, angles[k] + 0.1, 4001)
+            near = centre + d * np.stack([np.cos(fine), np.sin(fine)], axis=1)
+            w = values(near[inside(near)])
+            curve = bool(w.size) and np.max(w) > 1e3 * max(np.median(v), 1e-300) and np.max(w) > 0
+    with np.errstate(all="ignore"):
+        span = math.log(radii[0] / radii[-1])
+        grow = (np.log(typical[-1]) - np.log(typical[0])) / span if typical[0] > 0 else 0.0
+        across = (np.log(lowest[-1]) - np.log(lowest[0])) / span if lowest[0] > 0 else 0.0
+    p, limit, place, shape = (across, 1.0, "across a curve through", "across a curve") if curve else \
+        (grow, 2.0, "around", "around a point")
+    where = f"{place} (x, y) = ({centre[0]:.4g}, {centre[1]:.4g})"
+    if not math.isfinite(typical[-1]) or not math.isfinite(lowest[-1]) or not math.isfinite(p) or p > limit - 0.02:
+        shown = "without bound" if not (math.isfinite(p) and math.isfinite(typical[-1])) else f"like d^-{p:.3g}"
+        raise InvalidArgument(f"density {density!r} has no finite mass: {where} it grows {shown} (d the distance "
+                              f"from there), and a density growing like d^-p {shape} is integrable only for "
+                              f"p < {limit:g}")
+    if p > SINGULAR_EXPONENT:
+        raise InvalidArgument(f"density {density!r} is singular (or nearly) {where}: it grows like d^-{p:.3g} (d the distance "
+                              f"from there); its mass is finite, but the quadrature (points at fixed places) cannot "
+                              "integrate a singular density to any stated accuracy: smooth it (e.g. r**2 + 1e-4 "
+                              "for r**2 under a power)")
+
+
 def _triangulation(outline, boundary, interior):
     """Points and triangles: ``boundary`` points along the curve, an interior grid, Delaunay."""
     from scipy.spatial import Delaunay
@@ -244,7 +328,8 @@ def mass_properties(outline, density=None, params=None, *, boundary: int = 2048,
     Raises
     ------
     InvalidArgument
-        A density that is negative or not finite somewhere in the body.
+        A density that is negative or not finite somewhere in the body, or whose mass is infinite (it grows too
+        fast near a point or a curve of the body: :func:`check_integrable`).
     InvalidOutline
         An outline without area.
     """
@@ -282,6 +367,11 @@ def mass_properties(outline, density=None, params=None, *, boundary: int = 2048,
             where, val = tuple(points[k]), vertex_values[k]
         raise InvalidArgument(f"density {density!r} is negative in the body: {val:.4g} at (x, y) = "
                               f"({where[0]:.4g}, {where[1]:.4g}); a mass density must be >= 0")
+
+    if rho is not None:
+        check_integrable(rho, density, outline.polygon(8), points[int(np.argmax(vertex_values))]
+                         if np.max(vertex_values) >= np.max(values) else
+                         np.array([qx.ravel()[int(np.argmax(values))], qy.ravel()[int(np.argmax(values))]]))
 
     @Functional
     def weighted(w):

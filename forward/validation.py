@@ -14,7 +14,7 @@ import re
 
 from .errors import InvalidArgument
 
-__all__ = ["DECIMAL", "parse_number", "parse_number_list", "check_count", "check_finite", "check_positive",
+__all__ = ["ASCII_BLANKS", "DECIMAL", "parse_number", "parse_number_list", "check_count", "check_finite", "check_positive",
            "check_choice", "check_range", "check_memory",
            "available_memory", "is_integer", "MEMORY_FRACTION"]
 
@@ -29,11 +29,38 @@ MEMORY_FRACTION = 0.5
 DECIMAL = re.compile(r"[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|inf|infinity|nan)", re.IGNORECASE | re.ASCII)
 
 
+#: The blanks a number may stand between: ASCII ones.  ``str.strip`` and ``float`` also drop a no-break space
+#: (U+00A0) and the other Unicode spaces, which no message could show; a number is ASCII, blanks included.
+ASCII_BLANKS = " \t\n\r\f\v"
+
+
 def parse_number(text: str) -> float:
-    """``text`` as a number of the one grammar (:data:`DECIMAL`), surrounding spaces allowed; ValueError else."""
-    if not isinstance(text, str) or not DECIMAL.fullmatch(text.strip()):
+    """``text`` as a number of the one grammar (:data:`DECIMAL`) between ASCII blanks; ValueError else.
+
+    >>> parse_number(" -2.5e-3 ")
+    -0.0025
+    >>> parse_number("\u00a0-0.3")
+    Traceback (most recent call last):
+    ...
+    ValueError: not a decimal number: '\xa0-0.3' (character U+00A0 NO-BREAK SPACE at column 1: numbers are ASCII)
+    """
+    if not isinstance(text, str):
         raise ValueError(f"not a decimal number: {text!r}")
-    return float(text)
+    stripped = text.strip(ASCII_BLANKS)
+    if not DECIMAL.fullmatch(stripped):
+        raise ValueError(f"not a decimal number: {text!r}{_foreign(text)}")
+    return float(stripped)
+
+
+def _foreign(text: str) -> str:
+    """`` (character U+00A0 NO-BREAK SPACE at column 1: numbers are ASCII)`` for the first non-ASCII character."""
+    import unicodedata
+
+    for column, char in enumerate(text, start=1):
+        if ord(char) > 127:
+            return (f" (character U+{ord(char):04X} {unicodedata.name(char, 'unnamed')} at column {column}: numbers "
+                    "are ASCII)")
+    return ""
 
 
 def parse_number_list(name: str, text: str, *, error=InvalidArgument) -> list[float]:
@@ -42,13 +69,13 @@ def parse_number_list(name: str, text: str, *, error=InvalidArgument) -> list[fl
     items = str(text).split(",")
     values = []
     for index, item in enumerate(items, start=1):
-        if not item.strip():
+        if not item.strip(ASCII_BLANKS):
             raise error(f"`{name}` must be comma-separated numbers; item {index} of {text!r} is empty")
         try:
             value = parse_number(item)
         except ValueError:
-            raise error(f"`{name}` must be comma-separated numbers; item {index} ({item.strip()!r}) of {text!r} is "
-                        "not a decimal number") from None
+            raise error(f"`{name}` must be comma-separated numbers; item {index} ({item.strip(ASCII_BLANKS)!r}) of "
+                        f"{text!r} is not a decimal number{_foreign(item)}") from None
         if not math.isfinite(value):
             raise error(f"`{name}` must be finite numbers; item {index} of {text!r} is {item.strip()}")
         values.append(value)

@@ -430,6 +430,12 @@ class Wall:
                 f"(b = {values[bad[0]]}); the wall must be finite everywhere")
         check_magnitude(self.description, theta, b, d1)
         object.__setattr__(self, "_scale", max(1.0, float(np.max(np.abs(b)))))
+        if isinstance(self._backend, _ExpressionBackend):
+            from .precision import check_precision
+
+            # what floating point computes must still be the formula (cos(2t + 1e20) no longer depends on t);
+            # before the periodicity check, which such a formula fails for the same reason
+            check_precision(self.description, self._backend.parsed, theta[::8], self._scale)
         with np.errstate(all="ignore"):  # a non-periodic formula may overflow one period on: judged below
             shifted = self._backend.values(theta + TWO_PI)
             diff = np.abs(shifted - b)
@@ -448,6 +454,7 @@ class Wall:
 
             # a support function is continuous: a jump between the check angles (a sign written with abs)
             check_continuity(self.description, self._backend.derivatives, theta, (b, d1), self._scale)
+
 
     def _find_kinks(self):
         theta = np.linspace(0.0, TWO_PI, _CHECK_POINTS + 1)

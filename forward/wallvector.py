@@ -19,7 +19,23 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ArrayProgram", "array_program"]
+__all__ = ["ArrayProgram", "array_program", "instructions"]
+
+
+def instructions(func):
+    """The algorithm of a casadi ``SX`` function: ``(op, inputs, outputs, constant)`` per instruction.
+
+    ``op`` is casadi's operation code (``casadi.OP_ADD`` …), ``inputs``/``outputs`` the work-vector slots it
+    reads and writes (for ``OP_OUTPUT``: the output's index first), ``constant`` the value of an
+    ``OP_CONST`` (None otherwise).  :class:`ArrayProgram` replays it with numpy,
+    :class:`coinwall.forward.affine.AffineProgram` with certified ranges.
+    """
+    import casadi as ca
+
+    for k in range(func.n_instructions()):
+        op = func.instruction_id(k)
+        constant = float(func.instruction_constant(k)) if op == ca.OP_CONST else None
+        yield op, func.instruction_input(k), func.instruction_output(k), constant
 
 
 # module-level operations (not lambdas), so that a program, and the wall holding it, pickles
@@ -113,12 +129,9 @@ class ArrayProgram:
 
         unary, binary = _op_tables()
         steps = []  # (kind, target, a, b): kind 0 constant, 1 input, 2 output, 3 unary, 4 binary
-        for k in range(func.n_instructions()):
-            op = func.instruction_id(k)
-            ins = func.instruction_input(k)
-            outs = func.instruction_output(k)
+        for op, ins, outs, constant in instructions(func):
             if op == ca.OP_CONST:
-                steps.append((0, outs[0], float(func.instruction_constant(k)), None))
+                steps.append((0, outs[0], constant, None))
             elif op == ca.OP_INPUT:
                 steps.append((1, outs[0], None, None))
             elif op == ca.OP_OUTPUT:

@@ -30,7 +30,10 @@ class Body:
     b_c : float
         Exact critical offset ``−min(b + b'')`` (``inf`` if no offset works).
     critical_angles : tuple of float
-        Where the minimum of ``b + b''`` is attained.
+        Where the minimum of ``b + b''`` is attained (every angle where it is).
+    critical_angle_errors : tuple of float
+        For a formula wall, one per critical angle: every minimiser lies within it of one of them
+        (:attr:`coinwall.inverse.critical.CriticalOffset.angle_errors`); empty for data.
     regime : str
         ``"convex"`` (Case I), ``"critical"`` (Case II) or ``"corner"`` (Case III).
     method : str
@@ -108,6 +111,7 @@ class Body:
     b_c_lower: float | None = None
     b_c_upper: float | None = None
     regimes: tuple = field(default=())
+    critical_angle_errors: tuple = field(default=())
 
     @property
     def regime_decided(self) -> bool:
@@ -179,6 +183,7 @@ class Body:
             "b_c_infinite": bool(math.isinf(self.b_c)),
             "b_c_tolerance": json_number(self.b_c_tolerance),
             "critical_angles": list(self.critical_angles),
+            "critical_angle_errors": list(self.critical_angle_errors),
             "regime": self.regime,
             "method": self.method,
             "regimes": list(self.regimes or (self.regime,)),

@@ -18,15 +18,12 @@ import numpy as np
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.display import format_number, safe_repr
 
+from .criticalcells import CELLS
 from .discrete import DiscreteSupport, _gaps, discrete_support, machine_rounding
 from .tolerances import ANGLE_TOLERANCE, OFFSET_TOLERANCE
 
-__all__ = ["CriticalOffset", "critical_offset", "data_critical_offset", "regime_of", "sampled_critical_offset"]
-
-_GRID = 8192
-# The location of a smooth minimum is only known to ~sqrt(machine eps) (the function is flat to rounding
-# there), whatever xatol the Brent polish below is given: each result measures its own (see
-# _location_uncertainty); ANGLE_TOLERANCE is the fallback.
+__all__ = ["CriticalOffset", "critical_offset", "data_critical_offset", "format_critical_angles", "regime_of",
+           "sampled_critical_offset"]
 
 
 @dataclass(frozen=True)
@@ -40,17 +37,19 @@ class CriticalOffset:
         every offset non-convex.
     angles : tuple of float
         Angles in [0, 2π) where the minimum of ``b + b''`` is attained (for a
-        minimum attained on a whole interval, its midpoint).
+        minimum attained on a whole interval, its midpoint).  For a formula wall, every global
+        minimiser lies within :attr:`angle_errors` of one of them.
     intervals : tuple of (float, float)
         Intervals on which ``b + b''`` stays at its minimum (e.g. the stick,
         where ``b + b'' = 0`` away from the kinks); empty for isolated minima.
     angle_tolerance : float
-        How well the angles are known (rad): the largest half-width over the minima within which
-        ``b + b''`` changes less than its rounding error.  An angle within it of
-        0 (or of 2π) *is* 0 for a reader; :meth:`format_angle` prints it so.
+        How well the angles are known (rad): for a formula wall, the largest of
+        :attr:`angle_errors` over the isolated angles (ANGLE_TOLERANCE when there are none).  An angle
+        within it of 0 (or of 2π) *is* 0 for a reader; :meth:`format_angle` prints it so.
     b_c_tolerance : float
-        The rounding level of ``b + b''`` (a b_c within it of 0 prints as 0); for data, the larger
-        distance from :attr:`b_c` to an end of the certified interval.
+        For a formula wall, certified: ``|b_c − exact| ≤ b_c_tolerance`` (the ranges of ``b + b''`` on
+        cells, rounding included: :mod:`coinwall.inverse.criticalcells`); for data, the larger distance
+        from :attr:`b_c` to an end of the certified interval.
     lower, upper : float or None
         For data: every wall consistent with the samples' intervals has ``b_c ≥ lower`` (certified by a
         linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).
@@ -59,6 +58,17 @@ class CriticalOffset:
         What :attr:`upper` rests on (empty for a formula wall).
     samples_used : int
         For data: how many samples the geometry used (dense data are thinned); 0 otherwise.
+    angle_errors : tuple of float
+        For a formula wall, one per angle: the certified half-width of the window around it that holds
+        its minimisers (the half-length of an interval).  Empty for data.
+    spread : float
+        For a formula wall: on every window, ``b + b''`` is within ``spread`` of its certified lower bound
+        (``−b_c − b_c_tolerance``): an angle is reported only that close to the minimum.  0 for data.
+    uncertified : tuple of (float, float)
+        For a formula wall, angle ranges the certificate leaves out (usually none): where ``b''`` grows
+        without bound (the flat points of a superellipse, ~1e-11 rad around them) or where its ranges did
+        not narrow within the search's budget; there ``b + b''`` counts by sampled values, and
+        :attr:`b_c_tolerance` holds everywhere else (:mod:`coinwall.inverse.criticalcells`).
     """
 
     b_c: float
@@ -70,6 +80,9 @@ class CriticalOffset:
     upper: float | None = None
     assumption: str = ""
     samples_used: int = 0
+    angle_errors: tuple[float, ...] = ()
+    spread: float = 0.0
+    uncertified: tuple[tuple[float, float], ...] = ()
 
     def regimes(self, b0: float, scale: float = 1.0) -> tuple[str, ...]:
         """The regimes an offset ``b0`` may be in: one for a formula wall (:func:`regime_of`); for data,
@@ -98,197 +111,112 @@ class CriticalOffset:
         return f"CriticalOffset(b_c={format_number(self.b_c, self.b_c_tolerance, 12)}{within}, angles=[{angles}])"
 
 
-def _smooth_curvature(wall, theta):
-    b, _, d2 = wall.derivatives(theta)
-    return b + d2
+def format_critical_angles(angles, errors=(), digits: int = 6) -> tuple[str, str]:
+    """The critical angles as a reader sees them, and their uncertainty: ``("0, 2.0944, 4.18879", "±6e-08 rad")``.
 
+    One text for every front end (``coinwall critical``, ``coinwall solve``, the explorer).  An angle
+    within its uncertainty (:attr:`CriticalOffset.angle_errors`; :data:`ANGLE_TOLERANCE` without one) of 0 or
+    2π prints as 0.  The second part gives the largest uncertainty of the isolated angles (the middles of
+    intervals are left out: the intervals say where those minima are); it is empty without errors.
 
-def _unresolved_minima(wall, theta, depth: int = 3, points: int = 257, most: int = 64):
-    """Values of ``b + b''`` inside grid intervals the grid does not resolve, as ``(angles, values)``.
-
-    On an interval of width ``w`` where ``b''`` varies on scales above ``w``, the trapezoid rule holds for
-    ``(b', b'')``: ``r = b'(a + w) − b'(a) − w (b''(a) + b''(a + w)) / 2`` is small against the size of its
-    terms (``|r| / s = O(w²)``; the same test as :mod:`coinwall.forward.singularities`).  A step narrower
-    than the grid (``tanh(1e5 sin t)``) breaks it: there ``b + b''`` can dip far below every grid value
-    and the grid minimum would be silently wrong.  Each such interval (the ``most`` with the largest terms,
-    intervals holding a kink or a break left out: there ``b''`` has a point mass the kinks handle) is
-    sampled at ``points`` angles, and the sub-intervals that still fail are sampled again, ``depth``
-    levels down (to ~1e-11 rad on the default grid).
+    Examples
+    --------
+    >>> format_critical_angles([6.283185307179, 3.14159265], [6e-8, 5e-8])
+    ('0, 3.14159', '±6e-08 rad')
     """
-    found_theta, found_rho, found_step = [], [], []
-    skip = np.array([k.angle for k in wall.kinks] + list(getattr(wall, "breaks", ())), dtype=float)
-    with np.errstate(all="ignore"):
-        _, d1, d2 = wall.derivatives(theta)
-        a, b = theta, np.append(theta[1:], theta[0] + TWO_PI)
-        lo1, hi1, lo2, hi2 = d1, np.roll(d1, -1), d2, np.roll(d2, -1)
-        for _ in range(depth):
-            w = b - a
-            r = hi1 - lo1 - 0.5 * w * (lo2 + hi2)
-            size = np.abs(hi1 - lo1) + 0.5 * w * (np.abs(lo2) + np.abs(hi2))
-            floor = 1e-12 * max(1.0, float(np.median(np.abs(d2))))
-            suspect = (np.abs(r) > 0.1 * size) & (np.abs(r) > floor)
-            if skip.size:
-                inside = (np.mod(skip[None, :] - a[:, None], TWO_PI) <= w[:, None] + 1e-12)
-                suspect &= ~inside.any(axis=1)
-            idx = np.flatnonzero(suspect)
-            if not idx.size:
-                break
-            idx = idx[np.argsort(-size[idx])][:most]
-            fine = a[idx, None] + (b - a)[idx, None] * np.linspace(0.0, 1.0, points)[None, :]
-            bb, f1, f2 = (np.asarray(v, dtype=float).reshape(fine.shape) for v in wall.derivatives(fine.ravel()))
-            found_theta.append(fine.ravel())
-            found_rho.append((bb + f2).ravel())
-            found_step.append(np.repeat((b - a)[idx] / (points - 1), points))
-            a, b = fine[:, :-1].ravel(), fine[:, 1:].ravel()
-            lo1, hi1, lo2, hi2 = f1[:, :-1].ravel(), f1[:, 1:].ravel(), f2[:, :-1].ravel(), f2[:, 1:].ravel()
-    if not found_theta:
-        return np.empty(0), np.empty(0)
-    # one candidate per dip: the lowest sample of each cluster, polished by Brent between its neighbours
-    from .scalarmin import bounded_minimum
+    from .criticalcells import INTERVAL_WIDTH
 
-    t = np.concatenate(found_theta)
-    rho = np.concatenate(found_rho)
-    step = np.concatenate(found_step)
-    order = np.argsort(t, kind="stable")
-    t, rho, step = t[order], rho[order], step[order]
-    ok = np.isfinite(rho)
-    t, rho, step = t[ok], rho[ok], step[ok]
-    gap = 2.0 * float(np.max(np.diff(theta))) if theta.size > 1 else TWO_PI
-    starts = np.flatnonzero(np.concatenate([[True], np.diff(t) > gap]))
-    out_t, out_rho = [], []
-    for first, last in zip(starts, np.append(starts[1:], t.size)):
-        i = first + int(np.argmin(rho[first:last]))
-        # the lowest sample's neighbours at its own level (samples of several levels are interleaved here)
-        centre, half = float(t[i]), float(step[i])
-        where, value = centre, float(rho[i])
-        if half > 0:
-            # in the offset y from the sample: Brent's tolerance is relative to |x| (~1.5e-8 rad at θ ~ 1), far
-            # coarser than a dip 1e-5 rad wide; relative to |y| it resolves the dip
-            x, fx = bounded_minimum(lambda y: float(_smooth_curvature(wall, np.array([centre + y]))[0]),
-                                    -half, half, xatol=1e-15)
-            if np.isfinite(fx) and float(fx) < value:
-                where, value = centre + float(x), float(fx)
-        out_t.append(where)
-        out_rho.append(value)
-    return np.mod(np.array(out_t), TWO_PI), np.array(out_rho)
+    given = len(errors) > 0
+    errors = tuple(errors) if given else (ANGLE_TOLERANCE,) * len(angles)
+    shown, isolated = [], []
+    for angle, error in zip(angles, errors):
+        point = 2.0 * error < INTERVAL_WIDTH
+        tolerance = max(error, 1e-15) if point else ANGLE_TOLERANCE
+        angle = 0.0 if abs(angle - TWO_PI) <= tolerance else angle
+        shown.append(format_number(angle, tolerance, digits))
+        if point:
+            isolated.append(error)
+    spread = f"±{max(isolated):.1g} rad" if given and isolated else ""
+    return ", ".join(shown) or "—", spread
 
 
-def critical_offset(wall, *, grid: int = _GRID, samples=None) -> CriticalOffset:
-    """Exact critical offset of ``wall``: ``b_c = −min_θ (b + b'')``.
+def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
+    """Exact critical offset of ``wall``, ``b_c = −min_θ (b + b'')``, with every angle where it is attained.
 
-    The minimum is bracketed on a grid of angles, then every grid minimum
-    within reach of the global one is polished with a bounded Brent search on
-    the exact ``b + b''`` (casadi derivatives), so the value is exact to
-    rounding and the angle to ~1e-8 rad.  A minimum attained on a whole
-    interval (the stick: ``b + b'' = 0`` between its kinks) is reported as an
-    interval; intervals are split at the kinks, where ``b''`` has a point mass.
+    For a formula wall (an expression, a Fourier series, circle arcs) the minimum is sought over the whole
+    period from certified ranges of ``b + b''`` on cells (:mod:`.criticalcells`): cells that cannot hold
+    a minimiser are dropped, the others halved until the rounding of ``b + b''`` decides.  So ``b_c`` is
+    certified to :attr:`~CriticalOffset.b_c_tolerance`, and **every** global minimiser lies within its
+    :attr:`~CriticalOffset.angle_errors` entry of one of the reported angles (or in one of the intervals,
+    where ``b + b''`` is minimal on a whole arc: the stick); an angle is reported only where ``b + b''``
+    comes within that tolerance of its minimum, so a second dip above it is left out.  Intervals are split
+    at the kinks, where ``b''`` has a point mass.  A concave kink (``b'`` jumps down) gives ``b_c = inf``.
+    A wall of samples gets the data's certified interval (:func:`data_critical_offset`).
 
     Parameters
     ----------
     wall : forward.Wall
-    grid : int
-        Resolution of the uniform bracketing grid (used when no samples are given).
-    samples : inverse.support.SupportSamples, optional
-        Samples the solver already holds (angles in increasing order, kinks as
-        one-sided pairs); with at least ``grid // 2`` of them they serve as the
-        bracketing grid and the wall is not evaluated again.
+    cells : int
+        Uniform cells of the search's first grid (kinks and breaks add more).
+
+    Returns
+    -------
+    CriticalOffset
+
+    Raises
+    ------
+    InvalidWall
+        Where ``b + b''`` has no finite bound near some angle (a wall that is not finite with finite
+        slopes), naming the angle.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> found = critical_offset(Wall.from_expression("1 + 0.1*cos(3*t)"))   # b + b'' = 1 − 0.8 cos 3θ
+    >>> round(found.b_c, 12), [found.format_angle(a) for a in found.angles]
+    (-0.2, ['0', '2.0944', '4.18879'])
+    >>> bool(found.b_c_tolerance < 1e-13 and max(found.angle_errors) < 1e-6)
+    True
     """
-    from .scalarmin import bounded_minimum  # scipy's bounded Brent without importing scipy.optimize
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.wallbounds import curvature_ranges
+
+    from .criticalcells import INTERVAL_WIDTH, certified_minimum
 
     if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
         return data_critical_offset(wall)
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
         return CriticalOffset(math.inf, tuple(k.angle for k in concave))
-    if samples is not None and samples.phi.size >= grid // 2:
-        theta = np.asarray(samples.phi, float)
-        rho = samples.h + samples.h2 - samples.b0
-    else:
-        theta = np.linspace(0.0, TWO_PI, grid, endpoint=False)
-        rho = _smooth_curvature(wall, theta)
-        for k in wall.kinks:  # the smooth part is meaningless exactly at a kink: use both one-sided values
-            i = int(np.argmin(np.abs(np.angle(np.exp(1j * (theta - k.angle))))))
-            if abs(theta[i] - k.angle) < 1e-12 or abs(abs(theta[i] - k.angle) - TWO_PI) < 1e-12:
-                b, _, _ = wall.one_sided(k.angle, -1)
-                rho[i] = b + min(k.curvature_left, k.curvature_right)
-    if samples is None or samples.phi.size < grid // 2:
-        # a dip of b + b'' narrower than the grid (a steep step) is looked for where the grid fails to resolve
-        # b''; its samples join the grid only where they go below it, so resolved walls are not touched
-        extra_theta, extra_rho = _unresolved_minima(wall, theta)
-        finite = np.isfinite(rho)
-        deeper = extra_rho < (np.min(rho[finite]) if finite.any() else np.inf) - 1e-9 * max(1.0, wall.scale)
-        if deeper.any():
-            theta = np.concatenate([theta, extra_theta[deeper]])
-            rho = np.concatenate([rho, extra_rho[deeper]])
-            order = np.argsort(theta, kind="stable")
-            theta, rho = theta[order], rho[order]
-    bad = np.flatnonzero(~np.isfinite(rho))
-    if bad.size:  # a wall passed its checks but not here: say where, never report b_c = nan
-        from coinwall.forward.errors import InvalidWall
-
-        where = float(np.mod(theta[bad[0]], TWO_PI))
-        raise InvalidWall(f"wall {wall.description!r}: b + b'' is not finite at θ = {where:.6g}; "
-                          "the critical offset needs a finite wall with finite slopes")
-    low = float(np.min(rho))
-    spread = float(np.max(rho) - low)
-    tol = 1e-9 * max(wall.scale, spread)
-    near = rho <= low + tol
-    n = theta.size
-    angles, intervals = [], []
-    best = low
-    uncertainty = 1e-12
-    for start, length in _cyclic_runs(near):
-        if length > 3:
-            lo = theta[start]
-            hi = lo + np.mod(theta[(start + length - 1) % n] - lo, TWO_PI)
-            if length == n:  # the whole circle: it starts and ends at a kink, if there is one
-                lo = wall.kinks[0].angle if wall.kinks else 0.0
-                hi = lo + TWO_PI
-            for a, b in _split_at_kinks(lo, hi, [k.angle for k in wall.kinks]):
-                intervals.append((float(np.mod(a, TWO_PI)), float(np.mod(a, TWO_PI) + (b - a))))
-                angles.append(float(np.mod(0.5 * (a + b), TWO_PI)))
-            continue
-        left = theta[(start - 1) % n]
-        right = theta[(start + length) % n]
-        left = theta[start] - np.mod(theta[start] - left, TWO_PI)
-        right = theta[start] + np.mod(right - theta[start], TWO_PI)
-        i = start + int(np.argmin(rho[[(start + j) % n for j in range(length)]]))
-        res = None
-        if right - left > 1e-12:
-            res = bounded_minimum(lambda x: float(_smooth_curvature(wall, np.array([x]))[0]),
-                                  left, right, xatol=1e-10)
-        if res is not None and float(res[1]) <= float(rho[i % n]):
-            value, where = float(res[1]), float(res[0])
-        else:
-            value, where = float(rho[i % n]), float(theta[i % n])
-        best = min(best, value)
-        angles.append(float(np.mod(where, TWO_PI)))
-        uncertainty = max(uncertainty, _location_uncertainty(wall, where, value))
+    cached = wall.__dict__.get("_critical_offset")  # a wall is immutable: its b_c is computed once
+    if cached is not None and cached[0] == cells:
+        return cached[1]
+    ranges = curvature_ranges(wall)
+    found = certified_minimum(ranges, ranges.cuts, ranges.kinks, cells=cells)
+    if not (math.isfinite(found.lower) and math.isfinite(found.upper)):
+        where = ", ".join(f"{np.mod(0.5 * (lo + hi), TWO_PI):.6g}" for lo, hi in found.windows[:3])
+        raise InvalidWall(f"wall {wall.description!r}: b + b'' has no finite bound near θ = {where}; the critical "
+                          "offset needs a finite wall with finite slopes")
+    angles, errors, intervals = [], [], []
+    for lo, hi in found.windows:
+        if hi - lo >= TWO_PI - 1e-12:  # the whole circle (a circle): it starts and ends at a kink if any
+            lo = wall.kinks[0].angle if wall.kinks else 0.0
+            hi = lo + TWO_PI
+        if hi - lo >= INTERVAL_WIDTH:
+            intervals.append((float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + (hi - lo))))
+        angle, error = float(np.mod(0.5 * lo + 0.5 * hi, TWO_PI)), float(0.5 * (hi - lo))
+        angles.append(0.0 if TWO_PI - angle <= min(error, 0.5 * INTERVAL_WIDTH) else angle)  # at 0, not 2π
+        errors.append(error)
     order = np.argsort(angles)
-    rounding = 64.0 * np.finfo(float).eps * max(wall.scale, spread)
+    point_errors = [e for e in errors if 2.0 * e < INTERVAL_WIDTH]
+    tolerance = max(found.upper - found.value, found.value - found.lower)
     # + 0.0: a minimum of exactly 0 is b_c = 0, not -0
-    return CriticalOffset(-best + 0.0, tuple(angles[i] for i in order), tuple(intervals), uncertainty, rounding)
-
-
-def _location_uncertainty(wall, where: float, value: float) -> float:
-    """How far from ``where`` the minimum of ``b + b''`` may be: the half-width of the dip in which
-    ``b + b''`` rises less than its own rounding.  Near a smooth minimum f ≈ f0 + c·δ²/2, so the
-    minimiser cannot tell apart points within δ = sqrt(2·noise/c) (≈ 5e-8 rad for c ~ 1)."""
-    step = 1e-3
-    f = _smooth_curvature(wall, np.array([where - step, where + step]))
-    curvature = (f[0] + f[1] - 2.0 * value) / step**2
-    noise = 16.0 * np.finfo(float).eps * max(1.0, wall.scale, abs(value))
-    if not curvature > 0:  # flat to the eye of this check (a quartic minimum): keep the default
-        return ANGLE_TOLERANCE
-    return float(math.sqrt(2.0 * noise / curvature))
-
-
-def _split_at_kinks(lo, hi, kinks):
-    """Pieces of the angular interval [lo, hi] between the kinks strictly inside it."""
-    cuts = sorted(lo + np.mod(k - lo, TWO_PI) for k in kinks)
-    cuts = [c for c in cuts if lo + 1e-12 < c < hi - 1e-12]
-    edges = [lo] + cuts + [hi]
-    return [(a, b) for a, b in zip(edges[:-1], edges[1:]) if b - a > 1e-12]
+    result = CriticalOffset(-found.value + 0.0, tuple(angles[i] for i in order), tuple(sorted(intervals)),
+                            max(point_errors) if point_errors else ANGLE_TOLERANCE, float(tolerance),
+                            angle_errors=tuple(errors[i] for i in order), spread=float(found.spread),
+                            uncertified=tuple((float(lo), float(hi)) for lo, hi in found.uncertified))
+    object.__setattr__(wall, "_critical_offset", (cells, result))
+    return result
 
 
 def _cyclic_runs(mask):

@@ -58,9 +58,8 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
                  accuracy: float | None = None) -> Body:
     """The body of a wall known everywhere (a formula, or data shown to be smooth): the envelope or
     polar construction on a grid of ``points`` normal angles, checked against the wall on a second grid."""
-    # the envelope grid doubles as the bracketing grid of the critical offset
     samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
-    critical = critical_offset(wall, samples=samples)
+    critical = critical_offset(wall)
     regime = regime_of(b0, critical.b_c, wall.scale, critical.b_c_tolerance)
     geometry = regime
     if wall.samples is not None and samples is not None and regime != "corner" \
@@ -124,7 +123,8 @@ def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool
     if accuracy is None:
         accuracy = WALL_ACCURACY * max(1.0, wall.scale)
     return Body(
-        wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles, regime=regime, method=method,
+        wall=wall, b0=b0, b_c=critical.b_c, critical_angles=critical.angles,
+        critical_angle_errors=critical.angle_errors, regime=regime, method=method,
         outline=outline, x=x, y=y, K=curvature,
         phi_in=np.mod(nodes.phi_in, TWO_PI), phi_out=np.mod(nodes.phi_in, TWO_PI) + widths,
         corners=tuple(corners), folds=tuple(extras.get("folds", ())), max_wall_error=max_wall_error,

@@ -29,7 +29,8 @@ import sys
 import tempfile
 import time
 
-__all__ = ["kind_files", "Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_WALLS", "ODD_WALLS", "BASE_COMMANDS",
+__all__ = ["kind_files", "Worker", "check_clean", "snapshot", "BAD_NUMBERS", "BAD_REQUESTS", "BAD_WALLS", "ODD_WALLS",
+           "BASE_COMMANDS",
            "NUMERIC_FLAGS", "WALL_COMMANDS", "FILE_COMMANDS", "VALID_FILES", "valid_files", "hostile_files",
            "make_folder", "mutate", "with_flag", "MUTATION_TARGETS", "MUTATIONS", "mutation_request"]
 
@@ -197,7 +198,9 @@ def check_clean(argv, result, before, after, *, certainly_bad: bool) -> list:
 # ------------------------------------------------------------------------------------------- the inputs
 # values that no flag of the given kind may accept (each is refused by argparse or by our checks)
 _NOT_A_NUMBER = ["", "abc", "nan", "NaN", "-nan", "inf", "-inf", "Infinity", "1e400", "-1e400", "0x10", "1_0", "1,5",
-                 "--", "1e", "١"]
+                 "--", "1e", "١",
+                 # numbers are ASCII: no-break and other Unicode spaces (float() would strip them) are refused
+                 "\u00a0-0.3", "\u20070.5", "1\u3000", "\u202f2", "2\u2009"]
 BAD_NUMBERS = {
     "count": _NOT_A_NUMBER + ["0", "-1", "1.5", "1e30", "-1e30", "99999999999999999999999", "1e19"],
     "positive": _NOT_A_NUMBER + ["0", "-0", "-1", "-1e-300", "1e308", "-1e308"],
@@ -214,11 +217,30 @@ BAD_WALLS = ["", " ", "(", ")", "sin(", "1+", "t**", "1/0", "nan", "inf", "-inf"
              # one grammar: an expression is one line -- no comment, continuation or empty argument
              "1+0.1*cos(t) # +0.2*cos(3*t)", "1+\\\n0.1*cos(t)", "(1+0.1\n*cos(t))", "1+0.1*cos(t,)", "max(t,1,)+1",
              # walls that jump: no b_c exists
-             "1+0.1*cos(t)/abs(cos(t))", "2+sign(sin(t))"]
+             "1+0.1*cos(t)/abs(cos(t))", "2+sign(sin(t))",
+             # walls floating point cannot follow: an argument whose size swamps t, a no-break space
+             "2+0.1*cos(2*t+1e20)", "1+1e-30*cos(1e15*t)", "2+0.1*sin(3*t+1e17)", "\u00a01+0.1*cos(t)"]
 # walls that may be valid or not, but must never crash anything: long, deep, steep, tiny, huge
 ODD_WALLS = ["(" * 200 + "1" + ")" * 200, "2+" + "+".join(["cos(t)"] * 2000), "1+0.999999*cos(2*t)/3",
+             "1" + "+0.001*cos(2*t)" * 130, "1" + "+1" * 994 + "+0.1*cos(2*t)",
              "1e-300+0*t", "1e300+cos(t)", "-cos(t)+2", "abs(cos(t))+1", "1+0.1*sign(cos(t))", "exp(50*cos(t))",
              "1+1e-12*cos(1000*t)", "1+0.1*cos(2*t)+1e-9*cos(10000*t)"]
+
+# whole requests that must be refused (exit 2, one line, nothing written): densities with no finite mass or
+# that the quadrature cannot integrate, a body whose energies leave floating point, quantum solves past the
+# time bound (sizes the tool itself suggested once), a no-break space in a number
+BAD_REQUESTS = [["mass", "body.json", "--density", "r**-3"], ["mass", "body.json", "--density", "r**-2"],
+                ["mass", "body.json", "--density", "1/abs(x)"], ["mass", "body.json", "--density", "1/x**2"],
+                ["mass", "body.json", "--density", "1/((x-0.2)**2+(y-0.1)**2)"],
+                ["mass", "body.json", "--density", "r**-1.5"], ["mass", "body.json", "--density", "exp(1/r)"],
+                ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1e308,1e308"],
+                ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1,1e-300"],
+                ["quantum", "1", "--H", "3", "--levels", "2", "--body", "1e-300,1e300"],
+                ["quantum", "1", "--H", "2.00403", "--levels", "2", "-o", "out.json"],
+                ["quantum", "1", "--H", "1e6", "--levels", "4"],
+                ["solve", "1+0.1*cos(2*t)", "--b0", "\u00a0-0.3", "-o", "out.csv"],
+                ["critical", "1+eps*cos(2*t)", "--param", "eps=\u00a00.1"],
+                ["mass", "body.json", "--kappa", "\u00a01"]]
 
 # one valid, quick command per subcommand: the base the fuzzer breaks one piece of.  Names of files refer
 # to :func:`hostile_files`'s folder, where a valid body.json, samples.csv and points.csv are written.
@@ -375,6 +397,18 @@ def hostile_files(folder) -> dict:
         "JSON samples in degrees, not marked as such")
     put("underscore.csv", "theta,b\n" + "".join(f"{k / 10},1_0\n" for k in range(60)), "CSV with 1_0")
     put("fullwidth.csv", "theta,b\n" + "".join(f"{k / 10},\uff11\n" for k in range(60)), "CSV with fullwidth digits")
+    put("nbsp.csv", "theta,b\n" + "".join(f"\u00a0{k / 10},1\n" for k in range(60)), "CSV with no-break spaces")
+    # SVG's grammar: a transform list is applied whole or not at all; numbers are ASCII
+    for name, transform in (("evil", "scale(2) evil(1)"), ("rotate2", "rotate(30, 5)"), ("matrix5", "matrix(1 0 0 1 0)"),
+                            ("twocommas", "scale(2),,translate(1)"), ("nbsp", "scale(\u00a02)")):
+        put(f"transform-{name}.svg", f'<svg xmlns="http://www.w3.org/2000/svg"><g transform="{transform}">'
+            '<circle cx="0" cy="0" r="1"/></g></svg>', f"SVG transform {transform!r}")
+    put("arabic-digit.svg", '<svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 L \u0661 0 L 1 1 Z"/></svg>',
+        "SVG path with an Arabic-Indic digit")
+    # DXF's ranges: a circle or arc has a positive radius, an ellipse an axis ratio in (0, 1]
+    dxf = "0\nSECTION\n2\nENTITIES\n0\nCIRCLE\n8\n0\n10\n0.0\n20\n0.0\n30\n0.0\n40\n{}\n0\nENDSEC\n0\nEOF\n"
+    put("negative-radius.dxf", dxf.format("-2.0"), "DXF circle of radius -2")
+    put("zero-radius.dxf", dxf.format("0.0"), "DXF circle of radius 0")
     os.mkdir(os.path.join(folder, "folder.csv"))
     files["folder.csv"] = "a folder"
     files["missing.csv"] = "a file that does not exist"

@@ -110,9 +110,9 @@ def format_angles(angles, tolerance=ANGLE_TOLERANCE):
 def number(text: str) -> float:
     """The ``type`` of the number flags: a decimal number (``-1e-3``, ``.5``; ``inf`` and ``nan`` are left
     to the range checks, which say why they are refused).  argparse reports "invalid number value"."""
-    if not _DECIMAL.fullmatch(text.strip()):
-        raise ValueError(text)
-    return float(text)
+    from coinwall.forward.validation import parse_number
+
+    return parse_number(text)
 
 
 def count(text: str) -> int:
@@ -123,7 +123,9 @@ def count(text: str) -> int:
     "invalid count value"."""
     import decimal
 
-    text = text.strip()
+    from coinwall.forward.validation import ASCII_BLANKS
+
+    text = text.strip(ASCII_BLANKS)
     if _INTEGER.fullmatch(text):
         return int(text)
     if not _DECIMAL.fullmatch(text) or not any(c.isdigit() for c in text):  # no inf/nan

@@ -7,7 +7,7 @@ import math
 
 from coinwall.inverse.tolerances import OFFSET_TOLERANCE
 
-from .common import add_command, format_angles, wall_arguments
+from .common import add_command, wall_arguments
 
 __all__ = ["register"]
 
@@ -17,7 +17,10 @@ attained (where b + b'' is minimal on whole arcs, as for the stick, those interv
 is the radius of curvature of the body with wall b0 + b: below b_c no convex body has that wall,
 at b_c the curvature is infinite at those angles.  b_c = inf means a concave kink of the wall (b'
 jumps down), which no offset repairs.  The minimum is sought over all angles, not only at the
-extrema of b where the paper's Appendix estimated it."""
+extrema of b where the paper's Appendix estimated it: for a formula, from certified bounds of
+b + b'' on cells of the whole period, so b_c comes with a certified tolerance and every angle where
+the minimum is attained is listed, each with the width within which it is known (JSON: angle_errors).
+Walls given as samples get the certified interval the data allow."""
 
 _EXAMPLE = """\
 coinwall critical "0.2*cos(2*t) + 0.06*sin(3*t)"
@@ -35,8 +38,9 @@ def register(subparsers):
 
 def run(args):
     """Compute the critical offset and print it."""
-    from coinwall.forward.display import format_number
+    from coinwall.forward.display import format_number, format_within
     from coinwall.inverse import critical_offset
+    from coinwall.inverse.critical import format_critical_angles
 
     from .common import load_wall, wall_options
 
@@ -50,12 +54,19 @@ def run(args):
         if result.lower is not None:
             doc.update({"b_c_lower": result.lower, "b_c_upper": result.upper, "assumption": result.assumption,
                         "samples": int(wall.samples[0].size), "samples_used": result.samples_used})
+        if result.angle_errors:
+            doc.update({"angle_errors": list(result.angle_errors), "spread": result.spread})
+        if result.uncertified:
+            doc["uncertified"] = [list(w) for w in result.uncertified]
         print(json.dumps(doc, indent=1, allow_nan=False))
         return 0
     print(f"wall       {wall!r}")
     if finite:
-        tolerance = max(OFFSET_TOLERANCE * max(1.0, wall.scale), result.b_c_tolerance)
-        line = f"b_c        {format_number(result.b_c, tolerance, 15)}"
+        # the shortest decimal the certificate allows (a data wall prints its interval below)
+        line = f"b_c        {format_within(result.b_c, result.b_c_tolerance)}"
+        if result.angle_errors:
+            outside = " outside the angles noted below" if result.uncertified else ""
+            line += f" (certified to ±{result.b_c_tolerance:.1g}{outside})"
         if result.lower is not None:
             fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
             line = (f"b_c        {format_number(result.b_c, fine, 6)} (best estimate), certified in "
@@ -70,7 +81,14 @@ def run(args):
             print(f"assuming   upper end: {result.assumption}")
     else:
         print("b_c        inf (a concave kink: no convex body for any b0)")
-    print(f"angles     {format_angles(result.angles)} (rad, where b + b'' is smallest)")
+    angles, spread = format_critical_angles(result.angles, result.angle_errors)
+    every = f"; every minimiser within {spread} of one" if spread else ""
+    print(f"angles     {angles} (rad, where b + b'' is smallest{every})")
     for lo, hi in result.intervals:
         print(f"interval   b + b'' is minimal on [{format_number(lo)}, {format_number(hi)}]")
+    if result.uncertified:
+        where = ", ".join(f"θ = {0.5 * (lo + hi):.6g} ± {0.5 * (hi - lo):.0e}" if hi - lo < 1e-6 else
+                          f"[{format_number(lo)}, {format_number(hi)}]" for lo, hi in result.uncertified)
+        print(f"note       not certified at {where}: b + b'' has no bound there that narrows (b'' unbounded, or "
+              "two branches of a max equal on an arc); its sampled values stand in")
     return 0

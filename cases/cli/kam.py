@@ -4,8 +4,18 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 
-from .common import add_command, check_positive_count, check_seed, count, device_argument, progress_bar, written_lines
+from .common import (
+    add_command,
+    check_positive_count,
+    check_seed,
+    count,
+    device_argument,
+    number,
+    progress_bar,
+    written_lines,
+)
 
 __all__ = ["register"]
 
@@ -32,7 +42,7 @@ def register(subparsers):
     kam.add_argument("--orbits", type=count, default=100, help="orbits per (ε, H) (default 100)")
     kam.add_argument("--collisions", type=count, default=1000, help="collisions per orbit (default 1000)")
     kam.add_argument("--steps", type=count, default=7, help="bisection steps in log ε (default 7)")
-    kam.add_argument("--regular-max", type=float, default=0.01, help="criterion: regular fraction below this (0.01)")
+    kam.add_argument("--regular-max", type=number, default=0.01, help="criterion: regular fraction below this (0.01)")
     kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
     kam.add_argument("--seed", type=count, default=0, help="seed (default 0)")
     kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
@@ -79,9 +89,13 @@ def _cmd_kam(args):
         else:
             files[path] = json.dumps(result.to_dict()).encode()
     written = write_all(files)
+    missing = result.not_found()
+    status = 1 if missing else 0  # a bracket without the boundary is no answer: said, and exit status 1
     if args.json:
         print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
-        return 0
+        for line in missing:
+            print(f"warning: {line} (--bracket)", file=sys.stderr)
+        return status
     print(result.table())
     print(f"criterion  regular fraction < {result.regular_max:g} among {result.orbits} orbits × {result.collisions} "
           f"collisions (orbit regular if λ/collision ≤ 3 ln N / N)")
@@ -90,4 +104,6 @@ def _cmd_kam(args):
     if args.output:
         for line in written_lines(written, written.replaced):
             print(line)
-    return 0
+    for line in missing:
+        print(f"warning: {line} (--bracket)", file=sys.stderr)
+    return status

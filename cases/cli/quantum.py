@@ -17,7 +17,11 @@ from .common import (
     written_lines,
 )
 
-__all__ = ["register"]
+__all__ = ["MAX_SECONDS", "register"]
+
+#: The longest solve started without --allow-long, by the library's estimate (one idle core; measured figures in
+#: coinwall.forward.quantum.spectrum.estimated_seconds).
+MAX_SECONDS = 120.0
 
 DESCRIPTION = """\
 The lowest levels of the quantum body between the walls (docs/quantum.md).
@@ -68,6 +72,9 @@ def register(subparsers):
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="figure (.png, .svg, .pdf: counting function and |ψ|², or Δλ(H) for a scan) or .json")
     parser.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
+    # dest max_seconds: the library's bound, so that its messages name this flag
+    parser.add_argument("--allow-long", dest="max_seconds", action="store_const", const=None, default=MAX_SECONDS,
+                        help="solve even when the estimated time exceeds two minutes (the estimate is printed)")
     parser.set_defaults(run=_cmd_quantum)
 
 
@@ -88,6 +95,16 @@ def _body(text):
         values = []
     if len(values) != 2 or not all(math.isfinite(v) and v > 0 for v in values):
         raise InvalidArgument(f"--body must be two positive numbers MASS,KAPPA (kg, m), got {text!r}")
+    from coinwall.forward.quantum.tunnelling import HBAR
+
+    mass, kappa = values
+    # the energy unit ħ²/(2Mκ²) in logarithms (M κ² may overflow or vanish in floating point): energies λ × unit
+    # and times ħ/ΔE must be numbers, with room for the spectrum's range of λ (1e-150 to 1e150)
+    log_unit = 2 * math.log10(HBAR) - math.log10(2.0) - math.log10(mass) - 2 * math.log10(kappa)
+    if not -150 <= log_unit <= 150:
+        raise InvalidArgument(f"--body {text}: the energy unit ħ²/(2Mκ²) would be 1e{log_unit:.0f} J, outside what "
+                              "the energies and tunnelling times can be given in (1e-150 to 1e150 J); give M in kg "
+                              "and κ in m")
     return tuple(values)
 
 
@@ -100,7 +117,7 @@ def _solve(args, wall, H, bar):
     # --method auto picks the solver as the library does: the elements when --cells or --order is given or
     # --splittings needs eigenvectors, else the fastest accurate one for the strip
     spectrum = quantum_spectrum(strip, levels=args.levels, method=args.method, cells=args.cells, order=args.order,
-                                eigenvectors=args.splittings,
+                                eigenvectors=args.splittings, max_seconds=args.max_seconds,
                                 progress=(lambda n: bar.update(n)) if bar is not None else None)
     splittings = None
     if args.splittings and strip.periodic and spectrum.symmetry_names:
@@ -114,6 +131,12 @@ def _solve(args, wall, H, bar):
     return spectrum, splittings, error
 
 
+def _finite(value):
+    """A number for JSON and the text: None where it is not finite (a splitting of 0 is no time)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
 def _summary(spectrum, splittings, error, body):
     from coinwall.forward.quantum.tunnelling import HBAR, tunnelling_time
 
@@ -122,11 +145,12 @@ def _summary(spectrum, splittings, error, body):
     physical = None
     if body is not None:
         mass, kappa = body
-        unit = HBAR**2 / (2.0 * mass * kappa**2)
+        # in logarithms: M κ² may overflow or vanish where the unit itself is a fine number (--body checks it)
+        unit = math.exp(2 * math.log(HBAR) - math.log(2.0) - math.log(mass) - 2 * math.log(kappa))
         physical = {"mass": mass, "kappa": kappa, "energy_unit": unit,
                     "energies": [float(v) * unit for v in spectrum.eigenvalues],
                     "tunnelling_times": None if splittings is None else
-                    [float(tunnelling_time(s.flux, mass, kappa)) if s.flux_trusted else None for s in splittings]}
+                    [_finite(tunnelling_time(s.flux, mass, kappa)) if s.flux_trusted else None for s in splittings]}
     return {
         "H": strip.H, "b0": strip.table.b0,
         "eigenvalues": [float(v) for v in spectrum.eigenvalues], "classes": list(spectrum.classes),

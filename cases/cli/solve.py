@@ -168,7 +168,10 @@ def run(args):
         tolerance = OFFSET_TOLERANCE * scale
         interval = (f", certified in [{format_number(body.b_c_lower, tolerance, 6)}, "
                     f"{format_number(body.b_c_upper, tolerance, 6)}] by the samples' intervals")
-    print(f"critical   b_c = {b_c}{interval} at θ = {format_angles(body.critical_angles)}")
+    from coinwall.inverse.critical import format_critical_angles
+
+    angles, spread = format_critical_angles(body.critical_angles, body.critical_angle_errors)
+    print(f"critical   b_c = {b_c}{interval} at θ = {angles}" + (f" (each {spread})" if spread else ""))
     if body.regime_decided:
         regime = f"{body.regime} ({_CASES[body.regime]})"
     else:

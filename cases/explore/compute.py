@@ -247,9 +247,9 @@ def cases(request: dict) -> dict:
 
 
 def _bc_text(wall, result) -> str:
-    """b_c at its precision: the digits down to its tolerance (`coinwall critical`'s rule), so the coin's
-    b_c = −1/100 prints as -0.01, not -0.0099999999999999."""
-    from coinwall.forward.display import format_number
+    """b_c at its precision: the shortest decimal within its certified tolerance (`coinwall critical`'s rule),
+    so the coin's b_c = −1/100 prints as -0.01, not -0.0099999999999998."""
+    from coinwall.forward.display import format_number, format_within
     from coinwall.inverse.tolerances import OFFSET_TOLERANCE
 
     if not math.isfinite(result.b_c):
@@ -258,15 +258,15 @@ def _bc_text(wall, result) -> str:
     if result.lower is not None:  # data: the certified interval, as `coinwall critical` prints it
         return (f"{format_number(result.b_c, fine, 6)}, certified in [{format_number(result.lower, fine, 6)}, "
                 f"{format_number(result.upper, fine, 6)}]")
-    tolerance = max(fine, result.b_c_tolerance)
-    return format_number(result.b_c, tolerance, _digits(result.b_c, tolerance))
+    return format_within(result.b_c, result.b_c_tolerance)
 
 
-def _digits(value: float, tolerance: float) -> int:
-    """Significant digits of ``value`` down to the decade of ``tolerance`` (1 to 15)."""
-    if value == 0 or tolerance <= 0:
-        return 15
-    return int(min(15, max(1, math.floor(math.log10(abs(value))) - math.floor(math.log10(tolerance)) + 1)))
+def _angles_text(result) -> str:
+    """Where b + b'' is smallest, as `coinwall critical` prints it (the same list, the same digits)."""
+    from coinwall.inverse.critical import format_critical_angles
+
+    angles, spread = format_critical_angles(result.angles, result.angle_errors)
+    return f"θ = {angles}" + (f" (each {spread})" if spread else "")
 
 
 def _round(value: float, digits: int = 2) -> float:
@@ -311,7 +311,8 @@ def wall_info(spec: dict) -> dict:
            "b_c_infinite": not math.isfinite(result.b_c), "b_c_tolerance": json_number(result.b_c_tolerance, 12),
            "b_c_lower": json_number(result.lower, 12) if result.lower is not None else None,
            "b_c_upper": json_number(result.upper, 12) if result.upper is not None else None,
-           "critical_angles": _list(result.angles), "min": lo_b, "max": hi_b, "scale": wall.scale,
+           "critical_angles": _list(result.angles), "critical_angle_errors": [float(e) for e in result.angle_errors],
+           "critical_angles_text": _angles_text(result), "min": lo_b, "max": hi_b, "scale": wall.scale,
            "range": [low, high], "b0": start, "H": H, "sampled": wall.samples is not None, "params": None}
     if not spec.get("case") and not spec.get("upload"):
         out["params"] = [[name, value] for name, value in _params(spec).items()]

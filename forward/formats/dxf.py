@@ -73,6 +73,21 @@ MAX_ENTITIES = 20_000
 _PARSE_ERRORS = (StopIteration, EOFError, ValueError, TypeError, KeyError, IndexError, AttributeError,
                  UnicodeError, OverflowError, RecursionError)
 
+def _check_shape_numbers(entity):
+    """Refuse a circle or arc whose radius is not positive, an ellipse whose axis ratio is not in (0, 1] (the
+    DXF reference's ranges): ezdxf draws a radius of −1 as a circle of radius 1, which is not what the file
+    says."""
+    kind = entity.dxftype()
+    if kind in ("CIRCLE", "ARC"):
+        radius = float(entity.dxf.radius)
+        if not radius > 0:
+            raise InvalidOutline(f"its radius is {radius:g}; a {kind.lower()}'s radius must be positive")
+    elif kind == "ELLIPSE":
+        ratio = float(entity.dxf.ratio)
+        if not 0 < ratio <= 1:
+            raise InvalidOutline(f"its axis ratio is {ratio:g}; an ellipse's minor-to-major ratio must be in (0, 1]")
+
+
 def _dxf_points(entity, sagitta):
     """Points along a DXF entity (curves flattened on the exact geometry) and its closed flag.
 
@@ -201,6 +216,7 @@ def read_dxf(path, layer=None) -> Drawing:
                     raise InvalidOutline(f"coordinates are not finite or larger than {MAX_COORDINATE:g}")
                 if 0 < size < MIN_SIZE:
                     raise InvalidOutline(f"it measures {size:.3g} drawing units, less than {MIN_SIZE:g}")
+                _check_shape_numbers(entity)
                 pts, flagged = _dxf_points(entity, max(FLATNESS * size, 1e-300))
                 pts = check_coordinates(pts, "its points")
                 extent = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0

@@ -40,6 +40,7 @@ def read_points_csv(path: str):
     """
     import math
 
+    from ..validation import ASCII_BLANKS, parse_number  # the one grammar of numbers: ASCII, no 1_0
     from .geometry import MAX_POINTS
     from .inputfile import read_text
 
@@ -49,14 +50,14 @@ def read_points_csv(path: str):
     refuse_kind(path, csv_kind(text), BODY, InvalidOutline, "body file")  # a wall's samples are not an outline
     lines = text.splitlines()
     coinwall = bool(lines) and lines[0].startswith(HEADER_PREFIX)
-    rows = [(number, line.split("#", 1)[0].strip()) for number, line in enumerate(lines, start=1)]
+    rows = [(number, line.split("#", 1)[0].strip(ASCII_BLANKS)) for number, line in enumerate(lines, start=1)]
     rows = [(number, line) for number, line in rows if line]
     if len(rows) > MAX_POINTS + 1:
         raise InvalidOutline(f"body file {path!r} has {len(rows)} rows; at most {MAX_POINTS} points are read")
 
     def numbers(line):
         try:
-            return [float(cell) for cell in line.split(",")]
+            return [parse_number(cell) for cell in line.split(",")]
         except ValueError:
             return None
 
@@ -71,14 +72,14 @@ def read_points_csv(path: str):
         raise InvalidOutline(f"body file {path!r}: {width} column; expected 2 columns x,y (or more, x and y first)")
     points = []
     for number, line in rows:
-        cells = [cell.strip() for cell in line.split(",")]
+        cells = [cell.strip(ASCII_BLANKS) for cell in line.split(",")]
         if len(cells) != width:
             raise InvalidOutline(f"body file {path!r}, line {number}: {len(cells)} columns, expected {width} "
                                  f"(x, y first)")
         try:
-            x, y = float(cells[0]), float(cells[1])
+            x, y = parse_number(cells[0]), parse_number(cells[1])
         except ValueError:
-            raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be numbers, got "
+            raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be ASCII decimal numbers, got "
                                  f"{line[:60]!r}") from None
         if not (math.isfinite(x) and math.isfinite(y)):
             raise InvalidOutline(f"body file {path!r}, line {number}: x, y must be finite, got {line[:60]!r}")

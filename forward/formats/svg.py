@@ -57,7 +57,7 @@ from .geometry import (
     ellipse_points,
 )
 from .inputfile import MAX_NESTING, read_bytes
-from .svgpath import MAX_SEGMENTS, NUMBER, checked_number, svg_numbers, svg_path
+from .svgpath import MAX_SEGMENTS, NUMBER, WSP, checked_number, svg_numbers, svg_path
 
 __all__ = [
     "ANNOTATION_CLASS",
@@ -98,36 +98,66 @@ _SINGULAR = 1e12
 _NUMBER = NUMBER  # the number syntax of SVG attributes
 _checked, _numbers = checked_number, svg_numbers
 _NUMBER_AT = re.compile(_NUMBER)
-_TRANSFORM = re.compile(r"(matrix|translate|scale|rotate|skewX|skewY)\s*\(([^)]*)\)")
+# the transform list of SVG 1.1 (section 7.6, with SVG 2's optional separator between transforms, as browsers
+# read it): wsp* transform (comma-wsp* transform)* wsp*, each name with exactly its numbers
+_COMMA_WSP = rf"(?:{WSP}+,?{WSP}*|,{WSP}*)"
+_ONE_TRANSFORM = re.compile(rf"(matrix|translate|scale|rotate|skewX|skewY){WSP}*\({WSP}*"
+                            rf"({_NUMBER}(?:{_COMMA_WSP}{_NUMBER})*)?{WSP}*\)")
+_BETWEEN = re.compile(rf"{WSP}*,?{WSP}*")
+_ARGUMENTS = {"matrix": (6,), "translate": (1, 2), "scale": (1, 2), "rotate": (1, 3), "skewX": (1,), "skewY": (1,)}
+
+
+def _transform_list(text):
+    """``[(name, numbers), ...]`` of an SVG transform list, or InvalidOutline naming what breaks the grammar.
+
+    SVG applies a transform list whole or not at all: a browser ignores an attribute with an error anywhere in
+    it (``scale(2) evil(1)``, ``rotate(30, 5)``, ``translate(1 2 3)``), so reading the valid part would draw
+    another shape than the file shows.  coinwall refuses such a list instead of guessing.
+    """
+    items, pos, text = [], 0, text or ""
+    pos = _BETWEEN.match(text, 0).end() if text.strip(" \t\r\n") else len(text)
+    while pos < len(text):
+        match = _ONE_TRANSFORM.match(text, pos)
+        if not match:
+            raise InvalidOutline(f"SVG transform {text!r} is not a valid transform list: {text[pos:pos + 20]!r} at "
+                                 f"character {pos + 1} is not one of matrix(a b c d e f), translate(x [y]), scale(x [y]), "
+                                 "rotate(a [x y]), skewX(a), skewY(a) (numbers separated by commas or spaces); a viewer "
+                                 "ignores the whole attribute, so coinwall does not read half of it: fix or remove it")
+        name = match.group(1)
+        numbers = [_checked(float(v), v) for v in _NUMBER_AT.findall(match.group(2) or "")]
+        if len(numbers) not in _ARGUMENTS[name]:
+            counts = " or ".join(str(n) for n in _ARGUMENTS[name])
+            raise InvalidOutline(f"SVG transform {text!r} is not a valid transform list: {name} takes {counts} "
+                                 f"numbers, got {len(numbers)}; a viewer ignores the whole attribute, so coinwall "
+                                 "does not read half of it: fix or remove it")
+        items.append((name, numbers))
+        pos = _BETWEEN.match(text, match.end()).end()
+    return items
 
 
 def svg_transform(text):
-    """3×3 matrix of an SVG ``transform`` attribute."""
+    """3×3 matrix of an SVG ``transform`` attribute (the whole list, checked against SVG's grammar first)."""
     total = np.eye(3)
-    for name, args in _TRANSFORM.findall(text or ""):
-        v = _numbers(args)
+    for name, v in _transform_list(text):
         m = np.eye(3)
-        try:
-            if name == "matrix":
-                m[:2, :] = np.array(v[:6]).reshape(3, 2).T
-            elif name == "translate":
-                m[0, 2], m[1, 2] = v[0], (v[1] if len(v) > 1 else 0.0)
-            elif name == "scale":
-                m[0, 0], m[1, 1] = v[0], (v[1] if len(v) > 1 else v[0])
-            elif name == "rotate":
-                a = math.radians(v[0])
-                rot = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
-                if len(v) >= 3:
-                    shift, back = np.eye(3), np.eye(3)
-                    shift[:2, 2], back[:2, 2] = v[1:3], [-v[1], -v[2]]
-                    rot = shift @ rot @ back
-                m = rot
-            elif name == "skewX":
-                m[0, 1] = math.tan(math.radians(v[0]))
-            else:
-                m[1, 0] = math.tan(math.radians(v[0]))
-        except (IndexError, ValueError):
-            raise InvalidOutline(f"SVG transform {text!r} is malformed") from None
+        if name == "matrix":
+            m[:2, :] = np.array(v).reshape(3, 2).T
+        elif name == "translate":
+            m[0, 2], m[1, 2] = v[0], (v[1] if len(v) > 1 else 0.0)
+        elif name == "scale":
+            m[0, 0], m[1, 1] = v[0], (v[1] if len(v) > 1 else v[0])
+        elif name == "rotate":
+            a = math.radians(v[0])
+            rot = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+            if len(v) == 3:
+                shift, back = np.eye(3), np.eye(3)
+                shift[:2, 2], back[:2, 2] = v[1:3], [-v[1], -v[2]]
+                rot = shift @ rot @ back
+            m = rot
+        elif name == "skewX":
+            m[0, 1] = math.tan(math.radians(v[0]))
+        else:
+            m[1, 0] = math.tan(math.radians(v[0]))
         total = total @ m
     if not np.all(np.abs(total) <= MAX_COORDINATE):
         raise InvalidOutline(f"SVG transform {text!r} has entries that are not finite or larger than "
@@ -165,13 +195,13 @@ def _length(value, default=0.0):
 def _number_list(text, what):
     """All numbers of a list attribute (``points``); text that is not numbers and separators is refused."""
     values = _numbers(text)
-    rest = _NUMBER_AT.sub(" ", text or "").replace(",", " ").strip()
+    rest = _NUMBER_AT.sub(" ", text or "").replace(",", " ").strip(" \t\r\n")
     if rest:
         raise InvalidOutline(f"{what} holds {rest.split()[0][:20]!r}, which is not a number")
     return values
 
 
-_LENGTH = re.compile(r"^\s*(" + _NUMBER + r")\s*([a-zA-Z%]*)\s*$")
+_LENGTH = re.compile(rf"^{WSP}*(" + _NUMBER + rf"){WSP}*([a-zA-Z%]*){WSP}*$")
 
 
 def svg_unit(root):
@@ -188,7 +218,7 @@ def svg_unit(root):
         match = _LENGTH.match(root.get(name) or "")
         if match and 0 < float(match.group(1)) <= MAX_COORDINATE:  # inf or 1e999: no size
             sizes[name] = (float(match.group(1)), match.group(2).lower())
-    box = _numbers(root.get("viewBox"))
+    box = _number_list(root.get("viewBox"), "viewBox")  # text in it is refused, not skipped: it sets the scale
     has_box = len(box) == 4 and box[2] > 0 and box[3] > 0
     page = box[2] * box[3] if has_box else (
         sizes["width"][0] * sizes["height"][0] if len(sizes) == 2 and sizes["width"][1] in ("", "px")
@@ -339,7 +369,7 @@ def _read_root(path, root, element):
         _check_invertible(frame, "<svg>")
         recorded["frame"] = flip @ frame
         if root.get(COM_ATTRIBUTE) is not None:
-            com = _numbers(root.get(COM_ATTRIBUTE))
+            com = _number_list(root.get(COM_ATTRIBUTE), COM_ATTRIBUTE)
             if len(com) != 2:
                 raise InvalidOutline(f"{COM_ATTRIBUTE}={root.get(COM_ATTRIBUTE)!r} must be two numbers x,y")
             recorded["com"] = apply(frame, com)[0]

@@ -19,12 +19,15 @@ from ..angles import TWO_PI
 from ..errors import InvalidOutline
 from .geometry import MAX_COORDINATE, PointBudget, cubic_points, ellipse_points
 
-__all__ = ["MAX_SEGMENTS", "NUMBER", "checked_number", "svg_numbers", "svg_path"]
+__all__ = ["MAX_SEGMENTS", "NUMBER", "WSP", "checked_number", "svg_numbers", "svg_path"]
 
 #: path segments per drawing at most (parsing is ~1 µs a token in Python; flattening and the hull follow)
 MAX_SEGMENTS = 200_000
 
-NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+#: SVG's number: ASCII digits only (``\d`` would take other scripts' digits, which float() reads as well)
+NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+#: SVG's white space (wsp): space, tab, CR, LF; not the Unicode spaces ``\s`` takes
+WSP = "[ \t\r\n]"
 
 
 def checked_number(value: float, text) -> float:
@@ -62,7 +65,7 @@ class _PathScanner:
 
     def at_number(self):
         self._skip()
-        return self.pos < len(self.text) and (self.text[self.pos] in "+-." or self.text[self.pos].isdigit())
+        return self.pos < len(self.text) and self.text[self.pos] in "+-.0123456789"
 
     def number(self):
         self._skip()

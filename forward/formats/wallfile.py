@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import math
 import os
+import re
 
 from ..errors import InvalidArgument, InvalidWall
+from ..validation import ASCII_BLANKS
 
 __all__ = [
     "FOURIER_KEYS",
@@ -146,7 +148,7 @@ def _data_rows(text, most=None, skip=0):
     ``most``; ``skip`` rows left out)."""
     rows = []
     for number, line in enumerate(text.splitlines(), start=1):
-        stripped = line.split("#", 1)[0].strip()
+        stripped = line.split("#", 1)[0].strip(ASCII_BLANKS)  # ASCII blanks only: a no-break space is no number
         if stripped:
             if skip:
                 skip -= 1
@@ -196,8 +198,8 @@ def _fast_columns(text, header_line, delimiter, decimal_comma, width, columns):
 
     import numpy as np
 
-    if decimal_comma:
-        return None
+    if decimal_comma or not text.split("\n", header_line)[-1].isascii():
+        return None  # numpy's reader takes a no-break space as a blank: the careful reader refuses it, by line
     try:
         table = np.loadtxt(io.StringIO(text), delimiter=delimiter, dtype=float, ndmin=2, comments="#",
                            skiprows=header_line)
@@ -261,8 +263,9 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     rows = _LazyRows(text)
 
     def cells(line):
-        parts = line.split(delimiter) if delimiter else line.split()
-        return [c.strip() for c in parts]
+        # ASCII blanks only, around and between cells: a no-break space is neither a blank nor a number
+        parts = line.split(delimiter) if delimiter else re.split(r"[ \t\r\f\v]+", line.strip(ASCII_BLANKS))
+        return [c.strip(ASCII_BLANKS) for c in parts]
 
     def number(cell):
         from ..validation import parse_number  # the one grammar of numbers (no 1_0, no other scripts' digits)

@@ -66,10 +66,17 @@ def lowest_levels(stiffness, mass, count, sigma=0.0):
 
         values, vectors = eigh(stiffness.toarray(), mass.toarray(), subset_by_index=(0, count - 1))
         return values, vectors
-    from scipy.sparse.linalg import eigsh
+    from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 
-    values, vectors = eigsh(stiffness.tocsc(), k=count, M=mass.tocsc(), sigma=sigma, which="LM",
-                            ncv=min(n, max(2 * count + 1, 20)))
+    try:
+        values, vectors = eigsh(stiffness.tocsc(), k=count, M=mass.tocsc(), sigma=sigma, which="LM",
+                                ncv=min(n, max(2 * count + 1, 20)))
+    except ArpackNoConvergence:
+        from ..errors import InvalidArgument
+
+        raise InvalidArgument(f"the eigensolver (ARPACK, shift-invert) did not converge on a class of {n} unknowns: "
+                              "the problem is too badly conditioned (a strip far wider than the body puts levels "
+                              "many orders of magnitude apart); ask for a smaller `H` or fewer `levels`") from None
     order = np.argsort(values)
     values, vectors = values[order], vectors[:, order]
     norms = np.sqrt(np.einsum("ij,ij->j", vectors, mass @ vectors))

@@ -20,8 +20,8 @@ from ..validation import check_choice, check_count
 from ..wall import Wall
 from .strip import Strip, make_strip
 
-__all__ = ["BYTES_PER_DOF", "MAX_DOFS", "METHODS", "Spectrum", "check_mesh", "default_cells", "fem_dofs",
-           "quantum_spectrum"]
+__all__ = ["BYTES_PER_DOF", "MAX_DOFS", "METHODS", "Spectrum", "check_mesh", "default_cells", "estimated_seconds",
+           "fem_dofs", "quantum_spectrum"]
 
 #: The largest finite-element problem (degrees of freedom, estimated from the mesh before it is built) and its
 #: memory per degree of freedom.  Measured (`quantum 1 --H h --levels 4`, P2, peak RSS, 2 shared cores under
@@ -143,9 +143,36 @@ def fem_dofs(strip: Strip, cells: int, order: int = 2) -> float:
     return float(sum(order * column_count(strip, cells, region) * order * cells for region in domains))
 
 
-def _fits(strip, levels, cells, order):
-    count = fem_dofs(strip, default_cells(strip, levels, order) if cells is None else cells, order)
-    return count <= MAX_DOFS and count * BYTES_PER_DOF <= _memory_limit(), count
+def estimated_seconds(strip: Strip, levels: int, method: str, cells: int, order: int = 4) -> float:
+    """The time one solve should take, on one idle core, from the size of the problem alone (before anything
+    is built); ``method`` is ``"fem"`` or ``"spectral"`` (the spectral time includes the coarser second solve
+    that estimates its error).
+
+    Measured (``quantum 1 --H h --levels n``, one thread; under load the ratios held, the times grew alike):
+
+    * fem: 15,120 dofs took 0.5 s and 150,840 dofs 56 s on a thin strip (4 rows of P4 cells, 16 dofs across):
+      time ∝ dofs^2.05.  A wide strip is slower per dof, by (dofs across / 16)^1.4: 3,824 dofs 240 across took
+      40 times the thin strip's rate, 8,944 dofs 560 across 135 times (ARPACK needs more iterations as the
+      levels crowd at the bottom of a wide strip).  ``0.5 s · (dofs/15,120)^2.05 · max(1, across/16)^1.4``.
+    * spectral: dense generalized eigenproblems, one per symmetry class of ``n = modes/classes``: 1,000 levels
+      of the ε = 0.55 ellipse (9,367 modes, eight classes) took 18 s, so ``2 · 1.4e-9 s · classes · n³``.
+    """
+    if method == "spectral":
+        from .spectral import spectral_modes
+
+        M, N = spectral_modes(strip, cells)
+        classes = 2 ** len(strip.symmetries) if strip.periodic else 1
+        n = (2 * M + 1) * N / classes
+        return 2.0 * 1.4e-9 * classes * n**3
+    across = order * (cells + cells % 2)
+    return 0.5 * (fem_dofs(strip, cells, order) / 15_120) ** 2.05 * max(1.0, across / 16) ** 1.4
+
+
+def _fits(strip, levels, cells, order, max_seconds=None):
+    cells = default_cells(strip, levels, order) if cells is None else cells
+    count = fem_dofs(strip, cells, order)
+    quick = max_seconds is None or estimated_seconds(strip, levels, "fem", cells, order) <= max_seconds
+    return count <= MAX_DOFS and count * BYTES_PER_DOF <= _memory_limit() and quick, count
 
 
 def _memory_limit():
@@ -154,11 +181,12 @@ def _memory_limit():
     return MEMORY_FRACTION * available_memory()
 
 
-def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2) -> float:
-    """Refuse, before the mesh is built, a finite-element problem above :data:`MAX_DOFS` degrees of freedom
-    or the memory this machine can give it (:data:`BYTES_PER_DOF` each); the message names the smallest H
-    that fits (same wall, offset, levels and cells).  Returns the estimated number of dofs."""
-    ok, count = _fits(strip, levels, cells, order)
+def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2, max_seconds=None) -> float:
+    """Refuse, before the mesh is built, a finite-element problem above :data:`MAX_DOFS` degrees of freedom,
+    the memory this machine can give it (:data:`BYTES_PER_DOF` each) or ``max_seconds`` of
+    :func:`estimated_seconds`; the message names the smallest H that fits all of them (same wall, offset,
+    levels and cells), so that the H it suggests runs.  Returns the estimated number of dofs."""
+    ok, count = _fits(strip, levels, cells, order, max_seconds)
     if ok:
         return count
     table = strip.table
@@ -168,14 +196,14 @@ def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2) -> float:
         gap, good = strip.width_min, None
         for _ in range(60):
             gap *= 2.0
-            if _fits(make_strip(table.wall, h_min + gap, table.b0), levels, cells, order)[0]:
+            if _fits(make_strip(table.wall, h_min + gap, table.b0), levels, cells, order, max_seconds)[0]:
                 good = gap
                 break
         if good is not None:
             bad = strip.width_min
             for _ in range(30):
                 mid = math.sqrt(bad * good)
-                if _fits(make_strip(table.wall, h_min + mid, table.b0), levels, cells, order)[0]:
+                if _fits(make_strip(table.wall, h_min + mid, table.b0), levels, cells, order, max_seconds)[0]:
                     good = mid
                 else:
                     bad = mid
@@ -185,9 +213,23 @@ def check_mesh(strip: Strip, levels: int, cells=None, order: int = 2) -> float:
     except (CoinwallError, ArithmeticError, ValueError):  # the hint is a courtesy: no hint, not a second error
         hint = ""
     limit = min(MAX_DOFS, _memory_limit() / BYTES_PER_DOF)
+    cells = default_cells(strip, levels, order) if cells is None else cells
+    seconds = estimated_seconds(strip, levels, "fem", cells, order)
+    if count <= limit:  # the size fits, the time does not
+        raise InvalidArgument(f"H = {table.H:.10g}: the finite elements ({count:.3g} degrees of freedom, "
+                              f"{order * (cells + cells % 2)} across) would take about {_duration(seconds)}, more "
+                              f"than {_duration(max_seconds)} (`max_seconds`){hint}, or ask for fewer levels or "
+                              "cells")
     raise InvalidArgument(f"H = {table.H:.10g} leaves a neck of width {strip.width_min:.3g}: the mesh would have "
                           f"about {count:.3g} degrees of freedom ({BYTES_PER_DOF} bytes each), more than the "
                           f"{limit:.3g} allowed (time and memory){hint}, or ask for fewer --levels / --cells")
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
 
 
 def default_modes(strip: Strip, levels: int) -> int:
@@ -247,7 +289,7 @@ METHODS = {"fem": _fem, "spectral": _spectral}
 
 def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method: str = "auto", cells=None,
                      order: int | None = None, eigenvectors: bool = False, symmetry: bool = True,
-                     progress=None) -> Spectrum:
+                     progress=None, max_seconds: float | None = None) -> Spectrum:
     """The lowest ``levels`` eigenvalues of the Dirichlet Laplacian on the strip of ``wall`` at distance ``H``.
 
     Parameters
@@ -276,6 +318,9 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
         Solve class by class (default) — False solves the whole problem at once (for checks).
     progress : callable, optional
         Called with 1 after each class (or region) is solved.
+    max_seconds : float, optional
+        Refuse (InvalidArgument, before anything is built) a problem whose :func:`estimated_seconds` exceed
+        this; None (default): no time bound (the size and memory bounds hold always).
 
     Returns
     -------
@@ -301,7 +346,12 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
         cells = default_modes(strip, levels) if method == "spectral" else default_cells(strip, levels, order)
     cells = check_count("cells", cells, minimum=2, maximum=4096)
     if method == "fem":
-        check_mesh(strip, levels, cells, order)
+        check_mesh(strip, levels, cells, order, max_seconds)
+    elif max_seconds is not None and estimated_seconds(strip, levels, method, cells) > max_seconds:
+        seconds = estimated_seconds(strip, levels, method, cells)
+        raise InvalidArgument(f"the spectral method at {cells} modes across would take about {_duration(seconds)} "
+                              f"(dense blocks: the time grows like the cube of the modes), more than "
+                              f"{_duration(max_seconds)} (`max_seconds`); ask for fewer levels or a smaller H")
     start = time.perf_counter()
     values, classes, characters, names, domain, meshes, vectors, dofs = METHODS[method](
         strip, levels, cells, order, symmetry, progress)

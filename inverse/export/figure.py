@@ -56,9 +56,18 @@ def sampled_curvature(body):
     return theta, support.rho + body.b0, support.rho_tolerance
 
 
+def _mark_minima(ax, body):
+    """Every critical angle, at the height of the minimum of ρ + b0 (the list `coinwall critical` prints)."""
+    angles = np.mod(np.asarray(body.critical_angles, dtype=float), TWO_PI)
+    if angles.size and math.isfinite(body.b_c):
+        ax.plot(angles, np.full(angles.size, body.b0 - body.b_c), "^", color=PALETTE[1], ms=6, zorder=4,
+                label=f"min ρ: {angles.size} critical angle{'s' if angles.size > 1 else ''}")
+
+
 def _rho_panel(ax, body):
     data = sampled_curvature(body)
     ax.axhline(0, color="0.3", lw=0.8)
+    _mark_minima(ax, body)
     _shade_windows(ax, body, label=False)
     if data is None:
         theta = np.linspace(0, TWO_PI, 1200)

@@ -1,7 +1,8 @@
 """The larger command-line fuzz run, outside the default test run.
 
 Draws random inputs from the same tables as ``tests/cases/cli/test_fuzz_cli.py`` (bad numbers for every numeric
-flag, bad and odd walls, random expression text, hostile files, valid files broken in one place) and
+flag, bad and odd walls, random expression text, hostile files, valid files broken in one place, whole requests
+that must be refused) and
 checks each against the same contract (``tests/cli_fuzz.py``).  Prints, per category, the inputs tried
 and those handled cleanly, and lists every failure; the counts of the last run are in
 docs/cli.md ("Fuzz tests").
@@ -29,6 +30,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from cli_fuzz import (  # noqa: E402
     BAD_NUMBERS,
     BAD_OUTPUTS,
+    BAD_REQUESTS,
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
@@ -75,7 +77,7 @@ _JUNK = [b"nan", b"-1e308", b"\x00", b"<g>", b"0\nEOF\n", b"{", b",", b"inf", b"
 
 #: the classes of inputs drawn (each equally often)
 CATEGORIES = ["number", "wall", "odd-wall", "text-wall", "hostile-file", "mutated-file", "output-name", "input-output",
-              "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
+              "request", "encoding", "no-data", "wrong-kind", "long", "meaningless", "store"]
 #: with --others: the round's classes fixed in other parts of the code (each row names its area)
 OTHER_CATEGORY = "others"
 
@@ -88,6 +90,8 @@ def draw(rng: random.Random, base: str, hostile: tuple):
     "encoding" class the terminal is the last element of the category (``encoding:ascii``), for "store" the
     damage (``store:fifo-chunk``)."""
     kind = rng.choice(CATEGORIES + ([OTHER_CATEGORY] if OTHERS_ON else []))
+    if kind == "request":
+        return kind, list(rng.choice(BAD_REQUESTS)), True, {}
     if kind == OTHER_CATEGORY:
         area, argv, bad = rng.choice(OTHERS)
         return f"others:{area}", list(argv), bad, {}

@@ -31,6 +31,7 @@ RUNS = [
     ("quantum_default", "bench_quantum_default.py", [], True),
     ("solve", "bench_solve.py", [], False),
     ("data", "bench_data.py", [], False),
+    ("critical", "bench_critical.py", [], False),
     ("dense_data", "bench_dense_data.py", [], True),
     ("billiard", "bench_billiard.py", ["--collisions", "1000000", "--count"], False),
     ("toss", "bench_toss.py", [], False),

@@ -205,16 +205,22 @@ def test_pathological_sizes():
         parse_expression("-" * 1500 + "t")
     with pytest.raises(InvalidExpression, match="too complex|nested"):
         parse_expression("sin(" * 250 + "t" + ")" * 250)
-    # a plain sum is as deep as it is long: 150 terms must still pass
+    # nesting counts nesting, not length: a flat sum or product of as many terms as 2,000 characters hold passes
     parse_expression("+".join(["cos(t)"] * 150))
+    assert str(parse_expression("1" + "+1" * 994).expr) == "995"
+    parse_expression("t" + "-t" * 999)
+    parse_expression("*".join(["(1+0.001*cos(t))"] * 110))
+    # ... but 201 signs, calls or powers inside one another are refused as nesting
+    with pytest.raises(InvalidExpression, match="levels of nesting"):
+        parse_expression("-" * 120 + "sin(" * 90 + "t" + ")" * 90)
 
 
-def test_node_limit(monkeypatch):
-    import coinwall.forward.expression as module
+def test_a_long_flat_sum_is_a_wall():
+    from coinwall.forward import Wall
+    from coinwall.inverse import critical_offset
 
-    monkeypatch.setattr(module, "MAX_NODES", 10)
-    with pytest.raises(InvalidExpression, match="more than 10 nodes"):
-        parse_expression("max(" + ",".join(["t"] * 20) + ")")
+    wall = Wall.from_expression("1" + "+0.001*cos(2*t)" * 130)  # 1 + 0.13 cos 2θ, 1,951 characters
+    assert critical_offset(wall).b_c == pytest.approx(-(1 - 3 * 0.13), abs=1e-12)
 
 
 def test_non_string_expression():

@@ -100,25 +100,6 @@ def test_never_convex_when_shapely_says_otherwise():
     assert accepted > 50  # the fast path is taken, not only the fallback
 
 
-def test_bounded_minimum_is_scipys_bit_for_bit():
-    """Reference: scipy.optimize.minimize_scalar(method="bounded"), the code it transcribes."""
-    from scipy.optimize import minimize_scalar
-
-    from coinwall.inverse.scalarmin import bounded_minimum
-
-    rng = np.random.default_rng(3)
-    for _ in range(100):
-        c = rng.normal(size=4)
-        lo, hi = -2 * rng.random(), 2 * rng.random()
-
-        def func(x, c=c):
-            return float(c[0] * math.cos(3 * x + c[1]) + c[2] * x * x + c[3] * math.sin(x) ** 3)
-
-        for xatol in (1e-15, 1e-10, 1e-5):
-            want = minimize_scalar(func, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
-            assert bounded_minimum(func, lo, hi, xatol) == (want.x, want.fun)
-
-
 def test_kappa_max_of_an_ellipse_is_its_semi_major_axis():
     """Closed form (inverse/realizability.py docstring): a centred ellipse with semi-axes a ≥ b has κ_max = a."""
     from coinwall.inverse.realizability import kappa_max

@@ -300,6 +300,7 @@ async function loadWall(spec, how) {
 function setCritical(data) {
   state.bc = data.b_c_infinite ? Infinity : data.b_c;
   $("bc").textContent = data.b_c_text;
+  $("critical-angles").textContent = data.critical_angles_text;
   $("bc").title = data.b_c_infinite ? "a concave kink: no convex body for any b0" : "b_c = −min(b + b″)";
 }
 

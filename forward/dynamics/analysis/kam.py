@@ -53,7 +53,8 @@ class KamBoundary:
         Final bisection bracket: at ``eps_low`` a regular region was found, at
         ``eps_high`` none (NaN/inf when the bracket did not straddle the boundary).
     eps : ndarray (k,)
-        Geometric mean of the bracket (the estimate).
+        Geometric mean of the bracket (the estimate); NaN where the bracket held no boundary
+        (:meth:`not_found`), never an answer.
     paper : ndarray (k,)
         ``1/H + 17/H²``.
     orbits, collisions : int
@@ -78,17 +79,35 @@ class KamBoundary:
         return {"H": json_numbers(self.H), "eps": json_numbers(self.eps), "eps_low": json_numbers(self.eps_low),
                 "eps_high": json_numbers(self.eps_high),
                 "paper": json_numbers(self.paper), "orbits": self.orbits, "collisions": self.collisions,
-                "regular_max": self.regular_max,
+                "regular_max": self.regular_max, "not_found": self.not_found(),
                 "criterion": f"regular fraction < {self.regular_max:g} among {self.orbits} Liouville-random orbits, "
                              f"orbit regular if lambda/collision <= 3 log(N)/N over N = {self.collisions}",
                 "history": [[[float(e), float(f)] for e, f in h] for h in self.history]}
 
     def table(self) -> str:
-        """Plain-text table H, ε_c (bracket), paper, ratio."""
+        """Plain-text table H, ε_c (bracket), paper, ratio; "—" where the bracket held no boundary
+        (:meth:`not_found` says why)."""
         lines = ["     H    eps_c   [low, high]          paper   ratio"]
         for h, e, lo, hi, p in zip(self.H, self.eps, self.eps_low, self.eps_high, self.paper):
-            lines.append(f"{h:6.3g} {e:8.4g}   [{lo:.4g}, {hi:.4g}]   {p:8.4g}   {e / p:5.3f}")
+            if math.isfinite(e):
+                lines.append(f"{h:6.3g} {e:8.4g}   [{lo:.4g}, {hi:.4g}]   {p:8.4g}   {e / p:5.3f}")
+            else:
+                lines.append(f"{h:6.3g} {'—':>8}   {'(not found)':18}   {p:8.4g}   {'—':>5}")
         return "\n".join(lines)
+
+    def not_found(self) -> list[str]:
+        """One sentence per H whose bracket held no boundary: why, and what to change."""
+        out = []
+        for h, e, lo, hi in zip(self.H, self.eps, self.eps_low, self.eps_high):
+            if math.isfinite(e):
+                continue
+            if not math.isfinite(hi):
+                out.append(f"H = {h:g}: no ε_c found: a regular region remains at the top of the bracket, ε = "
+                           f"{lo:.4g}; raise the bracket's top")
+            else:
+                out.append(f"H = {h:g}: no ε_c found: the motion is already fully chaotic at the bottom of the "
+                           f"bracket, ε = {hi:.4g}; lower the bracket's bottom")
+        return out
 
     def plot(self, ax=None):
         """ε_c(H) with its bracket against the paper's curve ``1/H + 17/H²``.

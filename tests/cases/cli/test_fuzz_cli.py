@@ -17,6 +17,7 @@ hypothesis = pytest.importorskip("hypothesis")
 from cli_fuzz import (  # noqa: E402
     BAD_NUMBERS,
     BAD_OUTPUTS,
+    BAD_REQUESTS,
     BAD_WALLS,
     BASE_COMMANDS,
     FILE_COMMANDS,
@@ -113,6 +114,13 @@ def test_bad_numbers_are_refused(worker, base, tmp_path, choice, data, joined):
 @given(command=st.sampled_from(WALL_COMMANDS), wall=st.sampled_from(BAD_WALLS))
 def test_bad_walls_are_refused(worker, base, tmp_path, command, wall):
     argv = [command, wall] + BASE_COMMANDS[command][1:]
+    run_checked(worker, base, tmp_path, argv, certainly_bad=True)
+
+
+@pytest.mark.parametrize("argv", BAD_REQUESTS, ids=lambda a: " ".join(a)[:60])
+def test_bad_requests_are_refused(worker, base, tmp_path, argv):
+    """Densities with no finite mass, bodies whose energies leave floating point, quantum solves past the time
+    bound, a no-break space in a number: one line, exit 2, nothing written."""
     run_checked(worker, base, tmp_path, argv, certainly_bad=True)
 
 
