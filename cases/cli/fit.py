@@ -82,7 +82,7 @@ def run(args):
     from coinwall.forward.errors import InvalidArgument, OutputError
     from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
-    from coinwall.inverse.export import check_outputs, export_body, exporters
+    from coinwall.inverse.export import check_outputs, export_body
     from coinwall.inverse.fit import fit_convex
 
     from .common import check_body_finite, describe_written, written_lines
@@ -93,7 +93,6 @@ def run(args):
         if not path.lower().endswith((".csv", ".json")):
             raise OutputError(f"output {path!r}: a fitted wall is written as .csv or .json")
     check_paths(wall_outputs, (".csv", ".json"))
-    check_paths(body_outputs, sorted(exporters()))
     check_outputs(body_outputs)
     if not args.samples.lower().endswith((".csv", ".json")):
         raise OutputError(f"samples {args.samples!r}: give a .csv (theta,b) or .json ({{theta, b}}) file")

@@ -138,7 +138,7 @@ from ._search import (
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.billiard.kernel
 
-CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
+CACHE = True  # wallcode.load_module sets it False: it gives each function coinwall's cache itself
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 

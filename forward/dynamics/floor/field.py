@@ -343,16 +343,9 @@ class _FieldKernel:
         # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
         self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
         self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
-        self.sealed = set()
 
     def call(self, name, *args):
-        result = getattr(self.module, name)(*args)
-        if name not in self.sealed:
-            from ..billiard.wallcode import seal
-
-            self.sealed.add(name)
-            seal(self.module)
-        return result
+        return getattr(self.module, name)(*args)
 
     def args(self, table: FieldTable):
         H = float(table.H) if table.H is not None else 0.0

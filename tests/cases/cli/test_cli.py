@@ -291,23 +291,22 @@ def test_bad_output_creates_no_folder(tmp_path, capsys, monkeypatch):
 
 def test_check_paths_and_write_all(tmp_path):
     from coinwall.forward.errors import OutputError
-    from coinwall.forward.formats.output import check_paths, existing_files, prepare_folder, write_all
+    from coinwall.forward.formats.output import check_folder, check_paths, existing_files, write_all
 
     a, b = str(tmp_path / "x" / "y" / "a.json"), str(tmp_path / "b.json")
     (tmp_path / "file").write_text("")
     with pytest.raises(OutputError, match="is not a folder"):
         check_paths([a, str(tmp_path / "file" / "c.json")], (".json",))
-    assert not (tmp_path / "x").exists()  # validated all first
     with pytest.raises(OutputError, match="is a folder"):
         check_paths([str(tmp_path)], (".json", ""))
-    assert check_paths([a, b], (".json",)) is None and (tmp_path / "x" / "y").is_dir()
+    assert check_paths([a, b], (".json",)) is None and not (tmp_path / "x").exists()  # the folders come with files
     written = write_all({a: b"1", b: b"2"})
     assert written == [a, b] and isinstance(written, list) and written.replaced == ()
     written = write_all({a: b"3", str(tmp_path / "c.json"): b"4"})
     assert written.replaced == (a,) and existing_files([a, str(tmp_path / "d.json")]) == (a,)
-    assert prepare_folder(str(tmp_path / "p" / "q")) == str(tmp_path / "p" / "q") and (tmp_path / "p" / "q").is_dir()
+    assert check_folder(str(tmp_path / "p" / "q")) == str(tmp_path / "p" / "q") and not (tmp_path / "p").exists()
     with pytest.raises(OutputError, match="not a folder"):
-        prepare_folder(str(tmp_path / "file" / "q"))
+        check_folder(str(tmp_path / "file" / "q"))
 
 
 def test_verify_out_creates_the_folder(tmp_path, capsys, monkeypatch):
