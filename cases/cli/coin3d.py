@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, check_positive_count, check_seed, count, number, written_lines
+from .common import add_command, count, number, written_lines
 
 __all__ = ["register"]
 
@@ -68,9 +68,6 @@ def _finite(name, value):
 def _cmd_coin3d(args):
     from coinwall.forward.errors import InvalidArgument
 
-    check_positive_count("--samples", args.samples)
-    check_positive_count("--bounces", args.bounces)
-    check_seed(args.seed)
     for name in ("psi", "e", "g", "ceiling", "height"):
         _finite(f"--{name}", getattr(args, name))
     if args.samples > 10 ** 7:
@@ -151,8 +148,6 @@ def _bounce(args):
     from coinwall.forward.dynamics.coin3d.bounced import same_side_by_bounce
     from coinwall.forward.errors import InvalidArgument
 
-    if not 0 < args.e <= 1:
-        raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.g < 0 or (args.g == 0 and args.ceiling is None):
         raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
     psi = args.psi if args.psi is not None else bartos_fits().overall.psi

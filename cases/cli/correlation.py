@@ -7,8 +7,6 @@ import os
 
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     load_table,
     progress_bar,
@@ -50,16 +48,9 @@ def register(subparsers):
 
 def _cmd_correlation(args):
     from coinwall.forward.dynamics.analysis.correlation import correlation
-    from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_positive_count("--bounces", args.bounces)
-    check_positive_count("--max-lag", args.max_lag)
-    check_positive_count("--orbits", args.orbits)
-    check_seed(args.seed)
-    if args.max_lag >= args.bounces:
-        raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, FIGURE_FORMATS + (".json",))
     _, table = load_table(args)
     bar = progress_bar(args, args.bounces, "bounce")

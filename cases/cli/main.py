@@ -205,33 +205,24 @@ def _run(argv) -> int:
         # the files named as positional arguments, and every input file read, cannot be outputs of the command
         with command_scope(_file_arguments(parser.commands[args.command], args)):
             status = args.run(args)
-        sys.stdout.flush()  # a report that cannot be written (a full disk) is an error, not exit status 0
+        try:
+            sys.stdout.flush()  # a report that cannot be written (a full disk) is an error, not exit status 0
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python flushes it again at exit
+            _error(f"cannot write the report to standard output: {exc.strerror or exc}")
+            return 2
         return status
     except CoinwallError as exc:
         if _debug():
             raise
         _error(flag_message(str(exc), parser.commands[args.command].flags))
         return 2
-    except OSError as exc:
-        if exc.errno is None or exc.filename is not None or not _stdout_failed():
-            raise
-        # Python would report stdout again when it flushes it at exit; point it at nothing
+    except BrokenPipeError:  # the reader went away (`coinwall cases --json | head`): not an error of ours
+        # Python would report the pipe again when it flushes stdout at exit; point stdout at nothing
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        if isinstance(exc, BrokenPipeError):  # the reader went away (`coinwall cases --json | head`): not ours
-            return 0
-        _error(f"cannot write the report to standard output: {exc.strerror or exc}")
-        return 2
-
-
-def _stdout_failed() -> bool:
-    """True when writing to standard output fails now (what an OSError without a file name came from)."""
-    try:
-        sys.stdout.flush()
-    except OSError:
-        return True
-    except ValueError:  # closed by the command itself
-        return False
-    return False
+        return 0
 
 
 def _file_arguments(parser, args) -> list:

@@ -7,8 +7,6 @@ import os
 
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     load_table,
     progress_bar,
@@ -49,9 +47,6 @@ def _cmd_section(args):
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_positive_count("--orbits", args.orbits)
-    check_positive_count("--collisions", args.collisions)
-    check_seed(args.seed)
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     _check_section_memory(args, FIGURE_FORMATS)
     _, table = load_table(args)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import time
 
-from .common import add_command, check_positive_count, check_seed, count, load_table, progress_bar, table_arguments
+from .common import add_command, count, load_table, progress_bar, table_arguments
 
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
@@ -62,9 +62,7 @@ def _cmd_simulate(args):
     from coinwall.forward.dynamics.billiard.table import compile_kernel, random_states
     from coinwall.forward.validation import check_count
 
-    check_positive_count("--collisions", args.collisions)
-    check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # streamed: memory is bounded, time is not
-    check_seed(args.seed)
+    check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # before the estimate (orbit_statistics' rule)
     estimate = estimated_seconds(args.collisions, args.method)
     if estimate > MAX_SECONDS and not args.allow_long:
         from coinwall.forward.errors import InvalidArgument

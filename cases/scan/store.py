@@ -276,11 +276,6 @@ def _repair(path, seeds, notes) -> None:
             raise InvalidArgument(f"`output` {path!r} cannot be written ({exc.strerror or exc})") from None
 
 
-def reconsolidate(path) -> None:
-    """Rewrite the consolidated metadata (``.zmetadata``) from the arrays' own (heals a damaged copy)."""
-    _repair(path, None, [])
-
-
 class CellWriter:
     """Writes finished cells into a store (the driver's only writer; the workers only compute).
 

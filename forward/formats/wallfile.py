@@ -1,6 +1,6 @@
 """Wall files, and the library's ``load_wall``: a wall from an expression or a file.
 
-* ``.csv``: samples ``theta,b`` as people write them (:func:`read_samples_csv`), read by
+* ``.csv``: samples ``theta,b`` as people write them (:func:`read_sample_table`), read by
   :meth:`Wall.from_samples`;
 * ``.json``: Fourier coefficients ``{"a0": …, "cos": […], "sin": […]}`` (``FOURIER_KEYS``), read by
   :meth:`Wall.from_fourier`, or samples ``{"theta": […], "b": […]}`` (``SAMPLE_KEYS``);
@@ -20,7 +20,6 @@ __all__ = [
     "WALL_FORMATS",
     "load_wall",
     "load_wall_file",
-    "read_samples_csv",
     "rounding_of",
 ]
 
@@ -119,12 +118,6 @@ def _column_kind(name: str):
     if bare in ("b", "h", "wall", "btheta", "bθ", "support", "value"):
         return "value", None
     return None, None
-
-
-def read_samples_csv(path: str, *, degrees: bool = False):
-    """``(theta, b)`` in radians from a CSV of samples, as people write them (:func:`read_sample_table`)."""
-    table = read_sample_table(path, degrees=degrees)
-    return table["theta"], table["b"]
 
 
 def _angle_rounding(values, period):

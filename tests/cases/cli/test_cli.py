@@ -3,6 +3,7 @@
 import json
 import os
 
+import numpy as np
 import pytest
 
 from coinwall.cases.cli.main import main
@@ -363,3 +364,32 @@ def test_an_unknown_wall_file_extension_is_named(tmp_path, capsys, monkeypatch):
         assert "extension '.txt'" in err and ".csv or .json" in err and len(err.strip().splitlines()) == 1
     assert main(["critical", "t.real"]) == 2
     assert "attribute access" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", [["simulate", "case:coin", "--H", "3"], ["section", "case:coin", "--H", "3"],
+                                     ["correlation", "case:coin", "--H", "3"], ["toss", "case:coin"],
+                                     ["quantum", "1", "--H", "3", "--levels", "2"]])
+@pytest.mark.parametrize("option", ["--sigma-b", "--sigma-theta"])
+def test_options_only_where_they_act(command, option, capsys):
+    """The dynamics and the quantum body read a sample file's values, not their half-widths: the options that
+    set them are not offered there (they used to be accepted and change nothing)."""
+    with pytest.raises(SystemExit) as exc:
+        main([*command, option, "0.1"])
+    assert exc.value.code == 2 and f"unrecognized arguments: {option}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args", [["simulate", "case:coin", "--H", "3", "--collisions", "10", "--seed", "-1"],
+                                  ["section", "case:coin", "--H", "3", "--orbits", "0"],
+                                  ["correlation", "case:coin", "--H", "3", "--bounces", "-1"],
+                                  ["kam", "--H", "3", "--bracket", "1,2,3"],
+                                  ["fit", "missing.csv", "--sigma-b", "-1"]])
+def test_the_library_checks_and_the_command_line_names_the_flag(args, capsys, tmp_path, monkeypatch):
+    """The rules of counts, seeds and ranges are the library's; its message reaches the user with the flag's name."""
+    monkeypatch.chdir(tmp_path)
+    theta = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    np.savetxt("missing.csv", np.column_stack([theta, 1 + 0.05 * np.cos(2 * theta)]), delimiter=",",
+               header="theta,b", comments="")
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    flag = args[-2]
+    assert err.count("\n") == 1 and err.startswith(f"coinwall: error: {flag}") and "`" not in err, err
