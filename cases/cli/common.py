@@ -134,7 +134,7 @@ def count(text: str) -> int:
 
 def parse_params(params) -> dict:
     """``--param NAME=VALUE`` options as ``{name: value}``; a name given twice is refused (the last one
-    used to win silently, hiding a typo in a long command line)."""
+    would win silently, hiding a typo in a long command line)."""
     from coinwall.forward.expression import parse_params as parse
 
     return parse(params, what="--param")

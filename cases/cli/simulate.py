@@ -9,8 +9,8 @@ from .common import add_command, count, load_table, progress_bar, table_argument
 
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
-#: Measured cost of one collision (2 shared cores under load): the numba kernel ~540 ns (1.9·10^6/s for
-#: the eps=99 ellipse wall), the numpy reference stepper ~320 µs; counted with a margin as 1 µs and 500 µs.
+#: The cost of one collision, with a margin: the numba kernel ~0.5 µs on the ε = 99 ellipse
+#: (tests/benchmarks/bench_billiard.py), the numpy reference stepper ~0.3 ms; counted as 1 µs and 500 µs.
 NS_PER_COLLISION = {"kernel": 1_000.0, "reference": 500_000.0}
 #: The largest run started without --allow-long: one hour by the estimate above.
 MAX_SECONDS = 3600.0

@@ -29,8 +29,8 @@ DRAWING_FORMATS = (".svg", ".dxf")
 SAMPLE_KEYS = ("theta", "b")
 #: largest wall file read (64 MiB holds ~3·10⁶ rows, more than MAX_SAMPLES)
 MAX_WALL_FILE_BYTES = 64 * 2**20
-#: samples in a wall file at most: ``critical`` on 10⁶ uniform samples takes 9.5 s and 0.34 GB (measured on
-#: 2 shared cores); 10⁷ rows ran for over 300 s
+#: samples in a wall file at most (the library's bound, :data:`coinwall.forward.wall.MAX_SAMPLES`): ``critical``
+#: on 10⁶ uniform samples from a file needs about 0.34 GB and seconds; 10⁷ rows would take minutes
 MAX_SAMPLES = 1_000_000
 #: keys of a Fourier wall file: constant term and the cosine and sine coefficients of orders 1, 2, …
 FOURIER_KEYS = ("a0", "cos", "sin")

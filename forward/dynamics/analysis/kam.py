@@ -11,7 +11,7 @@ regular fraction falls monotonically with ε; islands that reappear above the
 bracket point found are not searched for.  Islands smaller than about
 1/orbits of phase space are below the resolution of the criterion.
 
-Measured caveat (docs/dynamics.md, "Criterion sensitivity"): the assumption is
+Caveat (docs/dynamics.md, "Criterion sensitivity"): the assumption is
 violated.  Near the boundary the regular fraction is ~1 % in islands around a
 stable tilted period-2 orbit, which exists over a wide window of ε (at H = 2,
 from ε ≈ 4.05 to ≈ 21.8), and it is not monotonic in ε; whether 100 orbits hit an
