@@ -41,7 +41,7 @@ import numpy as np
 
 from ...errors import InvalidWall
 
-__all__ = ["attach_cache", "cache_dir", "load_module", "python_wall", "wall_source"]
+__all__ = ["attach_cache", "cache_dir", "cache_module", "load_module", "python_wall", "wall_source"]
 
 FOURIER_SOURCE = '''
 {decorator}def wall_b2(phi, c):
@@ -258,11 +258,13 @@ def _cache_class(base=None):
     base = base or FunctionCache
 
     class Locator(_CacheLocator):
-        """A generated module's functions: cached in the folder of its (never written) file, stamped with its
-        name, the hash of its source, so that one name never stands for two sources."""
+        """Every function in coinwall's folder.  A generated module's (its file name, never written, is in the
+        folder) is stamped with that name, the hash of its source, so that one name never stands for two
+        sources; a module of the package with the SHA-256 of its file, and told apart from another copy of the
+        package by the hash of its path."""
 
-        def __init__(self, py_func, py_file):
-            self._folder, self._name = os.path.split(py_file)
+        def __init__(self, folder, stamp, disambiguator):
+            self._folder, self._stamp, self._disambiguator = folder, stamp, disambiguator
 
         def ensure_cache_path(self):
             pass  # made private by cache_dir()
@@ -271,14 +273,24 @@ def _cache_class(base=None):
             return self._folder
 
         def get_source_stamp(self):
-            return self._name
+            return self._stamp
 
         def get_disambiguator(self):
-            return ""
+            return self._disambiguator
 
         @classmethod
         def from_function(cls, py_func, py_file):
-            return cls(py_func, py_file)
+            folder = cache_dir()
+            if folder is None:
+                return None
+            if os.path.dirname(py_file) == folder:
+                return cls(folder, os.path.basename(py_file), "")
+            try:
+                with open(py_file, "rb") as fh:
+                    stamp = hashlib.sha256(fh.read()).hexdigest()
+            except OSError:  # no source file (a zip): compiled in memory
+                return None
+            return cls(folder, stamp, hashlib.sha256(os.path.abspath(py_file).encode()).hexdigest()[:8])
 
     class CheckedFile(IndexDataCacheFile):
         """numba's index and data files, each the SHA-256 of its pickle, then the pickle: anything else reads
@@ -342,13 +354,14 @@ def _cache_class(base=None):
 
 
 def attach_cache(dispatcher, base=None) -> bool:
-    """Give one compiled function of a module made by :func:`load_module` coinwall's cache; returns whether
-    it has one (False: it compiles in memory).
+    """Give one numba function coinwall's cache (in :func:`cache_dir`, with checked files); returns whether it
+    has one (False: it compiles in memory, as with ``cache=False``).
 
     Parameters
     ----------
     dispatcher : numba dispatcher
-        A function of the module (``module.name``), not yet compiled.
+        A function made with ``cache=False`` (a module made by :func:`load_module`, or one of the package,
+        :func:`cache_module`), not yet compiled.
     base : type, optional
         The cache class that ``cache=True`` would give it (numba's ``FunctionCache`` by default; a CUDA
         dispatcher's cache class for a CUDA kernel).
@@ -357,17 +370,25 @@ def attach_cache(dispatcher, base=None) -> bool:
     -------
     bool
     """
-    folder = os.path.dirname(dispatcher.py_func.__code__.co_filename)
-    if cache_dir() != folder:
+    folder = cache_dir()
+    if folder is None:
         return False
     try:
         cache = _cache_class(base)(dispatcher.py_func)
-    except RuntimeError:  # NUMBA_CACHE_LOCATOR_CLASSES chose locators that cannot place it
+    except RuntimeError:  # no locator placed it (no source file; NUMBA_CACHE_LOCATOR_CLASSES chose others)
         return False
-    if cache.cache_path != folder:  # (the same: a cache only in coinwall's folder)
+    if cache.cache_path != folder:  # a cache only in coinwall's folder
         return False
     dispatcher._cache = cache
     return True
+
+
+def cache_module(module) -> bool:
+    """:func:`attach_cache` for every numba function of ``module``; returns whether all of them have the cache."""
+    from numba.core.dispatcher import Dispatcher
+
+    functions = [value for value in vars(module).values() if isinstance(value, Dispatcher)]
+    return all([attach_cache(f) for f in functions])
 
 
 _MODULES: dict = {}
@@ -404,15 +425,12 @@ def load_module(source: str, prefix: str = "coinwall_gen"):
     name = f"{prefix}_{hashlib.sha256(data).hexdigest()[:20]}"
     if name in _MODULES:
         return _MODULES[name]
-    from numba.core.dispatcher import Dispatcher
-
     folder = cache_dir()
     module = types.ModuleType(name)
     module.__file__ = os.path.join(folder or "<memory>", name + ".py")  # a name only: numba's cache is keyed by it
     module.CACHE = False
     sys.modules[name] = module  # numba finds a function's globals through its module
     exec(compile(data, module.__file__, "exec"), module.__dict__)  # noqa: S102 -- our own generated source
-    functions = [value for value in vars(module).values() if isinstance(value, Dispatcher)]
-    module.CACHED = folder is not None and all([attach_cache(f) for f in functions])
+    module.CACHED = folder is not None and cache_module(module)
     _MODULES[name] = module
     return module

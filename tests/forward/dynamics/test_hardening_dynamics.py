@@ -13,6 +13,7 @@ Reference values and where they come from:
 * the refusal messages: the bounds stated in the Billiard, correlation and kam docstrings.
 """
 
+import hashlib
 import json
 import math
 import os
@@ -160,6 +161,23 @@ def test_numba_cache_dir_does_not_move_the_cache(cache, monkeypatch, tmp_path):
     _, stats = _tiny("coinwall_test_elsewhere")
     assert Path(stats.cache_path).parent == cache
     assert not elsewhere.exists()
+
+
+def test_the_package_kernels_cache_in_the_private_folder_too(cache, monkeypatch):
+    """The 3-D coin's kernel is a module of the package: its functions get the same folder, stamped with the
+    hash of the file (numba's own cache would go beside the file, or to numba's folder, unchecked)."""
+    from numba.core.dispatcher import Dispatcher
+
+    from coinwall.forward.dynamics.coin3d import _top_kernel
+
+    functions = [f for f in vars(_top_kernel).values() if isinstance(f, Dispatcher)]
+    for f in functions:  # put back what the rest of the session uses
+        monkeypatch.setattr(f, "_cache", f._cache)
+    assert wallcode.cache_module(_top_kernel) and len(functions) > 5
+    folder = wallcode.cache_dir()
+    digest = hashlib.sha256(Path(_top_kernel.__file__).read_bytes()).hexdigest()
+    assert Path(folder).parent == cache
+    assert all(f._cache.cache_path == folder and f._cache._cache_file._source_stamp == digest for f in functions)
 
 
 def test_kernel_in_memory_gives_the_same_numbers(tmp_path, monkeypatch, capsys):
