@@ -243,6 +243,12 @@ def existing_files(paths) -> tuple:
 
 
 def _umask() -> int:
+    """The process's umask, read without changing it where the system says it (Linux): setting it for a moment
+    would give a file another thread creates meanwhile the wrong mode."""
+    with contextlib.suppress(OSError, ValueError), open("/proc/self/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
     mask = os.umask(0o22)
     os.umask(mask)
     return mask
