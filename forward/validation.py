@@ -15,7 +15,7 @@ import re
 from .errors import InvalidArgument
 
 __all__ = ["ASCII_BLANKS", "DECIMAL", "parse_number", "parse_number_list", "check_count", "check_finite", "check_positive",
-           "check_choice", "check_range", "check_memory",
+           "check_choice", "check_range", "check_memory", "check_seed",
            "available_memory", "is_integer", "MEMORY_FRACTION"]
 
 # a request may use at most this fraction of the memory available when it starts (the rest is for the
@@ -96,6 +96,23 @@ def check_count(name: str, value, *, minimum: int = 1, maximum: int | None = Non
         valid = f">= {minimum}" if maximum is None else f"from {minimum} to {maximum}"
         raise error(f"`{name}` must be an integer {valid}, got {value}")
     return value
+
+
+def check_seed(value, name: str = "seed", *, error=InvalidArgument):
+    """``value`` as a seed of NumPy's generators: ``None`` (fresh entropy) or an integer >= 0.
+
+    Examples
+    --------
+    >>> check_seed(7), check_seed(None)
+    (7, None)
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    coinwall.forward.errors.InvalidArgument: `seed` must be a non-negative integer, got -1
+    """
+    if value is not None and not (is_integer(value) and value >= 0):
+        raise error(f"`{name}` must be a non-negative integer, got {value!r}")
+    return None if value is None else int(value)
 
 
 def check_finite(name: str, value, *, error=InvalidArgument) -> float:

@@ -36,10 +36,9 @@ _MIN_SAMPLES = 8
 #: ``¼∫(h² + h'²) h (h + h'') dφ`` are fourth powers of the wall: (1.8e308)^(1/4) ≈ 1e77 is where they
 #: overflow; 1e60 leaves room for the sums and the offset.
 MAX_MAGNITUDE = 1e60
-#: Most distinct sample angles a wall takes.  Measured on 2 shared cores (load about 6): the critical offset
-#: of 10⁶ samples takes 3 s (the data's own geometry, O(n log n); 9 s from a CSV file), solving the body of
-#: 10⁶ smooth uniform samples 8.8 s; peaks of 166–540 bytes per sample (tracemalloc), counted as
-#: :data:`BYTES_PER_SAMPLE`.  Non-uniform samples are further bounded for their least-squares
+#: Most distinct sample angles a wall takes: the critical offset of 10⁶ samples is the data's own geometry,
+#: O(n log n), and a solve of them takes seconds (tests/benchmarks/bench_dense_data.py); peaks of 166–540
+#: bytes per sample (tracemalloc), counted as :data:`BYTES_PER_SAMPLE`.  Non-uniform samples are further bounded for their least-squares
 #: interpolant (:data:`~.wallbackends.MAX_LSQ_SAMPLES`).  The wall-file readers read at most as many rows.
 MAX_SAMPLES = 1_000_000
 BYTES_PER_SAMPLE = 600

@@ -12,14 +12,12 @@ from .errors import InvalidWall
 __all__ = ["MAX_HARMONICS", "MAX_LSQ_SAMPLES", "MS_PER_HARMONIC", "_ArcsBackend", "_FourierBackend", "_SampledBackend"]
 
 #: Most non-uniform samples a least-squares interpolant is made of: it costs n·k² (k ≤ 256 harmonics) and
-#: 10.4 kB per sample (tracemalloc).  Solving 10⁴ such samples took 7.5 s, 2·10⁴ 29 s, 4·10⁴ 38 s (25 s in
-#: lstsq) and 5·10⁴ 132 s on 2 cores shared at a load of about 6 (alone, about a third of that): 2·10⁴
-#: keeps a solve near 30 s even so.  More samples are solved from their lines (exact for the data).
+#: 10.4 kB per sample (tracemalloc); 2·10⁴ keeps a solve near ten seconds on two idle cores
+#: (tests/benchmarks/bench_dense_data.py).  More samples are solved from their lines (exact for the data).
 MAX_LSQ_SAMPLES = 20_000
 #: Largest Fourier wall (harmonics).  Every evaluation costs harmonics × angles, and the wall checks and
-#: `critical` evaluate on tens of thousands of angles: measured 5.5 s at 1,000 harmonics, 18 s at 4,000 and
-#: 33 s at 10,000 (`coinwall critical f.json`, 2 shared cores under load), i.e. about 3.3 ms per harmonic
-#: (10^5 harmonics ran for minutes, 10^6 for hours).
+#: `critical` evaluate on tens of thousands of angles: `coinwall critical f.json` costs about
+#: :data:`MS_PER_HARMONIC` ms per harmonic, half a minute at this bound (10^5 harmonics would take minutes).
 MAX_HARMONICS = 10_000
 MS_PER_HARMONIC = 3.3
 

@@ -128,10 +128,6 @@ class DiscreteSupport:
         i = self.critical_index
         return float(self.rho_tolerance[i] + self.spacing_error[i])
 
-    def vertex_windows(self, b0: float = 0.0) -> np.ndarray:
-        """Mask of the samples whose line passes through the same point as both neighbours
-        (``|ρ_i + b0| ≤`` its rounding tolerance)."""
-        return np.abs(self.rho + b0) <= self.rho_tolerance
 
 
 def discrete_support(theta, b, rounding=None) -> DiscreteSupport:

@@ -194,7 +194,7 @@ def _newton(wall, b0, x, tt, left, right, sign_left):
     """Safeguarded Newton for g(φ) = tt, each root until its own residual is at the rounding floor.
 
     Only the roots not yet converged are evaluated again (the wall at 10⁵ angles costs milliseconds,
-    and a few roots oscillating at the floor used to keep every root iterating, ~40 rounds at 10⁵ nodes).
+    and a few roots oscillating at the floor would keep every root iterating, ~40 rounds at 10⁵ nodes).
     """
     x = np.array(x, dtype=float)
     tol = 2e-16 * (1 + np.max(np.abs(tt))) if tt.size else 0.0

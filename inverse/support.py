@@ -39,8 +39,8 @@ MAX_OFFSET_RATIO = 1e8
 
 #: Largest outline resolution, and the memory a solve needs per node, every stage of the command included
 #: (envelope, polar cross-check, wall check, shape check, realizability/κ_max): peak RSS of
-#: `coinwall solve --points N -o body.json` measured 542 MB at 2·10^5, 1,160 MB at 5·10^5 and 2,306 MB at 10^6
-#: points (about 2,200 bytes per point plus ~100 MB of interpreter), counted as 2,560 bytes per point.
+#: `coinwall solve --points N -o body.json` is about 2,200 bytes per point plus ~100 MB of interpreter (542 MB
+#: at 2·10^5 points, 1,160 MB at 5·10^5, 2,306 MB at 10^6), counted as 2,560 bytes per point.
 MAX_POINTS = 5_000_000
 BYTES_PER_POINT = 2560
 

@@ -6,7 +6,7 @@ import json
 import math
 
 from .budget import add_allow_long
-from .common import add_command, check_positive_count, check_seed, count, number, progress_bar, written_lines
+from .common import add_command, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -71,9 +71,6 @@ def _finite(name, value):
 def _cmd_coin3d(args):
     from coinwall.forward.errors import InvalidArgument
 
-    check_positive_count("--samples", args.samples)
-    check_positive_count("--bounces", args.bounces)
-    check_seed(args.seed)
     for name in ("psi", "e", "g", "ceiling", "height"):
         _finite(f"--{name}", getattr(args, name))
     if args.samples > 10 ** 7:
@@ -193,8 +190,6 @@ def _bounce(args):
 
     from .budget import check_time
 
-    if not 0 < args.e <= 1:
-        raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.g < 0 or (args.g == 0 and args.ceiling is None):
         raise InvalidArgument(f"--g must be positive (or 0 with a --ceiling: the coin would fly off), got {args.g}")
     if not args.height > 0:

@@ -14,8 +14,6 @@ __all__ = [
     "LibraryChoices",
     "add_command",
     "check_body_finite",
-    "check_positive_count",
-    "check_seed",
     "count",
     "describe_written",
     "device_argument",
@@ -139,7 +137,7 @@ def count(text: str) -> int:
 
 def parse_params(params) -> dict:
     """``--param NAME=VALUE`` options as ``{name: value}``; a name given twice is refused (the last one
-    used to win silently, hiding a typo in a long command line)."""
+    would win silently, hiding a typo in a long command line)."""
     from coinwall.forward.expression import parse_params as parse
 
     return parse(params, what="--param")
@@ -155,8 +153,10 @@ def check_body_finite(body, what="the body") -> None:
                       b0=body.b0, b_c=0.0 if math.isinf(body.b_c) else body.b_c)
 
 
-def wall_arguments(parser, optional=False):
-    """Add the positional WALL argument and ``--param`` to a subcommand parser."""
+def wall_arguments(parser, optional=False, intervals=True):
+    """Add the positional WALL argument, ``--param`` and ``--degrees`` to a subcommand parser, and with
+    ``intervals`` the half-widths of a sample file (``--sigma-b``, ``--sigma-theta``: only the commands that
+    treat samples as intervals, the solver's and the critical offset's, use them)."""
     parser.add_argument("wall", nargs="?" if optional else None,
                         help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
                              "or a file: .csv (theta,b samples; header theta_deg for degrees) or .json (Fourier: "
@@ -164,6 +164,8 @@ def wall_arguments(parser, optional=False):
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="value of a parameter of the expression (repeatable)")
     parser.add_argument("--degrees", action="store_true", help="the angles of a sample file are in degrees")
+    if not intervals:
+        return
     parser.add_argument("--sigma-b", type=number, default=0.0, metavar="S",
                         help="half-width of a sample file's wall values where larger than half their last digit "
                              "(a measurement's accuracy; a column sigma_b does the same per sample)")
@@ -173,8 +175,9 @@ def wall_arguments(parser, optional=False):
 
 
 def table_arguments(parser):
-    """Add WALL, ``--param``, ``--H``, ``--b0`` and ``--kappa``: the billiard table of the dynamics subcommands."""
-    wall_arguments(parser)
+    """Add WALL, ``--param``, ``--degrees``, ``--H``, ``--b0`` and ``--kappa``: the billiard table of the dynamics
+    subcommands."""
+    wall_arguments(parser, intervals=False)
     parser.add_argument("--H", type=number, required=True,
                         help="distance between the walls (units of κ, or of --kappa's length unit)")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
@@ -193,9 +196,6 @@ def load_table(args):
     from coinwall.forward.dynamics.billiard.table import Billiard
     from coinwall.forward.errors import InvalidArgument
 
-    for name, value in (("--H", args.H), ("--b0", args.b0)):
-        if not math.isfinite(value):
-            raise InvalidArgument(f"{name} must be a finite number, got {value}")
     kappa = args.kappa
     if kappa is not None and not (math.isfinite(kappa) and kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length, got {kappa}")
@@ -252,20 +252,6 @@ def device_argument(parser):
     parser.add_argument("--device", choices=["cpu", "gpu"], default="cpu",
                         help="where the kernel runs: all CPU cores (default) or a CUDA GPU (coinwall[gpu]; "
                              "one orbit per GPU thread, worth it from ~10^4 orbits)")
-
-
-def check_positive_count(name, value):
-    from coinwall.forward.errors import InvalidArgument
-
-    if value is None or value <= 0:
-        raise InvalidArgument(f"{name} must be a positive integer, got {value}")
-
-
-def check_seed(value):
-    from coinwall.forward.errors import InvalidArgument
-
-    if value is not None and value < 0:
-        raise InvalidArgument(f"--seed must be a non-negative integer, got {value}")
 
 
 def parse_com(text):

@@ -8,8 +8,6 @@ import os
 from .budget import add_allow_long
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     device_argument,
     load_table,
@@ -54,16 +52,9 @@ def register(subparsers):
 
 def _cmd_correlation(args):
     from coinwall.forward.dynamics.analysis.correlation import correlation
-    from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_positive_count("--bounces", args.bounces)
-    check_positive_count("--max-lag", args.max_lag)
-    check_positive_count("--orbits", args.orbits)
-    check_seed(args.seed)
-    if args.max_lag >= args.bounces:
-        raise InvalidArgument(f"--max-lag ({args.max_lag}) must be smaller than --bounces ({args.bounces})")
     check_paths(args.output, FIGURE_FORMATS + (".json",))
     from .budget import check_time
     from .simulate import NS_PER_COLLISION

@@ -6,7 +6,7 @@ import json
 import math
 import os
 
-from .common import add_command, check_seed, count, number, progress_bar, written_lines
+from .common import add_command, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -246,7 +246,6 @@ def run(args):
     family = _family(args)
     model = _model(args)
     targets = _targets(args.target)
-    check_seed(args.seed)
     if args.max_tosses is not None and args.max_tosses < 1000:
         raise InvalidArgument(f"--max-tosses must be at least 1000, got {args.max_tosses}")
     if args.resimulate is not None and not 1000 <= args.resimulate <= 10 ** 8:

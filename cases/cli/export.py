@@ -65,7 +65,7 @@ def _physical(outline):
 def run(args):
     """Read the body, write the drawings, print what was written."""
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite
+    from coinwall.forward.formats.output import existing_files, refuse_non_finite
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
@@ -80,7 +80,6 @@ def run(args):
             "at this size would not have this wall; solve it again with --b0 self-consistent, or pass "
             "--allow-unrealizable")
     refuse_non_finite(f"the body of {args.body!r}", nodes=body.outline.nodes, controls=body.outline.controls)
-    check_paths(args.output, _REEXPORT)  # creates missing folders, now that the input is known to be good
     check_outputs(args.output)
     replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units, tolerance=args.tolerance,

@@ -38,6 +38,7 @@ def register(subparsers):
     parser.add_argument("--sigma-b", type=number, default=None, metavar="SIGMA",
                         help="the noise of one sample (standard deviation, units of the wall; default: estimated "
                              "from the residuals)")
+    parser.flags["sigma"] = "--sigma-b"  # fit_convex's name of it, in its messages
     parser.add_argument("--degrees", action="store_true", help="the angles of the sample file are in degrees")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="the body (.json .svg .dxf .csv .png .pdf, as solve) or, for a file whose name "
@@ -79,10 +80,10 @@ def run(args):
     """Fit, write, print."""
     import sys
 
-    from coinwall.forward.errors import InvalidArgument, OutputError
+    from coinwall.forward.errors import OutputError
     from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
-    from coinwall.inverse.export import check_outputs, export_body, exporters
+    from coinwall.inverse.export import check_outputs, export_body
     from coinwall.inverse.fit import fit_convex
 
     from .common import check_body_finite, describe_written, written_lines
@@ -93,7 +94,6 @@ def run(args):
         if not path.lower().endswith((".csv", ".json")):
             raise OutputError(f"output {path!r}: a fitted wall is written as .csv or .json")
     check_paths(wall_outputs, (".csv", ".json"))
-    check_paths(body_outputs, sorted(exporters()))
     check_outputs(body_outputs)
     if not args.samples.lower().endswith((".csv", ".json")):
         raise OutputError(f"samples {args.samples!r}: give a .csv (theta,b) or .json ({{theta, b}}) file")
@@ -101,8 +101,6 @@ def run(args):
     if wall.samples is None:
         raise OutputError(f"samples {args.samples!r}: a Fourier wall file has no samples to fit")
     theta, values = wall.samples
-    if args.sigma_b is not None and not (math.isfinite(args.sigma_b) and args.sigma_b > 0):
-        raise InvalidArgument(f"--sigma-b must be a positive finite number, got {args.sigma_b:g}")
     fit = fit_convex(theta, values, args.b0, sigma=args.sigma_b)
     body = fit.body
     if args.output:

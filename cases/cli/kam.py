@@ -8,8 +8,6 @@ import sys
 
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     device_argument,
     number,
@@ -60,19 +58,11 @@ def _floats(text, name):
 
 def _cmd_kam(args):
     from coinwall.forward.dynamics.analysis.kam import kam_boundary
-    from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
     H = _floats(args.H, "--H")
     bracket = _floats(args.bracket, "--bracket")
-    if len(bracket) != 2:
-        raise InvalidArgument(f"--bracket must be two numbers LOW,HIGH, got {args.bracket!r}")
-    check_positive_count("--orbits", args.orbits)
-    check_positive_count("--collisions", args.collisions)
-    if args.steps < 0:
-        raise InvalidArgument(f"--steps must be a non-negative integer, got {args.steps}")
-    check_seed(args.seed)
     check_paths(args.output, FIGURE_FORMATS + (".json",))
     bar = progress_bar(args, len(H) * (args.steps + 2), "eval")
     try:

@@ -15,6 +15,7 @@ OSError (a file, the disk) ``coinwall: error: cannot read or write 'PATH': REASO
 MemoryError                ``coinwall: error: not enough memory: ...; ask for less`` 2
 RecursionError             ``coinwall: error: the input is nested too deeply ...``  2
 KeyboardInterrupt          ``coinwall: interrupted``                                130
+SIGTERM, SIGHUP, ...       ``coinwall: stopped by SIGTERM``                         128 + n
 any other exception        ``coinwall: internal error: TYPE: MESSAGE -- this is a   70
                            bug ...`` (asks for a report; EX_SOFTWARE of sysexits.h)
 ========================== ======================================================== ======
@@ -25,6 +26,12 @@ Windows console in cp1252) :func:`main` writes it through the error handler :dat
 failing: a symbol becomes its ASCII name (θ → theta, ε → eps, κ → kappa, ± → +/-, ≤ → <=, θ₀ → theta0), any
 other character a Python escape (``w\\xe4nde.csv``; a byte of a file name the locale could not decode,
 ``\\xc3``), so a file name stays unambiguous.  A character the stream can encode is written as it is.
+
+A signal that would end the process (SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGXCPU, where the
+process does not ignore it) is turned into an exception, like Ctrl-C: every ``finally`` clause runs, so
+the temporaries of an output being written are removed (:mod:`coinwall.forward.formats.output`) and the
+status is the one a shell shows for the signal.  A closed standard output is refused before any work
+(the report would be lost), and one that cannot be written (a full disk) is an error, not a lost report.
 
 Warnings (NumPy's RuntimeWarnings such as "invalid value encountered in divide", a library's
 UserWarning) never reach the terminal as raw warning text: they are recorded while the command runs
@@ -37,8 +44,10 @@ and asks for a report, rather than a wrong result.  The exit status is not chang
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+import signal
 import sys
 
 # numba marks up its messages with colorama when that is installed, and colorama then writes a terminal reset
@@ -69,6 +78,37 @@ def _quiet_scan_worker() -> None:
 
 
 _quiet_scan_worker()
+
+# the signals that end a process by default, turned into an exception by main() (module docstring)
+_STOPS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGALRM",
+                                                  "SIGXCPU") if hasattr(signal, name))
+
+
+class _Stopped(BaseException):
+    """A signal in :data:`_STOPS` arrived (``args[0]``: its number); a BaseException, as KeyboardInterrupt is."""
+
+
+def _stop(number, frame):
+    raise _Stopped(number)
+
+
+@contextlib.contextmanager
+def _signals_as_exceptions():
+    """While a command runs in the main thread: the signals of :data:`_STOPS` that have their default action
+    raise :class:`_Stopped` instead of killing the process (ignored ones, e.g. under ``nohup``, stay ignored)."""
+    import threading
+
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        for number in _STOPS:
+            if signal.getsignal(number) is signal.SIG_DFL:
+                previous[number] = signal.signal(number, _stop)
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+
 
 # a library message names an argument in backticks: "`max_lag` must be ..."
 _ARGUMENT = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)`")
@@ -210,13 +250,14 @@ def main(argv=None) -> int:
 
     streams = ascii_fallback()
     try:
-        if _debug():  # the developer's view: warnings and tracebacks as Python shows them
-            return _run(argv)
-        with warnings.catch_warnings(record=True) as caught:
-            try:
-                return _guarded(argv)
-            finally:
-                _note_warnings(caught)
+        with _signals_as_exceptions():
+            if _debug():  # the developer's view: warnings and tracebacks as Python shows them
+                return _run(argv)
+            with warnings.catch_warnings(record=True) as caught:
+                try:
+                    return _guarded(argv)
+                finally:
+                    _note_warnings(caught)
     finally:
         restore_streams(streams)
 
@@ -236,6 +277,9 @@ def _guarded(argv) -> int:
     except KeyboardInterrupt:
         print("coinwall: interrupted", file=sys.stderr)
         return EX_INTERRUPTED
+    except _Stopped as exc:
+        print(f"coinwall: stopped by {signal.Signals(exc.args[0]).name}", file=sys.stderr)
+        return 128 + exc.args[0]
     except OSError as exc:  # an input or output the library did not map: a file, a folder, the disk
         where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
         _error(f"cannot read or write{where}: {exc.strerror or exc}")
@@ -257,6 +301,10 @@ def _run(argv) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    if sys.stdout is None:  # started with its standard output closed (`coinwall solve >&-`)
+        _error("standard output is closed, and the command's report would be lost; redirect it to a file "
+               "(or to /dev/null to discard it)")
+        return 2
     from coinwall.forward.formats.output import command_scope
 
     from .options import check_options
@@ -265,7 +313,16 @@ def _run(argv) -> int:
         check_options(args.command, parser.commands[args.command], args)  # meaning and conflicts, before any work
         # the files named as positional arguments, and every input file read, cannot be outputs of the command
         with command_scope(_file_arguments(parser.commands[args.command], args)):
-            return args.run(args)
+            status = args.run(args)
+        try:
+            sys.stdout.flush()  # a report that cannot be written (a full disk) is an error, not exit status 0
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python flushes it again at exit
+            _error(f"cannot write the report to standard output: {exc.strerror or exc}")
+            return 2
+        return status
     except CoinwallError as exc:
         if _debug():
             raise
@@ -273,8 +330,7 @@ def _run(argv) -> int:
         return 2
     except BrokenPipeError:  # the reader went away (`coinwall cases --json | head`): not an error of ours
         # Python would report the pipe again when it flushes stdout at exit; point stdout at nothing
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
 
 

@@ -9,7 +9,6 @@ import os
 from .common import (
     LibraryChoices,
     add_command,
-    check_positive_count,
     count,
     number,
     progress_bar,
@@ -48,7 +47,7 @@ def register(subparsers):
     """Add the ``quantum`` subcommand."""
     parser = add_command(subparsers, "quantum", help="levels of the quantum body: spectrum, classes, tunnelling",
                          description=DESCRIPTION, example=EXAMPLE)
-    wall_arguments(parser)
+    wall_arguments(parser, intervals=False)
     parser.add_argument("--H", required=True, metavar="H1,H2,...",
                         help="distance between the walls (units of κ); several, comma-separated, make a doublet scan")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
@@ -208,9 +207,6 @@ def _cmd_quantum(args):
 
     heights = _heights(args.H)
     body = _body(args.body)
-    check_positive_count("--levels", args.levels)
-    if args.cells is not None:
-        check_positive_count("--cells", args.cells)
     check_paths(args.output, FIGURE_FORMATS + (".json",))
     args.splittings = args.splittings or len(heights) > 1
     if args.splittings and args.method == "spectral":

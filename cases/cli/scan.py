@@ -8,7 +8,7 @@ import shlex
 import sys
 
 from .budget import add_allow_long, check_time
-from .common import LibraryChoices, add_command, check_seed, count, number, progress_bar, written_lines
+from .common import LibraryChoices, add_command, count, number, progress_bar, written_lines
 
 __all__ = ["register"]
 
@@ -173,7 +173,6 @@ def _cmd_scan(args):
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_seed(args.seed)
     check_paths(args.figure, FIGURE_FORMATS)
     table, grid = _table(args)
     grid["H"] = args.H

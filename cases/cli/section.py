@@ -8,8 +8,6 @@ import os
 from .budget import add_allow_long
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     device_argument,
     load_table,
@@ -53,9 +51,6 @@ def _cmd_section(args):
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_positive_count("--orbits", args.orbits)
-    check_positive_count("--collisions", args.collisions)
-    check_seed(args.seed)
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     _check_section_memory(args, FIGURE_FORMATS)
     from .budget import check_time

@@ -6,21 +6,12 @@ import json
 import time
 
 from .budget import MAX_SECONDS, add_allow_long, check_time, duration
-from .common import (
-    add_command,
-    check_positive_count,
-    check_seed,
-    count,
-    device_argument,
-    load_table,
-    progress_bar,
-    table_arguments,
-)
+from .common import add_command, count, device_argument, load_table, progress_bar, table_arguments
 
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
-#: Measured cost of one collision (2 shared cores under load): the numba kernel ~540 ns (1.9·10^6/s for
-#: the eps=99 ellipse wall), the numpy reference stepper ~320 µs; counted with a margin as 1 µs and 500 µs
+#: The cost of one collision, with a margin: the numba kernel ~0.5 µs on the ε = 99 ellipse
+#: (tests/benchmarks/bench_billiard.py), the numpy reference stepper ~0.3 ms; counted as 1 µs and 500 µs
 #: (``section`` and ``correlation`` count their collisions at the kernel's cost too).
 NS_PER_COLLISION = {"kernel": 1_000.0, "reference": 500_000.0}
 
@@ -67,10 +58,7 @@ def _cmd_simulate(args):
     from coinwall.forward.dynamics.billiard.table import compile_kernel, random_states
     from coinwall.forward.validation import check_count
 
-    check_positive_count("--collisions", args.collisions)
-    check_positive_count("--orbits", args.orbits)
-    check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # streamed: memory is bounded, time is not
-    check_seed(args.seed)
+    check_count("collisions", args.collisions, maximum=MAX_COLLISIONS)  # before the estimate (orbit_statistics' rule)
     if args.orbits > 1 or args.device != "cpu":
         return _simulate_ensemble(args)
     estimate = check_time(args, estimated_seconds(args.collisions, args.method),

@@ -108,9 +108,9 @@ def run(args):
     """Solve, write the outputs, print the summary."""
     from coinwall.forward.display import format_number
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.formats.output import check_paths, existing_files
+    from coinwall.forward.formats.output import existing_files
     from coinwall.inverse import realizability, solve_body
-    from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     from .common import check_body_finite, load_wall, wall_options
 
@@ -121,7 +121,6 @@ def run(args):
     # bad input fails before any work; missing folders are created only once everything else is good
     ExportOptions(kappa=args.kappa, units=args.units, tolerance=args.tolerance)
     wall = load_wall(wall_text, params, **wall_options(args))
-    check_paths(args.output, sorted(exporters()))
     check_outputs(args.output)
     b0 = _offset(b0, wall)
     body = solve_body(wall, b0, method=args.method, points=args.points, cross_check=not args.no_cross_check)

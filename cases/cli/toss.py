@@ -9,8 +9,6 @@ import os
 from .budget import add_allow_long, check_time
 from .common import (
     add_command,
-    check_positive_count,
-    check_seed,
     count,
     load_wall,
     number,
@@ -84,7 +82,7 @@ def register(subparsers):
     """Add the ``toss`` subcommand."""
     parser = add_command(subparsers, "toss", help="the toss that lands: gravity, a floor, restitution; basin maps",
                          description=DESCRIPTION, example=EXAMPLE)
-    wall_arguments(parser)
+    wall_arguments(parser, intervals=False)
     parser.add_argument("--g", type=number, default=1.0, help="field in κ/s² (default 1; m/s² with --kappa)")
     parser.add_argument("--e", type=number, default=0.6, help="coefficient of restitution in (0, 1] (default 0.6)")
     parser.add_argument("--height", type=number, default=None,
@@ -150,14 +148,9 @@ def _cmd_toss(args):
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all
 
-    check_positive_count("--impacts", args.impacts)
-    check_positive_count("--samples", args.samples)
     if args.impacts > 10 ** 9 or args.samples > 10 ** 8:
         raise InvalidArgument(f"--impacts must be at most 1e9 and --samples at most 1e8, got {args.impacts} and "
                               f"{args.samples}")
-    check_seed(args.seed)
-    if args.workers is not None:
-        check_positive_count("--workers", args.workers)
     check_paths(args.output, FIGURE_FORMATS + (".csv", ".json"))
     if args.spread is not None and args.output:
         raise InvalidArgument("-o writes the basin map; --spread prints fractions only (drop one of them)")

@@ -16,8 +16,8 @@ WALL_TOLERANCE = 1e-12
 
 _TABLES = (".csv", ".json")
 
-#: --samples: at least 8 angles; at most 10⁷ (about 2.6 GB and 70 s; measured 260 bytes and 7 µs per angle
-#: for `coinwall wall --polar 1 --samples 1000000 -o w.csv`: 350 MB peak, of which 90 MB is the interpreter)
+#: --samples: at least 8 angles; at most 10⁷: 260 bytes and 7 µs an angle (`coinwall wall --polar 1 --samples
+#: 1000000 -o w.csv` peaks at 350 MB, 90 MB of it the interpreter), so about 2.6 GB and a minute at the bound
 MAX_SAMPLES = 10_000_000
 SAMPLE_BYTES = 300
 #: the largest distance of the body from its centre of mass, in units of κ: from 1e-6 to 1e6 (a physical

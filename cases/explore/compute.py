@@ -25,7 +25,7 @@ import numpy as np
 from coinwall.forward.display import json_number
 
 __all__ = ["CASE_DEFAULT", "CURVATURE_POINTS", "JOBS", "LIVE_POINTS", "MAX_BEAM", "MAX_BEAM_COLLISIONS", "MAX_PARAMS",
-           "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "crash", "export",
+           "MAX_SECTION_COLLISIONS", "PARAM_DEFAULT", "MissingUpload", "beam", "body", "cases", "export",
            "field", "free_names", "get_wall", "number", "realize", "table", "upload", "wall_info"]
 
 #: the case the page opens on: the paper's Appendix wall (ellipse ε = 1), b_c = −1/2, at b0 = −0.3 (convex)
@@ -501,11 +501,6 @@ def table(spec: dict) -> dict:
             "H": tb.H, "b0": tb.b0, "gap_min": tb.gap_min, "gap_max": tb.gap_max}
 
 
-def crash(spec: dict) -> dict:
-    """For the tests: an unexpected exception inside a job (a bug), which must still reach the page as JSON."""
-    raise ZeroDivisionError("a deliberate bug for the tests")
-
-
 #: job name -> function (the worker runs only these)
 JOBS = {"wall": wall_info, "body": body, "realize": realize, "export": export, "upload": upload, "cases": cases,
-        "beam": beam, "table": table, "crash": crash}
+        "beam": beam, "table": table}

@@ -66,8 +66,10 @@ def _one_line(text, limit=600) -> str:
     return one_line(page_words(" ".join(str(text).split())), limit)
 
 
-def _child(conn) -> None:
-    """The child's loop: receive ``(job, request)``, send ``("ok", result)`` or ``(kind, message, field)``."""
+def _child(conn, jobs="coinwall.cases.explore.compute") -> None:
+    """The child's loop: receive ``(job, request)``, run it from the table ``JOBS`` of the module ``jobs``, send
+    ``("ok", result)`` or ``(kind, message, field)``."""
+    import importlib
     import signal
     import warnings
 
@@ -77,13 +79,14 @@ def _child(conn) -> None:
 
     from . import compute
 
+    table = importlib.import_module(jobs).JOBS
     while True:
         try:
             job, request = conn.recv()
         except (EOFError, OSError):
             return
         try:
-            reply = ("ok", compute.JOBS[job](request))
+            reply = ("ok", table[job](request))
         except compute.MissingUpload as exc:
             reply = ("missing-upload", str(exc), "upload")
         except CoinwallError as exc:
@@ -112,10 +115,12 @@ class Worker:
         For messages.
     warm : bool
         Start the child at once (imports take a second or two) instead of on the first job.
+    jobs : str
+        The module whose table ``JOBS`` the child runs (the tests add jobs of their own).
     """
 
-    def __init__(self, name: str, warm: bool = True):
-        self.name = name
+    def __init__(self, name: str, warm: bool = True, jobs: str = "coinwall.cases.explore.compute"):
+        self.name, self.jobs = name, jobs
         self._context = multiprocessing.get_context("spawn")
         self._process = None
         self._conn = None
@@ -132,7 +137,7 @@ class Worker:
             if self._process is not None and self._process.is_alive():
                 return
             parent, child = self._context.Pipe()
-            process = self._context.Process(target=_child, args=(child,), name=f"coinwall-explore-{self.name}",
+            process = self._context.Process(target=_child, args=(child, self.jobs), name=f"coinwall-explore-{self.name}",
                                             daemon=True)
             process.start()
             child.close()

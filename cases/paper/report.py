@@ -119,7 +119,6 @@ class Report:
 
     def markdown(self) -> str:
         """The Markdown page ``paper-check.md``: the table, the details and the figures."""
-        import os
 
         folder = os.path.dirname(self.markdown_path) if self.markdown_path else "docs"
         # no run time, date or machine here: the page of a given version is the same bytes wherever it is made

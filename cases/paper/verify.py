@@ -13,7 +13,7 @@ import time
 
 from coinwall.forward.errors import InvalidArgument, OutputError
 from coinwall.forward.formats.figure import FIGURE_FORMATS
-from coinwall.forward.formats.output import prepare_folder, write_all
+from coinwall.forward.formats.output import check_folder, write_all
 from coinwall.forward.validation import check_choice
 
 from .checks import Resolution
@@ -58,7 +58,7 @@ def _output_folder(out) -> str:
         raise InvalidArgument(f"`out` must be a folder path, got {out!r}")
     out = os.fspath(out)
     try:
-        prepare_folder(os.path.join(out, "figures"))
+        check_folder(os.path.join(out, "figures"))
     except OutputError as exc:
         raise OutputError(f"`out` {out!r}: {exc}") from None
     return out

@@ -48,7 +48,7 @@ __all__ = ["WORKER_BYTES", "ScanError", "ScanResult", "make_axes", "scan", "work
 
 _BYTES_PER_CELL = 4000.0  # the driver's bookkeeping per submitted cell (a future, its key, its arguments)
 #: memory one local worker process holds while it computes a cell: the interpreter, numpy, numba and the compiled
-#: kernel, casadi, dask's worker (measured: 0.25-0.35 GB resident after a chaotic-fraction cell; rounded up)
+#: kernel, casadi, dask's worker (0.25-0.35 GB resident after a chaotic-fraction cell; rounded up)
 WORKER_BYTES = 512 * 2**20
 _QUIET_LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
 

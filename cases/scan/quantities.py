@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.errors import InvalidArgument
-from coinwall.forward.validation import check_choice, check_count, check_memory, check_positive
+from coinwall.forward.validation import check_choice, check_count, check_memory, check_positive, check_seed
 
 __all__ = ["MAX_CELL_WORK", "QUANTITIES", "Quantity", "check_options", "compute_cell", "work_of"]
 
@@ -116,7 +116,7 @@ def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
     kappa = 1.0 if table_spec.kappa is None else float(table_spec.kappa)
     height = float(H) / kappa
     # the draws of dynamics.toss.heads_fraction (same seed, same order), with the bounces kept
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     v = rng.normal(v0, spread * abs(v0), tosses)
     w = rng.normal(omega0, spread * abs(omega0), tosses)
     outcome, bounces, _ = _outcomes(table, launch_states(table, v, w, height), impacts, False, 1, None)

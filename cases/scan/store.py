@@ -23,8 +23,8 @@ Layout (``xarray.open_zarr(path)`` reads it as it is):
 
 Why it survives a kill: every array is chunked one chunk per cell, Zarr's local store writes each chunk
 file atomically (a temporary, then a rename), and a cell is written values first, then its checksum, then
-its status.  The store itself is made in a temporary folder beside the target (a marked name, see
-:func:`coinwall.forward.formats.output.marked_name`) and renamed into place when complete.
+its status.  The store itself is made in a temporary folder beside the target and renamed into place when complete
+(:func:`coinwall.forward.formats.output.new_folder`).
 
 Why it survives damage (a chunk truncated, deleted, rewritten or with a flipped byte; a disk error):
 :func:`open_store` first looks at every member without opening it (:func:`_check_members`): each file it will
@@ -46,7 +46,6 @@ import contextlib
 import hashlib
 import json
 import os
-import shutil
 import warnings
 
 import numpy as np
@@ -129,7 +128,7 @@ def create_store(path: str, axes, variables: dict, seeds: np.ndarray, attrs: dic
     import dask.array as da
     import xarray as xr
 
-    from coinwall.forward.formats.output import marked_name
+    from coinwall.forward.formats.output import new_folder
 
     dims = tuple(a.name for a in axes)
     shape = tuple(len(a) for a in axes)
@@ -155,16 +154,11 @@ def create_store(path: str, axes, variables: dict, seeds: np.ndarray, attrs: dic
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise InvalidArgument(f"`output` {path!r}: the folder {folder!r} does not exist")
-    partial = marked_name(folder, "store")  # swept by a later write into this folder if a kill leaves it
-    try:
+    with new_folder(path) as partial:  # the store appears complete or not at all
         # Zarr format 2 with consolidated metadata: read by every Zarr implementation (format 3 warns that
         # consolidation is not part of its specification yet)
         dataset.to_zarr(partial, mode="w-", encoding=encoding, consolidated=True, zarr_format=2, compute=False)
         _seal(partial, list(data) + list(dims))
-        os.rename(partial, path)  # the store appears complete or not at all
-    finally:
-        if os.path.lexists(partial):
-            shutil.rmtree(partial, ignore_errors=True)
 
 
 def _seal(path: str, members) -> None:
@@ -427,11 +421,6 @@ def _repair(path, seeds, notes) -> None:
             if seeds is None:  # only the copy of the metadata: a read-only complete store is still fine
                 return
             raise InvalidArgument(f"`output` {path!r} cannot be written ({exc.strerror or exc})") from None
-
-
-def reconsolidate(path) -> None:
-    """Rewrite the consolidated metadata (``.zmetadata``) from the arrays' own (heals a damaged copy)."""
-    _repair(path, None, [])
 
 
 class CellWriter:

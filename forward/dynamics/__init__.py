@@ -1,5 +1,8 @@
-"""The motion: the billiard and its compiled kernel, the rigid body it is equivalent to, and the
-analyses of the motion (Poincaré sections, Lyapunov exponents, P(n), the KAM boundary)."""
+"""The motion, in four rooms: ``billiard`` (the table, its compiled kernel and the rigid body it is equivalent
+to), ``floor`` (a body on a floor: flights in a field, tosses and their outcomes), ``coin3d`` (the coin in three
+dimensions) and ``analysis`` (Poincaré sections, Lyapunov exponents, P(n), the KAM boundary).  The other rooms
+import from ``billiard``, which imports from none of them (and the 3-D coin's P(n) uses the fit of
+``analysis``)."""
 
 from coinwall._lazy import attach_stub
 

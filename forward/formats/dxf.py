@@ -56,8 +56,6 @@ CHAIN_ENTITIES = ("LINE", "ARC")
 #: annotation, the notes annotation, and the one layer of a cut-ready drawing
 LAYERS = {"spline": "OUTLINE", "polyline": "OUTLINE_POLYLINE", "com": "ANNOTATION_CENTRE_OF_MASS",
           "notes": "ANNOTATION_NOTES", "cut": "CUT"}
-#: the centre-of-mass layer of drawings written before the annotation layers were named as such
-_LEGACY_COM_LAYER = "CENTRE_OF_MASS"
 #: ``$INSUNITS`` code -> unit name (:data:`~.geometry.UNIT_LENGTHS`); other codes record no unit
 INSUNITS = {1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
 #: ezdxf metadata keys: κ in drawing units, the drawing's unit, the offset b0, the centre of mass "x,y"
@@ -114,8 +112,8 @@ def _dxf_points(entity, sagitta):
 
 
 def _is_annotation(layer):
-    """Whether a layer holds annotations: its name starts with ANNOTATION (or is an older coinwall mark layer)."""
-    return layer.upper().startswith("ANNOTATION") or layer.upper() == _LEGACY_COM_LAYER
+    """Whether a layer holds annotations: its name starts with ANNOTATION."""
+    return layer.upper().startswith("ANNOTATION")
 
 
 def _chains(path, pieces):
@@ -240,7 +238,7 @@ def read_dxf(path, layer=None) -> Drawing:
     code = doc.header.get("$INSUNITS", 0)
     if code in INSUNITS:
         recorded["unit"] = (INSUNITS[code], UNIT_LENGTHS[INSUNITS[code]])
-    points = [e for e in msp.query("POINT") if e.dxf.layer.upper() in (LAYERS["com"], _LEGACY_COM_LAYER)]
+    points = [e for e in msp.query("POINT") if e.dxf.layer.upper() == LAYERS["com"]]
     if points:
         location = points[0].dxf.location
         recorded["com"] = check_coordinates([location.x, location.y], f"body file {path!r}: the centre-of-mass "

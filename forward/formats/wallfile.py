@@ -1,6 +1,6 @@
 """Wall files, and the library's ``load_wall``: a wall from an expression or a file.
 
-* ``.csv``: samples ``theta,b`` as people write them (:func:`read_samples_csv`), read by
+* ``.csv``: samples ``theta,b`` as people write them (:func:`read_sample_table`), read by
   :meth:`Wall.from_samples`;
 * ``.json``: Fourier coefficients ``{"a0": …, "cos": […], "sin": […]}`` (``FOURIER_KEYS``), read by
   :meth:`Wall.from_fourier`, or samples ``{"theta": […], "b": […]}`` (``SAMPLE_KEYS``);
@@ -22,7 +22,6 @@ __all__ = [
     "WALL_FORMATS",
     "load_wall",
     "load_wall_file",
-    "read_samples_csv",
     "rounding_of",
 ]
 
@@ -32,8 +31,8 @@ DRAWING_FORMATS = (".svg", ".dxf")
 SAMPLE_KEYS = ("theta", "b")
 #: largest wall file read (64 MiB holds ~3·10⁶ rows, more than MAX_SAMPLES)
 MAX_WALL_FILE_BYTES = 64 * 2**20
-#: samples in a wall file at most: ``critical`` on 10⁶ uniform samples takes 9.5 s and 0.34 GB (measured on
-#: 2 shared cores); 10⁷ rows ran for over 300 s
+#: samples in a wall file at most (the library's bound, :data:`coinwall.forward.wall.MAX_SAMPLES`): ``critical``
+#: on 10⁶ uniform samples from a file needs about 0.34 GB and seconds; 10⁷ rows would take minutes
 MAX_SAMPLES = 1_000_000
 #: keys of a Fourier wall file: constant term and the cosine and sine coefficients of orders 1, 2, …
 FOURIER_KEYS = ("a0", "cos", "sin")
@@ -121,12 +120,6 @@ def _column_kind(name: str):
     if bare in ("b", "h", "wall", "btheta", "bθ", "support", "value"):
         return "value", None
     return None, None
-
-
-def read_samples_csv(path: str, *, degrees: bool = False):
-    """``(theta, b)`` in radians from a CSV of samples, as people write them (:func:`read_sample_table`)."""
-    table = read_sample_table(path, degrees=degrees)
-    return table["theta"], table["b"]
 
 
 def _angle_rounding(values, period):

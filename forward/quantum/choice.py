@@ -1,14 +1,13 @@
 """Which solver a spectrum gets by default: the fastest accurate one for the strip, and the digits it earns.
 
-Measured on the ε = 0.55 ellipse at H = 2.5 (``tests/benchmarks/bench_quantum_default.py``, whose
-numbers and command are in docs/performance.md):
+On the ε = 0.55 ellipse at H = 2.5 (``tests/benchmarks/bench_quantum_default.py``; its figures are in
+docs/performance.md):
 
 * The spectral method (:mod:`.spectral`) converges exponentially for a smooth wall on a strip open at
-  every angle: 100 levels to ~1e-12 relative in about a second, against P2 elements' ~5e-5 in twice
-  the time.  Solved class by class, it was faster than P4 elements at every count measured, one thread:
-  0.4 / 0.5 / 1.2 / 2.1 / 3.1 / 18 s for 10 / 30 / 100 / 200 / 400 / 1,000 levels against
-  0.5 / 1.0 / 1.7 / 4.8 / 8.4 / ~70 s.  Its blocks are dense, so its cost grows like the cube of the
-  number of modes: beyond :data:`SPECTRAL_MAX_MODES` the elements take over.
+  every angle: 100 levels to ~1e-12 relative, against P2 elements' ~5e-5 in twice the time.  Solved class
+  by class, it is faster than P4 elements from 10 to 1,000 levels, by a factor of about 4 at 1,000.  Its
+  blocks are dense, so its cost grows like the cube of the number of modes: beyond
+  :data:`SPECTRAL_MAX_MODES` the elements take over.
 * Finite elements of degree 4 reach a given accuracy with far fewer unknowns than degree 2 (error
   ∝ h^8 instead of h^4): at the default mesh (:func:`.spectrum.default_cells`, ~1e-4 relative at the top
   level for every degree) P4 is both faster and more accurate than P2.
@@ -25,7 +24,7 @@ __all__ = ["SPECTRAL_MAX_MODES", "SPECTRAL_MIN_NECK", "SolverChoice", "default_s
            "spectral_error"]
 
 #: Most modes (basis size) the default gives to the spectral method: 1,000 levels of the ε = 0.55 ellipse
-#: need 9,367 at H = 2.5 (18 s) and 12,069 at H = 2.2; a strip whose widest place is tiny (H just above the
+#: need 9,367 at H = 2.5 and 12,069 at H = 2.2; a strip whose widest place is tiny (H just above the
 #: body's diameter) would need millions, and goes to the elements, which refuse it with the height that fits.
 SPECTRAL_MAX_MODES = 12_000
 #: Narrowest neck, as a fraction of the widest place, that the default gives to the spectral method.
@@ -101,9 +100,9 @@ def spectral_error(strip, values, cells: int, fewer: int = 4):
 
     The same levels are solved again with ``fewer`` modes across (and the Fourier modes that follow, about
     40 % of the time at the default resolution); the relative difference estimates the coarser solve's
-    error, hence bounds the finer one's for a method that converges exponentially.  Measured on the
-    ε = 0.55 ellipse at H = 2.5: 1,000 levels at the default 29 modes differ from 36 modes by 8.4e-6 at the
-    top level and 4e-14 in the median, which the default's ``accuracy`` line must say, not 1e-8.
+    error, hence bounds the finer one's for a method that converges exponentially.  On the ε = 0.55 ellipse
+    at H = 2.5, 1,000 levels at the default 29 modes differ from 36 modes by 8.4e-6 at the top level and
+    4e-14 in the median, which the default's ``accuracy`` line must say, not 1e-8.
 
     Parameters
     ----------

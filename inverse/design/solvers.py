@@ -86,7 +86,9 @@ class Ensemble:
 
     def __init__(self, model, family, names, seed=0, stream: int = 0, progress=None, chunk: int | None = None):
         self.model, self.family, self.names = model, family, list(names)
-        self.seed = np.random.SeedSequence(seed).entropy
+        from ...forward.validation import check_seed
+
+        self.seed = np.random.SeedSequence(check_seed(seed)).entropy
         self.stream = int(stream)
         self.progress = progress
         self.chunk = chunk or (512 if model.name == "bounce3d" else 16384)

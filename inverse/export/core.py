@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import OutputError
-from coinwall.forward.formats.output import write_all
+from coinwall.forward.formats.output import check_paths, write_all
 
 from . import csvfile, dxf, jsonfile, pdf, png, svg
 from .options import UNITS, ExportOptions
@@ -80,23 +80,24 @@ def exporters() -> dict:
 
 
 def check_outputs(paths) -> list:
-    """Validate output paths before any work: known extension, existing writable folder."""
-    known = EXPORTERS
-    checked = []
-    for path in paths:
-        ext = os.path.splitext(path)[1].lower()
-        if ext not in known:
-            raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; "
-                              f"known: {', '.join(sorted(known))}")
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder):
-            raise OutputError(f"output {path!r}: folder {folder!r} does not exist")
-        if not os.access(folder, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
-            raise OutputError(f"output {path!r}: not writable")
-        if os.path.isdir(path):
-            raise OutputError(f"output {path!r} is a folder")
-        checked.append((path, known[ext]))
-    return checked
+    """Before any work: every path has an exporter (by its extension) and can be written (the writer's rules,
+    :func:`coinwall.forward.formats.output.check_paths`); returns ``[(path, exporter module)]``.
+
+    Raises
+    ------
+    OutputError
+        Naming the first path that has no exporter or cannot be written.
+
+    Examples
+    --------
+    >>> check_outputs(["body.xyz"])
+    Traceback (most recent call last):
+    ...
+    coinwall.forward.errors.OutputError: output 'body.xyz': unknown extension '.xyz'; known: .csv, .dxf, .json, \
+.pdf, .png, .svg
+    """
+    check_paths(paths, sorted(EXPORTERS))
+    return [(path, EXPORTERS[os.path.splitext(path)[1].lower()]) for path in paths]
 
 
 def _check_finite_outline(body):

@@ -1,41 +1,31 @@
-"""Benchmark of the billiard kernel: against today's kernel and against a simple conservative-advancement stepper.
+"""Benchmark of the billiard kernel against a simple conservative-advancement stepper, and its cost.
 
 Run:  python tests/benchmarks/bench_billiard.py [--collisions N] [--rounds R] [--count] [--smoke]
 
-The headline is the kernel against *today's* kernel: ``_kernel_baseline.py`` next to this file is a verbatim
-copy of ``forward/dynamics/billiard/_kernel.py`` as it was before the kernel was reworked (one file, its own search),
-compiled here the same way against the same wall and cell table (its table has 16 columns, the new one 20: it
-reads only the first 16).  Both run the same orbit in the same process, one thread, alternately for R rounds;
-the time is CPU time (``time.process_time``: a slow phase of the shared machine that takes the CPU away is not
-counted) and the result the median per round (ns per collision) and the median of the per-round ratios.
-
-The second comparison is against a stepper written for this benchmark and compiled with numba like the kernel, with
+The comparison is against a stepper written for this benchmark and compiled with numba like the kernel, with
 the same exactness goal: it advances by the *global* Lipschitz bound
 ``g/(|v_η| + |v_θ| max|b'|)`` until the gap is below the same tolerance, then takes the
 same Newton step on the exact wall; the first step away from a wall uses the global bound
 on |b''| (smooth walls only).  Both run single-threaded on the same orbit start in the same
 process; compile time is excluded (one warm-up run each).  For the headline number the
 two are timed alternately for several rounds (kernel best of 3, then baseline once, per
-round), so a slow phase of the shared machine hits both; the other lines are best of 3.  These
-lines (the stepper, H, Fourier walls) time ``simulate`` and the stepper in CPU time as well.
+round), so a slow phase of the shared machine hits both; the other lines are best of 3.  Every
+line is CPU time (``time.process_time``: a slow phase of the machine that takes the CPU away is not
+counted).  The kernel of one git revision against another's: ``python tests/benchmarks/kernel_ab.py REV_A REV_B``.
 """
 
 import argparse
 import math
-import pathlib
 import sys
 import time
 
 import numpy as np
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.billiard.kernel import _MARKER, HEADER
 from coinwall.forward.dynamics.billiard.kernel import compiled as _compiled
 from coinwall.forward.dynamics.billiard.reference import sample_bounds as _sample_bounds
 from coinwall.forward.dynamics.billiard.table import Billiard, random_states, simulate
-from coinwall.forward.dynamics.billiard.wallcode import load_module, seal, wall_source
-
-HERE = pathlib.Path(__file__).resolve().parent
+from coinwall.forward.dynamics.billiard.wallcode import load_module, wall_source
 
 BASELINE = '''
 TWO_PI = 2.0 * math.pi
@@ -105,26 +95,9 @@ def baseline(state, leaving, n, H, b0, c, lip, curv, tol):
 
 
 def _baseline_module(wall):
-    # CACHE: set by load_module (True in the trusted cache folder, False when compiling in memory)
     source, constants = wall_source(wall, "@njit(cache=CACHE)\n")
     header = "import math\nfrom numba import njit\n\n"
     return load_module(header + source + BASELINE, "coinwall_bench_baseline"), constants
-
-
-def today_module(wall):
-    """Today's kernel (``_kernel_baseline.py``, verbatim) joined to ``wall``'s code, loaded like the kernel."""
-    text = (HERE / "_kernel_baseline.py").read_text(encoding="utf-8")
-    _head, found, body = text.partition(_MARKER)
-    if not found:
-        raise RuntimeError("_kernel_baseline.py has lost its marker line")
-    source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
-    return load_module(HEADER + source + body, "coinwall_bench_today")
-
-
-def today_args(comp, table):
-    """The run-time arguments of today's kernel: the kernel's, with the first 16 columns of its cell table."""
-    args = comp.args(table)
-    return args[:3] + (np.ascontiguousarray(comp.cells[:, :16]),) + args[4:]
 
 
 def _cpu_run(module, state, collisions, args):
@@ -137,43 +110,6 @@ def _cpu_run(module, state, collisions, args):
     if done != collisions:  # a rate over an orbit that stopped early would be meaningless
         raise RuntimeError(f"kernel stopped after {done} of {collisions} collisions (status {status})")
     return seconds, out
-
-
-def versus_today(table, collisions, rounds=7, seed=1):
-    """The kernel against today's kernel: same orbit, same process, alternately; CPU time.
-
-    Returns a dict: median ns per collision of each, the median of the per-round ratios (new / today), all
-    ratios, whether the two computed the same collisions bit for bit and, when not, how they differ: the largest
-    difference at the first collision (in time, θ, η, v_θ, v_η) and the first collision from which some
-    difference exceeds 1e-9 (the orbits are chaotic: a rounding difference grows by a factor of a few per
-    collision until the two orbits are unrelated, however correct both are).
-    """
-    comp = _compiled(table)
-    today = today_module(table.wall)
-    state = np.ascontiguousarray(random_states(table, 1, seed)[0])
-    args = comp.args(table)
-    old_args = today_args(comp, table)
-    for module, a in ((today, old_args), (comp.module, args)):  # compile or load, then record the cache files
-        _cpu_run(module, state, 10, a)
-        seal(module)
-    ns_old, ns_new, ratios = [], [], []
-    same = True
-    first = apart = None
-    for _ in range(rounds):
-        s_old, out_old = _cpu_run(today, state, collisions, old_args)
-        s_new, out_new = _cpu_run(comp.module, state, collisions, args)
-        ns_old.append(s_old / collisions * 1e9)
-        ns_new.append(s_new / collisions * 1e9)
-        ratios.append(s_new / s_old)
-        same = same and all(np.array_equal(a, b) for a, b in zip(out_old, out_new))
-        if first is None:
-            dev = np.max([np.abs(a - b) for a, b in zip(out_old[:5], out_new[:5])], axis=0)
-            dev[out_old[5] != out_new[5]] = np.inf  # a different wall hit is as far apart as it gets
-            first = float(dev[0])
-            big = np.flatnonzero(dev > 1e-9)
-            apart = int(big[0]) + 1 if big.size else None
-    return {"today_ns": float(np.median(ns_old)), "new_ns": float(np.median(ns_new)),
-            "ratio": float(np.median(ratios)), "ratios": ratios, "same": same, "first": first, "apart": apart}
 
 
 def rate_kernel(table, collisions, seed=1):
@@ -316,16 +252,6 @@ def main(argv=None):
     n, rounds = (20_000, 1) if args.smoke else (args.collisions, args.rounds)
     coin = ellipse_wall(99.0)
     table = Billiard(coin, 3.0)
-    print(f"kernel against today's kernel (same orbit, same process, {rounds} alternating rounds, CPU time, "
-          f"{n} collisions a run, one thread):")
-    for name, wall, H in (("case:coin (eps = 99), H = 3", coin, 3.0), ("ellipse eps = 0.55, H = 3", ellipse_wall(0.55),
-                                                                        3.0)):
-        r = versus_today(Billiard(wall, H), n // 2, rounds)
-        print(f"  {name}: today {r['today_ns']:.0f} ns/collision, now {r['new_ns']:.0f} ns/collision, ratio "
-              f"{r['ratio']:.3f} (median of {', '.join(f'{x:.3f}' for x in r['ratios'])}); same collisions bit "
-              f"for bit: {r['same']}" + ("" if r['same'] else
-                                          f" (first collision differs by {r['first']:.1e}; differences above 1e-9 "
-                                          f"from collision {r['apart']} on: a chaotic orbit amplifies rounding)"))
     kernel, base, ratio, rates, mft, mft_base = interleaved(table, n, rounds)
     print(f"coin eps=99, H=3 (1.5 D), single thread, {rounds} interleaved rounds: "
           f"kernel best {kernel / 1e6:.2f} M coll/s (rounds: {', '.join(f'{r / 1e6:.2f}' for r in rates)}), "

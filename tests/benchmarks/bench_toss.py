@@ -1,4 +1,4 @@
-"""Benchmark of the field kernel per collision against the field-free billiard kernel, and against today's.
+"""Benchmark of the field kernel per collision against the field-free billiard kernel.
 
 Run:  python tests/benchmarks/bench_toss.py [--collisions N] [--rounds R] [--smoke]
 
@@ -8,35 +8,35 @@ runs alternate for R rounds and each is timed in CPU time (``time.process_time``
 machine that takes the CPU away is not counted); the numbers are medians over the rounds, the ratios medians of
 the per-round ratios.  Lines: the billiard kernel; the field kernel with g = 0, e = 1 (the same billiard, the
 cost of the field kernel's generality); the field kernel with g = 1, e = 1 and a start energy high enough to
-meet the ceiling (the toss set-up with both walls; the issue's target is this line within 1.5x the billiard);
-and *today's* field kernel on that same flight: ``_field_kernel_baseline.py`` next to this file is a verbatim
-copy of ``forward/dynamics/floor/_field_kernel.py`` before the kernels shared their search, compiled here the same way
-(it reads the first 16 columns of the cell table).
+meet the ceiling (the toss set-up with both walls).  The field kernel of one git revision against another's:
+``python tests/benchmarks/kernel_ab.py REV_A REV_B --kernel field``.
 """
 
 import argparse
-import pathlib
 import sys
 import time
 
 import numpy as np
 
-from coinwall.forward.dynamics.billiard.kernel import HEADER, compiled
+from coinwall.forward.dynamics.billiard.kernel import compiled
 from coinwall.forward.dynamics.billiard.table import Billiard, random_states
-from coinwall.forward.dynamics.billiard.wallcode import load_module, seal, wall_source
-from coinwall.forward.dynamics.floor.field import _MARKER, FieldTable, _kernel, field_run
+from coinwall.forward.dynamics.floor.field import FieldTable, _kernel, field_run
 
-HERE = pathlib.Path(__file__).resolve().parent
+#: the toss set-up's start (θ, η, v_θ, v_η): with g = 1, e = 1 its energy meets the ceiling at H = 3
+TOSS = [0.3, 1.5, 2.0, 1.5]
 
 
-def today_field_module(wall):
-    """Today's field kernel (``_field_kernel_baseline.py``, verbatim) joined to ``wall``'s code."""
-    text = (HERE / "_field_kernel_baseline.py").read_text(encoding="utf-8")
-    _head, found, body = text.partition(_MARKER)
-    if not found:
-        raise RuntimeError("_field_kernel_baseline.py has lost its marker line")
-    source, _ = wall_source(wall, "@njit(**OPTIONS)\n")
-    return load_module(HEADER + source + body, "coinwall_bench_today_field")
+def _timed(run, n, name):
+    """``run`` as a function of no arguments that returns the CPU seconds of one run of ``n`` collisions."""
+    def timed():
+        start = time.process_time()
+        done = run(n)
+        seconds = time.process_time() - start
+        if done != n:  # a rate over a run that stopped early would be meaningless
+            raise RuntimeError(f"{name} stopped after {done} of {n} collisions")
+        return seconds
+    run(10)  # compile or load
+    return timed
 
 
 def _billiard_runner(table, n):
@@ -45,31 +45,24 @@ def _billiard_runner(table, n):
     out = [np.empty(n) for _ in range(5)] + [np.empty(n, dtype=np.int8)]
     last = np.empty(2)
 
-    def run(count=n):
-        done, status = comp.module._run(state, 0, -1, count, *comp.args(table), *out, last)
-        return done
-    run(10)
-    seal(comp.module)
-    return run
+    def run(count):
+        return comp.module._run(state, 0, -1, count, *comp.args(table), *out, last)[0]
+    return _timed(run, n, "the billiard kernel")
 
 
-def _field_runner(table, start, n, module=None, columns=None):
+def _field_runner(table, start, n, module=None):
+    """A timed run of the field kernel (``module``: another revision's, loaded by kernel_ab.py) from ``start``."""
     comp = _kernel(table)
     module = comp.module if module is None else module
-    wall_args = list(comp.wall_args(table))
-    if columns is not None:
-        wall_args[1] = np.ascontiguousarray(wall_args[1][:, :columns])
+    wall_args = comp.wall_args(table)
     state = np.ascontiguousarray(start, dtype=float)
     out = [np.empty(n) for _ in range(5)] + [np.empty(n, dtype=np.int8)]
     summary = np.empty(8)
 
-    def run(count=n):
-        done, status = module._run(state, 0, -1, count, *comp.args(table), False, table.chatter, *wall_args, True,
-                                   *out, summary)
-        return done
-    run(10)
-    seal(module)
-    return run
+    def run(count):
+        return module._run(state, 0, -1, count, *comp.args(table), False, table.chatter, *wall_args, True, *out,
+                           summary)[0]
+    return _timed(run, n, "the field kernel")
 
 
 def main(argv=None):
@@ -89,20 +82,15 @@ def main(argv=None):
     table = Billiard(wall, 3.0)
     free = FieldTable(wall, g=0.0, e=1.0, H=3.0)
     grav = FieldTable(wall, g=1.0, e=1.0, H=3.0)
-    toss = [0.3, 1.5, 2.0, 1.5]
+    toss = TOSS
     state = random_states(table, 1, seed=1)[0]
     runners = {"billiard kernel": _billiard_runner(table, n),
                "field kernel g=0 e=1": _field_runner(free, state, n),
-               "field kernel g=1 e=1": _field_runner(grav, toss, n),
-               "today's field kernel g=1 e=1": _field_runner(grav, toss, n, today_field_module(wall), 16)}
+               "field kernel g=1 e=1": _field_runner(grav, toss, n)}
     times = {name: [] for name in runners}
     for _ in range(rounds):
         for name, run in runners.items():
-            start = time.process_time()
-            done = run()
-            times[name].append(time.process_time() - start)
-            if done != n:
-                raise RuntimeError(f"{name} stopped after {done} of {n} collisions")
+            times[name].append(run())
     base = np.array(times["billiard kernel"])
     print(f"collisions {n}, {rounds} alternating rounds, CPU time, one thread (medians)")
     for name, ts in times.items():

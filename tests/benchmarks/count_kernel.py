@@ -1,11 +1,12 @@
-"""Instructions, branches and modelled mispredictions per collision of the billiard kernel and today's kernel.
+"""Instructions, branches and modelled mispredictions per collision of the billiard kernel at two git revisions.
 
-Run:  python tests/benchmarks/count_kernel.py [--collisions N]
+Run:  python tests/benchmarks/count_kernel.py [REV_A [REV_B]] [--collisions N]   (default: HEAD against the
+working tree, ``.``)
 
 Times on this shared machine move by tens of per cent from day to day; counts do not.  This script runs itself
 again under valgrind's callgrind (``--dump-instr=yes --branch-sim=yes``; valgrind must be installed, Debian's
-package ``valgrind``), runs both kernels of ``bench_billiard.py``'s headline comparison on the coin (ε = 99) at
-H = 3 from the benchmark's start in one process, and sums callgrind's counts over each compiled ``_run``'s own
+package ``valgrind``), runs the kernels of both revisions (``kernel_ab.py`` loads them) on the coin (ε = 99) at
+H = 3 from ``bench_billiard.py``'s start in one process, and sums callgrind's counts over each compiled ``_run``'s own
 machine code and the calls it makes (libm's ``sincos`` for the wall).  The mispredictions are those of
 callgrind's simple predictor model, not of the processor.  The kernels are compiled for the processor valgrind
 presents (no AVX-512) in a temporary cache folder, so the machine code differs in detail from the native one and
@@ -25,29 +26,30 @@ HERE = pathlib.Path(__file__).resolve().parent
 CODE_SPAN = 16384  # bytes after a kernel's entry counted as its own code (its _run is ~12 KB)
 
 
-def child(collisions, addresses):
+def child(collisions, addresses, revisions):
     # under valgrind: run both kernels, after writing where each one's compiled _run starts
     sys.path.insert(0, str(HERE))
-    from bench_billiard import _cpu_run, today_args, today_module
+    from bench_billiard import _cpu_run
+    from kernel_ab import kernel_text
 
     from coinwall.cases.ellipse import ellipse_wall
-    from coinwall.forward.dynamics.billiard.kernel import compiled
+    from coinwall.forward.dynamics.billiard.kernel import HEADER, compiled
     from coinwall.forward.dynamics.billiard.table import Billiard, random_states
+    from coinwall.forward.dynamics.billiard.wallcode import load_module, wall_source
 
     table = Billiard(ellipse_wall(99.0), 3.0)
-    comp = compiled(table)
     state = random_states(table, 1, 1)[0]
-    args = comp.args(table)
-    old_args = today_args(comp, table)
-    kernels = (("today's kernel", today_module(table.wall), old_args), ("the kernel", comp.module, args))
+    args = compiled(table).args(table)
+    source, _ = wall_source(table.wall, "@njit(**OPTIONS)\n")
+    kernels = [(rev, load_module(HEADER + source + kernel_text(rev), "coinwall_count")) for rev in revisions]
     with open(addresses, "w", encoding="utf-8") as out:
-        for name, module, a in kernels:
-            _cpu_run(module, state, 10, a)  # compile or load
+        for name, module in kernels:
+            _cpu_run(module, state, 10, args)  # compile or load
             _sig, overload = next(iter(module._run.overloads.items()))
             entry = overload.library.get_pointer_to_function(overload.fndesc.llvm_func_name)
             out.write(f"{entry} {name}\n")
-    for _name, module, a in kernels:
-        _cpu_run(module, state, collisions, a)
+    for _name, module in kernels:
+        _cpu_run(module, state, collisions, args)
 
 
 def _position(token, current):
@@ -108,11 +110,13 @@ def tally(profile, entries):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("a", metavar="REV_A", nargs="?", default="HEAD")
+    parser.add_argument("b", metavar="REV_B", nargs="?", default=".")
     parser.add_argument("--collisions", type=int, default=200_000)
     parser.add_argument("--child", metavar="ADDRESSES", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.child:
-        child(args.collisions, args.child)
+        child(args.collisions, args.child, (args.a, args.b))
         return 0
     if shutil.which("valgrind") is None:
         print("count_kernel: valgrind is not installed (Debian: apt-get install valgrind)", file=sys.stderr)
@@ -122,7 +126,7 @@ def main(argv=None):
         addresses = os.path.join(folder, "entries.txt")
         env = dict(os.environ, COINWALL_CACHE_DIR=os.path.join(folder, "cache"))
         command = ["valgrind", "--tool=callgrind", "--dump-instr=yes", "--branch-sim=yes",
-                   f"--callgrind-out-file={profile}", sys.executable, __file__, "--collisions",
+                   f"--callgrind-out-file={profile}", sys.executable, __file__, args.a, args.b, "--collisions",
                    str(args.collisions), "--child", addresses]
         run = subprocess.run(command, env=env, capture_output=True, text=True)
         if run.returncode != 0:

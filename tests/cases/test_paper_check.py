@@ -6,10 +6,9 @@ import math
 import pytest
 
 from coinwall.cases.paper import CLAIMS, REGISTRY, Report, Row, run_verify
-from coinwall.cases.paper.checks import Measured, Resolution
+from coinwall.cases.paper.checks import Measured
 from coinwall.cases.paper.claims import Above, Below, Claim, Equals, Within, judge, render
 from coinwall.cases.paper.report import VERDICTS
-from coinwall.cases.paper.verify import measure
 from coinwall.forward.errors import CoinwallError
 
 #: The claims as recorded when the report was written (a claim that disappears from the registry fails here).
@@ -28,13 +27,34 @@ CONDITIONS = (Below, Above, Within, Equals)
 
 
 @pytest.fixture(scope="module")
-def fast_report():
-    return run_verify(fast=True)
+def fast_run(tmp_path_factory):
+    """One fast run of verify, its figures as SVG in a folder it creates: the report, the numbers every claim's
+    check measured in it, and the folder (one run serves every test here)."""
+    from coinwall.cases.paper import verify
+
+    measured = {}
+    real = verify.measure
+
+    def kept(*args, **kwargs):
+        measured.update(real(*args, **kwargs))
+        return measured
+
+    out = tmp_path_factory.mktemp("verify") / "new" / "docs"
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(verify, "measure", kept)
+        report = run_verify(fast=True, out=str(out), figure_format=".svg")
+    return report, measured, out
 
 
 @pytest.fixture(scope="module")
-def fast_measured():
-    return measure(REGISTRY.values(), Resolution.of(True))
+def fast_report(fast_run):
+    return fast_run[0]
+
+
+@pytest.fixture(scope="module")
+def fast_measured(fast_run):
+    assert fast_run[1], "verify measured nothing"
+    return fast_run[1]
 
 
 def test_registry_is_the_recorded_list():
@@ -67,15 +87,18 @@ def test_thresholds_name_measured_numbers(key, fast_measured):
 
 
 def test_fast_run_keeps_every_verdict(fast_report):
+    """Every claim present, every verdict as recorded (a row that agreed and starts to disagree, or the
+    reverse, fails here)."""
     assert tuple(r.key for r in fast_report.rows) == CLAIMS
     assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
+    assert all(r.unchanged for r in fast_report.rows)
     assert fast_report.ok
     assert fast_report.counts() == {"yes": 24, "partly": 7, "no": 5}
 
 
 def test_report_to_dict_and_repr(fast_report):
     doc = fast_report.to_dict()
-    assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == []
+    assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == list(fast_report.figures)
     assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
     assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
     assert "36 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
@@ -122,9 +145,8 @@ def test_run_verify_names_its_arguments(tmp_path):
         run_verify(fast=True, out=str(blocker / "sub"))
 
 
-def test_run_verify_creates_the_folder_and_writes_vector_figures(tmp_path):
-    out = tmp_path / "new" / "docs"
-    report = run_verify(fast=True, out=str(out), figure_format=".svg")
+def test_run_verify_creates_the_folder_and_writes_vector_figures(fast_run):
+    report, _, out = fast_run
     assert report.ok and report.markdown_path == str(out / "paper-check.md")
     text = (out / "paper-check.md").read_text(encoding="utf-8")
     assert "![fig4_critical.svg](figures/fig4_critical.svg)" in text

@@ -11,7 +11,7 @@ regular fraction falls monotonically with ε; islands that reappear above the
 bracket point found are not searched for.  Islands smaller than about
 1/orbits of phase space are below the resolution of the criterion.
 
-Measured caveat (docs/dynamics.md, "Criterion sensitivity"): the assumption is
+Caveat (docs/dynamics.md, "Criterion sensitivity"): the assumption is
 violated.  Near the boundary the regular fraction is ~1 % in islands around a
 stable tilted period-2 orbit, which exists over a wide window of ε (at H = 2,
 from ε ≈ 4.05 to ≈ 21.8), and it is not monotonic in ε; whether 100 orbits hit an
@@ -190,7 +190,7 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
     H_values = np.atleast_1d(np.asarray(H_values, dtype=float))
     if H_values.size == 0 or np.any(~np.isfinite(H_values)) or np.any(H_values <= 0.0):
         raise InvalidArgument(f"`H` values must be finite and positive (units of κ), got {H_values.tolist()}")
-    lo0, hi0 = (float(v) for v in bracket)
+    lo0, hi0 = (float(v) for v in bracket) if len(bracket) == 2 else (math.nan, math.nan)
     if not (0 < lo0 < hi0 and math.isfinite(hi0)):
         raise InvalidArgument(f"`bracket` must be two numbers 0 < low < high, got {bracket!r}")
     steps = check_count("steps", steps, minimum=0)

@@ -46,7 +46,7 @@ import numpy as np
 from ...angles import TWO_PI
 from ...display import json_number, json_numbers, safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count, check_memory
+from ...validation import check_count, check_memory, check_seed
 from ..billiard.table import Billiard, random_states
 
 __all__ = [
@@ -203,7 +203,7 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
                  f"of bookkeeping per orbit)", m * (2.0 * 41 * n + 300.0))
     starts = ref.copy()
     ref[:, 2:] /= np.hypot(ref[:, 2], ref[:, 3])[:, None]
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     direction = rng.normal(size=(m, 4))
     direction /= np.linalg.norm(direction, axis=1)[:, None]
     comp = _nudge(table, ref, direction, d0)

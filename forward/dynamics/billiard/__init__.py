@@ -1,6 +1,6 @@
-"""The billiard: the table between the walls, its compiled kernel with the certified search for the next
-contact, the generated wall code and its cache, the plain-Python reference stepper, and the rigid body
-itself (the lab-frame cross-check of the equivalence)."""
+"""The billiard: the table between the walls, the cell bounds of a wall, its compiled kernel with the certified
+search for the next contact, the generated wall code and the cache of every compiled kernel, the plain-Python
+reference stepper, and the rigid body itself with its shapes (the lab-frame cross-check of the equivalence)."""
 
 from coinwall._lazy import attach_stub
 

@@ -105,10 +105,10 @@ decrements the reference count of every array argument with atomic
 instructions on each call; ``_run`` therefore rebuilds its arrays as views
 without a reference count (``numba.carray`` on the data pointer) before the
 searches, and the search is inlined at a single call site (a loop over the
-two walls).  Measured effects, in the commit that made them: the atomics were
-~13 % of the samples of a profile; inlining gave 5-10 %; the walk over the cells whose box
-test passes as a loop of its own (the compiler had reloaded a dozen registers at every cell
-of the walk when it shared one loop with the proxy and exact stages) ~4 %.  The search (:func:`._search._search`)
+two walls).  The atomics are ~13 % of the samples of a profile otherwise; inlining is
+worth 5-10 %; the walk over the cells whose box test passes is a loop of its own (sharing one
+loop with the proxy and exact stages, the compiler reloads a dozen registers at every cell of
+the walk), worth ~4 % (``tests/benchmarks/kernel_ab.py`` compares two revisions).  The search (:func:`._search._search`)
 is inlined into :func:`_first_hit`, itself inlined at one call site in ``_run``; the straight
 flight passes ``Q = 0`` to it, which reduces every expression to the straight-line one exactly.
 """
@@ -138,7 +138,7 @@ from ._search import (
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.billiard.kernel
 
-CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
+CACHE = True  # wallcode.load_module sets it False: it gives each function coinwall's cache itself
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 

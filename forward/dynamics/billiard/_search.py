@@ -29,7 +29,7 @@ from numba.extending import intrinsic
 
 __all__ = []  # nothing public: the search is compiled into the kernels of coinwall.forward.dynamics.billiard.kernel
 
-CACHE = True  # set by wallcode.load_module: False when the kernel is compiled in memory (no trusted cache)
+CACHE = True  # wallcode.load_module sets it False: it gives each function coinwall's cache itself
 OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 

@@ -4,10 +4,10 @@ The kernel itself is the real module :mod:`._kernel` (read it for the algorithm)
 casadi, so each wall is written out as plain Python (:mod:`.wallcode`); the text of ``_search.py``
 below its marker line (:data:`SEARCH_SOURCE`, the certified search the field kernel shares) and the text
 of ``_kernel.py`` below its marker line (:data:`KERNEL_SOURCE`) are appended to that code and the whole is
-loaded as a module from a file named after its hash (:func:`.wallcode.load_module`: verified bytes in a trusted
-folder, or compiled in memory when there is none), which lets numba's ``cache=True`` reuse the machine
-code in the next process.  Walls that differ only in parameter
-values share one source, hence one compiled kernel.
+loaded as a module named after its hash (:func:`.wallcode.load_module`), whose functions keep their machine
+code in numba's cache in coinwall's private folder (or are compiled in memory when there is none), so that
+the next process reuses it.  Walls that differ only in parameter values share one source, hence one compiled
+kernel.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def source_after_marker(package: str, filename: str, marker: str) -> str:
 KERNEL_SOURCE = source_after_marker(__package__, "_kernel.py", _MARKER)
 SEARCH_SOURCE = source_after_marker(__package__, "_search.py", _SEARCH_MARKER)
 # the imports and options the kernel's text expects (_kernel.py has the same lines above its marker);
-# CACHE is set by wallcode.load_module before the text runs (False: compiled in memory, nothing on disk)
+# CACHE is set False by wallcode.load_module before the text runs: it gives each function coinwall's cache itself
 HEADER = ("import math\nimport numpy as np\nfrom numba import carray, njit, prange, types\n"
           "from numba.extending import intrinsic\n\n"
           "OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}\n\n")
@@ -119,18 +119,10 @@ class CompiledKernel:
             from ...errors import InvalidWall
 
             raise InvalidWall(f"wall {wall.description!r}: its constants or cell bounds are not finite numbers")
-        self.sealed = set()  # kernel functions whose numba cache files were recorded (wallcode.seal)
 
     def call(self, name, *args):
-        """Call the kernel function ``name``; after its first call (compiled or loaded) record numba's cache
-        files, so that the next process loads only files whose checksum matches (:func:`.wallcode.seal`)."""
-        result = getattr(self.module, name)(*args)
-        if name not in self.sealed:
-            from .wallcode import seal
-
-            self.sealed.add(name)
-            seal(self.module)
-        return result
+        """Call the kernel function ``name`` (compiled, or loaded from the cache, on its first call)."""
+        return getattr(self.module, name)(*args)
 
     def args(self, table):
         """The run-time arguments after the state: H, b0, constants, cell table, lookup, band, tol."""

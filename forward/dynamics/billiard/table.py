@@ -28,7 +28,7 @@ import numpy as np
 from ...angles import TWO_PI
 from ...display import safe_repr
 from ...errors import InvalidArgument, InvalidWall
-from ...validation import check_choice, check_count, check_memory, check_range, is_integer
+from ...validation import check_choice, check_count, check_memory, check_range, check_seed, is_integer
 from ...wall import Wall
 from .cellbounds import CELLS, SAMPLES
 from .kernel import compiled, run, run_many
@@ -327,7 +327,7 @@ def random_states(table: Billiard, n: int, seed=None) -> np.ndarray:
     _check_table(table)
     n = check_count("n", n)
     check_memory(f"`n` = {n} start states (about 100 bytes each while they are drawn)", 100.0 * n)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     theta_grid = np.linspace(0.0, TWO_PI, _GAP_GRID, endpoint=False)
     lo = float(np.min(table.lower(theta_grid)))
     hi = float(np.max(table.upper(theta_grid)))

@@ -21,30 +21,27 @@ The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, d
 it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
 
-The second half of the module is the on-disk cache of compiled kernels (:func:`cache_dir`,
-:func:`load_module`, :func:`seal`): used only in a folder the user alone can write, modules executed only
-from verified bytes, numba's files loaded only when their checksums match; otherwise the kernel is
-compiled in memory (the comment above :func:`cache_dir` says why).
+The second half of the module loads generated source as a module (:func:`load_module`) and gives its
+compiled functions numba's own cache, in one private folder (:func:`cache_dir`), or compiles them in
+memory when there is none (the comment above :func:`cache_dir` says why).
 """
 
 from __future__ import annotations
 
-import contextlib
+import functools
 import hashlib
-import json
 import math
 import os
-import re
+import pickle
 import stat
 import sys
-import tempfile
 import types
 
 import numpy as np
 
 from ...errors import InvalidWall
 
-__all__ = ["cache_dir", "discard", "load_module", "python_wall", "seal", "wall_source"]
+__all__ = ["attach_cache", "cache_dir", "cache_module", "load_module", "python_wall", "wall_source"]
 
 FOURIER_SOURCE = '''
 {decorator}def wall_b2(phi, c):
@@ -185,15 +182,12 @@ def python_wall(wall, order: int = 1):
 
 
 # ---------------------------------------------------------------------------------------------------- the cache
-# Trust.  Generated modules are executed and numba's cache files are pickles (and machine code): whoever
-# can write into the cache folder can run code as the user.  So the cache is used only in a folder the
-# user owns and nobody else can write (checked on the folder and on the one that holds it, every level
-# coinwall creates is made 0700), a module is executed only from bytes equal to the source we generated
-# (its name is the hash of that source), and numba's files are loaded only when their SHA-256 matches the
-# manifest written after they were made (a truncated, emptied or garbled file, e.g. from a full disk or an
-# interrupted write, is discarded and rebuilt: garbled machine code would otherwise crash with SIGILL,
-# which no exception handler can catch).  Otherwise the kernel is compiled in memory (numba cache=False):
-# nothing is read from or written to disk, at the price of compiling in every process.
+# numba's cache files are pickles with machine code: whoever can write them can run code as the user, and a
+# garbled file could crash with SIGILL, which no exception handler catches.  So they live in one folder that
+# this user owns and nobody else can enter (mode 0700), under a name that is the hash of the module's source,
+# and each file carries the SHA-256 of its content (_checked_file): a file that is damaged, emptied or not
+# numba's reads as a miss, and numba's next save writes it again, through coinwall's writer.  Where no such
+# folder can be had, the kernels are compiled in memory (nothing read from or written to disk).
 
 _NOTED: set = set()
 
@@ -205,299 +199,238 @@ def _note(text: str) -> None:
         print(f"coinwall: note: {text}", file=sys.stderr)
 
 
-def _untrusted(path: str) -> str:
-    """Why ``path`` cannot hold the cache ('' when it can): a directory of ours that no one else can write."""
+def _not_private(path: str, mode: int) -> str:
+    """Why the folder ``path`` cannot hold the cache ('' when it can): ours, a real folder, and none of the
+    bits of ``mode`` (group and others' access) set."""
     try:
-        info = os.stat(path)
+        info = os.lstat(path)
     except OSError as exc:
-        return f"cannot use it ({exc.strerror or exc})"
+        return f"{path}: {exc.strerror or exc}"
     if not stat.S_ISDIR(info.st_mode):
-        return "it is not a folder"
+        return f"{path} is not a folder"
     if hasattr(os, "getuid") and info.st_uid != os.getuid():
-        return f"it belongs to user id {info.st_uid}, not to this user ({os.getuid()})"
-    if info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
-        return f"others can write to it (mode {stat.S_IMODE(info.st_mode):o}; fix: chmod go-w {path})"
-    if not os.access(path, os.W_OK | os.X_OK):
-        return "it is not writable"
+        return f"{path} belongs to user id {info.st_uid}, not to this user ({os.getuid()})"
+    if info.st_mode & mode:
+        return f"{path} is open to others (mode {stat.S_IMODE(info.st_mode):o}; fix: chmod 700 {path})"
     return ""
 
 
-def _private_folder(path: str) -> None:
-    """Create ``path`` and each missing level above it with mode 0700 (existing levels are left as they are)."""
-    missing = []
-    while not os.path.lexists(path):
-        missing.append(path)
-        parent = os.path.dirname(path)
-        if parent == path:
-            break
-        path = parent
-    for level in reversed(missing):
-        try:
-            os.mkdir(level, 0o700)
-        except FileExistsError:  # another process made it a moment ago: checked like any other folder
-            pass
+def cache_dir():
+    """The private folder of numba's cache of the kernels, or ``None``: compile in memory.
 
+    ``$COINWALL_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/coinwall`` (``~/.cache/coinwall``), made with mode
+    0700 where missing; in it one folder per numba and Python version.  Used only when this user owns both and
+    nobody else can write the first or enter the second; otherwise one ``coinwall: note:`` line on stderr and
+    ``None``.
 
-def _trusted(base: str) -> tuple:
-    """``(folder, '')`` for the versioned cache folder under ``base`` if it and ``base`` can be trusted,
-    else ``(folder, why not)``.  Nothing is created inside a ``base`` that fails the checks."""
+    Returns
+    -------
+    str or None
+    """
     import numba
 
-    folder = os.path.join(base, f"billiard-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
-    levels = (base, folder, os.path.join(folder, "__pycache__"))  # numba's own folder too, before numba makes it
-    for level in levels:
-        try:
-            _private_folder(level)
-        except OSError as exc:
-            return folder, f"cannot create {level} ({exc.strerror or exc})"
-        why = _untrusted(level)
-        if why:
-            return folder, f"{level}: {why}"
-    return folder, ""
-
-
-def cache_dir():
-    """Folder for generated modules and numba's on-disk cache, or ``None`` when no trusted folder is available.
-
-    ``$COINWALL_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/coinwall`` (``~/.cache/coinwall``), each with a
-    subfolder per numba and Python version.  Trusted only if this user owns it and the folder above it and
-    neither is writable by group or others (levels coinwall creates are made 0700).  When the default
-    folder cannot be used, ``<temp>/coinwall-<uid>`` is tried under the same checks (never for an explicit
-    ``$COINWALL_CACHE_DIR``: the user chose that place).  ``None`` (after one ``coinwall: note:`` line on
-    stderr) means: compile in memory.
-    """
-    chosen = os.environ.get("COINWALL_CACHE_DIR")
-    default = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-                           "coinwall")
-    candidates = [chosen] if chosen else [default, os.path.join(
-        tempfile.gettempdir(), f"coinwall-{os.getuid() if hasattr(os, 'getuid') else 0}")]
-    reasons = []
-    for base in candidates:
-        folder, why = _trusted(os.path.abspath(base))
+    base = os.path.abspath(os.environ.get("COINWALL_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "coinwall"))
+    folder = os.path.join(base, f"kernels-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
+    try:
+        os.makedirs(base, mode=0o700, exist_ok=True)
+        why = _not_private(base, stat.S_IWGRP | stat.S_IWOTH)
         if not why:
-            return folder
-        reasons.append(why)
-    _note(f"not using the kernel cache ({'; '.join(reasons)}); compiling in memory (slower start, nothing "
-          f"read from or written to disk)")
-    return None
+            os.makedirs(folder, mode=0o700, exist_ok=True)
+            why = _not_private(folder, 0o077)
+    except OSError as exc:
+        why = f"cannot create it ({exc.strerror or exc})"
+    if why:
+        _note(f"not using the kernel cache in {base} ({why}); compiling in memory (slower start, nothing read from "
+              "or written to disk)")
+        return None
+    return folder
 
 
-def _write_atomic(folder: str, name: str, data: bytes) -> None:
-    """Write ``data`` to ``folder/name`` through a temporary file and a rename: readers (other processes
-    compiling the same wall) see the old file or the whole new one, never a part.  The temporary has a
-    marked name (:func:`coinwall.forward.formats.output.marked_name`), so that only temporaries this program
-    made are ever swept (:func:`_sweep_temporaries`)."""
-    from ...formats.output import marked_name
+@functools.cache
+def _cache_class(base=None):
+    """numba's ``FunctionCache`` (or ``base``, e.g. a CUDA dispatcher's cache class) kept in the folder of the
+    function's file name, with checked files.  Made on first use: numba is imported only where it runs."""
+    from numba.core.caching import FunctionCache, IndexDataCacheFile, _CacheLocator
 
-    _clear_name(os.path.join(folder, name))
-    temp = marked_name(folder, "part")
-    fd = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o600)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(temp, os.path.join(folder, name))
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temp)
-        raise
+    from ...formats.output import write_all
 
+    base = base or FunctionCache
 
-def _numba_files(folder: str, name: str) -> list:
-    """numba's index and data files of module ``name`` (``__pycache__/<name>.<function>-<line>.pyXY[.k].nb?``)."""
-    pycache = os.path.join(folder, "__pycache__")
-    try:
-        entries = os.listdir(pycache)
-    except OSError:
-        return []
-    return sorted(os.path.join(pycache, e) for e in entries
-                  if e.startswith(name + ".") and e.endswith((".nbi", ".nbc")))
+    class Locator(_CacheLocator):
+        """Every function in coinwall's folder.  A generated module's (its file name, never written, is in the
+        folder) is stamped with that name, the hash of its source, so that one name never stands for two
+        sources; a module of the package with the SHA-256 of its file, and told apart from another copy of the
+        package by the hash of its path."""
 
+        def __init__(self, folder, stamp, disambiguator):
+            self._folder, self._stamp, self._disambiguator = folder, stamp, disambiguator
 
-def _digest(path: str) -> str:
-    with open(path, "rb") as fh:
-        return hashlib.sha256(fh.read()).hexdigest()
+        def ensure_cache_path(self):
+            pass  # made private by cache_dir()
 
+        def get_cache_path(self):
+            return self._folder
 
-def _check_numba_files(folder: str, name: str) -> None:
-    """Delete numba's files of ``name`` unless every one is listed, with its SHA-256, in ``<name>.sums``."""
-    for path in [os.path.join(folder, name + ".sums"), *_numba_files(folder, name)]:
-        _clear_name(path)
-    files = _numba_files(folder, name)
-    if not files:
-        return
-    try:
-        with open(os.path.join(folder, name + ".sums"), encoding="utf-8") as fh:
-            sums = json.load(fh)
-        if not isinstance(sums, dict):
-            sums = {}
-    except (OSError, ValueError):
-        sums = {}
-    if all(sums.get(os.path.basename(f)) == _digest(f) for f in files):
-        return
-    discard(folder, name, keep_source=True)
-    _note(f"discarded damaged or unverified compiled-kernel cache files of {name} in {folder}; compiling again")
+        def get_source_stamp(self):
+            return self._stamp
 
+        def get_disambiguator(self):
+            return self._disambiguator
 
-def seal(module) -> None:
-    """Record the SHA-256 of numba's cache files of ``module`` (call after its functions were compiled).
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            folder = cache_dir()
+            if folder is None:
+                return None
+            if os.path.dirname(py_file) == folder:
+                return cls(folder, os.path.basename(py_file), "")
+            try:
+                with open(py_file, "rb") as fh:
+                    stamp = hashlib.sha256(fh.read()).hexdigest()
+            except OSError:  # no source file (a zip): compiled in memory
+                return None
+            return cls(folder, stamp, hashlib.sha256(os.path.abspath(py_file).encode()).hexdigest()[:8])
 
-    Only these recorded files are loaded later (:func:`load_module`); a file numba writes afterwards,
-    or one that changed, is discarded and rebuilt.  Does nothing for a module compiled in memory.
-    """
-    folder = getattr(module, "COINWALL_CACHE_FOLDER", None)
-    if folder is None:
-        return
-    name = module.__name__
-    try:
-        _clear_name(os.path.join(folder, name + ".sums"))
-        sums = json.dumps({os.path.basename(f): _digest(f) for f in _numba_files(folder, name)}, indent=0,
-                          sort_keys=True).encode()
-        path = os.path.join(folder, name + ".sums")
-        try:
+    class CheckedFile(IndexDataCacheFile):
+        """numba's index and data files, each the SHA-256 of its pickle, then the pickle: anything else reads
+        as a miss (and is written again by the next save), never as code."""
+
+        def _dump(self, obj):
+            data = super()._dump(obj)
+            return hashlib.sha256(data).digest() + data
+
+        def _read(self, path):
             with open(path, "rb") as fh:
-                unchanged = fh.read() == sums
-        except FileNotFoundError:
-            unchanged = False
-        if not unchanged:  # (a process that only loaded the kernel has nothing new to record)
-            _write_atomic(folder, name + ".sums", sums)
-    except OSError:
-        pass  # unsealed files are simply rebuilt by the next process
+                blob = fh.read()
+            if hashlib.sha256(blob[32:]).digest() != blob[:32]:
+                raise ValueError("damaged")
+            return pickle.loads(blob[32:])  # noqa: S301 -- verified bytes, in a folder only this user can enter
+
+        def _load_index(self):
+            try:
+                version, stamp, overloads = self._read(self._index_path)
+            except FileNotFoundError:
+                return {}
+            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
+                return {}
+            same = (version, stamp) == (self._version, self._source_stamp) and isinstance(overloads, dict)
+            return overloads if same else {}
+
+        def _save_index(self, overloads):
+            write_all({self._index_path: self._dump((self._version, self._source_stamp, overloads))})
+
+        def _load_data(self, name):
+            try:
+                return self._read(self._data_path(name))
+            except OSError:
+                raise  # numba's load() takes a missing file as a miss
+            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
+                return None
+
+        def _save_data(self, name, data):
+            write_all({self._data_path(name): self._dump(data)})
+
+        def save(self, key, data):
+            from ...errors import OutputError
+
+            try:
+                super().save(key, data)
+            except (OSError, OutputError) as exc:  # a full disk: the next process compiles again
+                _note(f"could not write the kernel cache ({exc}); it is compiled again next time")
+
+    class Impl(base._impl_class):
+        _locator_classes = [Locator]
+
+    class Cache(base):
+        _impl_class = Impl
+
+        def __init__(self, py_func):
+            super().__init__(py_func)
+            self._cache_file = CheckedFile(self._cache_path, self._impl.filename_base,
+                                           self._impl.locator.get_source_stamp())
+
+    return Cache
 
 
-def discard(folder: str, name: str, keep_source: bool = False) -> None:
-    """Delete module ``name``'s numba files and manifest (and its source unless ``keep_source``)."""
-    paths = _numba_files(folder, name) + [os.path.join(folder, name + ".sums")]
-    if not keep_source:
-        paths.append(os.path.join(folder, name + ".py"))
-    for path in paths:
-        _clear_name(path)
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(path)
+def attach_cache(dispatcher, base=None) -> bool:
+    """Give one numba function coinwall's cache (in :func:`cache_dir`, with checked files); returns whether it
+    has one (False: it compiles in memory, as with ``cache=False``).
 
+    Parameters
+    ----------
+    dispatcher : numba dispatcher
+        A function made with ``cache=False`` (a module made by :func:`load_module`, or one of the package,
+        :func:`cache_module`), not yet compiled.
+    base : type, optional
+        The cache class that ``cache=True`` would give it (numba's ``FunctionCache`` by default; a CUDA
+        dispatcher's cache class for a CUDA kernel).
 
-# numba's own temporaries (numba.core.caching._CacheImpl: "<file>.tmp.<16 hex>"), of our modules only
-_NUMBA_TEMP = re.compile(r"coinwall_[a-z_]+_[0-9a-f]{20}\..+\.nb[ic]\.tmp\.[0-9a-f]{16}")
-# the temporaries of coinwall before marked names (tempfile.mkstemp(prefix=".tmp-", suffix=".part")): made in the
-# cache folder, which only coinwall writes (owner-only, checked), so this exact form is taken as ours there
-_LEGACY_TEMP = re.compile(r"\.tmp-[a-z0-9_]{8}\.part")
-_SWEPT: set = set()
-
-
-def _sweep_temporaries(folder: str, age: float = 3600.0) -> int:
-    """Remove the temporaries left in the cache folder by killed processes, older than ``age`` seconds (or whose
-    process is gone), once per process and folder; returns how many.  Only ours: marked names
-    (:func:`coinwall.forward.formats.output.sweep_stale`), numba's temporaries of our generated modules in
-    ``__pycache__``, and the exact form of coinwall's earlier temporaries; regular files owned by this user."""
-    import time
-
-    from ...formats.output import sweep_stale
-
-    if folder in _SWEPT:
-        return 0
-    _SWEPT.add(folder)
-    removed = len(sweep_stale(folder, age))
-    now = time.time()
-    uid = os.getuid() if hasattr(os, "getuid") else None
-    for place, pattern in ((folder, _LEGACY_TEMP), (os.path.join(folder, "__pycache__"), _NUMBA_TEMP)):
-        with contextlib.suppress(OSError):
-            for entry in os.scandir(place):
-                if not pattern.fullmatch(entry.name):
-                    continue
-                with contextlib.suppress(OSError):
-                    info = entry.stat(follow_symlinks=False)
-                    if stat.S_ISREG(info.st_mode) and (uid is None or info.st_uid == uid) \
-                            and now - info.st_mtime > age:
-                        os.unlink(entry.path)
-                        removed += 1
-    return removed
-
-
-def _clear_name(path: str) -> None:
-    """Make room for a file of ours at ``path`` in the cache folder: something there that is not a regular file
-    (a folder, however deep, a link, a FIFO) is not ours to delete, so it is moved aside, with a note, to
-    ``<name>.not-a-file-<random>``; a cache that could never write its manifest again would never heal."""
-    import secrets
-
+    Returns
+    -------
+    bool
+    """
+    folder = cache_dir()
+    if folder is None:
+        return False
     try:
-        info = os.lstat(path)
-    except FileNotFoundError:
-        return
-    if stat.S_ISREG(info.st_mode):
-        return
-    aside = f"{path}.not-a-file-{secrets.token_hex(4)}"
-    os.rename(path, aside)
-    _note(f"moved {path} aside to {aside}: the kernel cache keeps a file of its own there, and it was not a file")
+        cache = _cache_class(base)(dispatcher.py_func)
+    except RuntimeError:  # no locator placed it (no source file; NUMBA_CACHE_LOCATOR_CLASSES chose others)
+        return False
+    if cache.cache_path != folder:  # a cache only in coinwall's folder
+        return False
+    dispatcher._cache = cache
+    return True
 
 
-def _stored(folder: str, name: str, data: bytes) -> str:
-    """Path of ``folder/name.py`` holding exactly ``data``: a file with other content (damaged, or planted by
-    someone) is replaced, with its numba files, before anything of it is used."""
-    path = os.path.join(folder, name + ".py")
-    _clear_name(path)
-    try:
-        with open(path, "rb") as fh:
-            stored = fh.read(len(data) + 1)
-    except FileNotFoundError:
-        stored = None
-    if stored != data:  # equal bytes ⇔ equal SHA-256, which is the module's name: the file is what we made
-        if stored is not None:
-            _note(f"discarded {path}: its content does not match its name (damaged or foreign); writing it again")
-        discard(folder, name, keep_source=True)
-        _write_atomic(folder, name + ".py", data)
-    return path
+def cache_module(module) -> bool:
+    """:func:`attach_cache` for every numba function of ``module``; returns whether all of them have the cache."""
+    from numba.core.dispatcher import Dispatcher
 
-
-def _confine(module, folder) -> None:
-    """Turn off numba's disk cache for any function of ``module`` whose cache would live outside ``folder``
-    (``NUMBA_CACHE_DIR`` or a fallback locator would put it elsewhere, where we cannot vouch for it)."""
-    from numba.core.caching import NullCache
-
-    inside = os.path.realpath(os.path.join(folder, "__pycache__")) if folder else None
-    for value in list(vars(module).values()):
-        cache = getattr(value, "_cache", None)
-        path = getattr(cache, "cache_path", None)
-        if path is not None and (inside is None or os.path.realpath(path) != inside):
-            value._cache = NullCache()
-            if folder is not None:
-                _note(f"numba would cache compiled code in {path} (NUMBA_CACHE_DIR?), outside the trusted folder "
-                      f"{folder}; compiling without a disk cache")
+    functions = [value for value in vars(module).values() if isinstance(value, Dispatcher)]
+    return all([attach_cache(f) for f in functions])
 
 
 _MODULES: dict = {}
 
 
 def load_module(source: str, prefix: str = "coinwall_gen"):
-    """Execute generated ``source`` as a module, from a file in the trusted cache folder when there is one.
+    """Execute generated ``source`` as a module whose numba functions keep their machine code in coinwall's cache.
 
-    The module's name is ``<prefix>_<first 20 hex digits of the SHA-256 of source>``.  In the cache folder
-    its file is checked to hold exactly ``source`` (else rewritten) and the *verified bytes* are compiled
-    with the file's path as their file name (so numba's ``cache=True`` finds its machine code again in the
-    next process); the file is never imported by path, so nothing written between the check and the
-    execution can run.  The source reads a global ``CACHE``: True with a trusted folder, False in memory
-    (:func:`cache_dir` returned None, or the folder could not be written), where nothing touches the disk.
+    The module's name is ``<prefix>_<first 20 hex digits of the SHA-256 of source>``; it is executed from
+    memory (nothing but numba's own files is on disk).  The source reads a global ``CACHE``, which is False:
+    the decorators make no cache of their own, and every numba function of the module then gets coinwall's
+    (:func:`attach_cache`; none when :func:`cache_dir` is None: compiled in memory).
+
+    Parameters
+    ----------
+    source : str
+        Python source that defines numba functions.
+    prefix : str
+        The start of the module's name.
+
+    Returns
+    -------
+    module
+        Loaded once per process and source; ``module.CACHED`` says whether its functions use the disk cache.
+
+    Examples
+    --------
+    >>> module = load_module("from numba import njit\\n@njit(cache=CACHE)\\ndef twice(x):\\n    return 2 * x\\n",
+    ...                      "coinwall_example")
+    >>> module.twice(1.5)
+    3.0
     """
     data = source.encode()
     name = f"{prefix}_{hashlib.sha256(data).hexdigest()[:20]}"
     if name in _MODULES:
         return _MODULES[name]
     folder = cache_dir()
-    filename = f"<coinwall generated {name}>"
-    if folder is not None:
-        _sweep_temporaries(folder)
-        try:
-            filename = _stored(folder, name, data)
-            _check_numba_files(folder, name)
-        except OSError as exc:
-            _note(f"cannot write the kernel cache in {folder} ({exc.strerror or exc}); compiling in memory")
-            folder, filename = None, f"<coinwall generated {name}>"
     module = types.ModuleType(name)
-    module.__file__ = filename
-    module.CACHE = folder is not None
-    module.COINWALL_CACHE_FOLDER = folder
-    sys.modules[name] = module  # numba's cache locates functions through their module
-    exec(compile(data, filename, "exec"), module.__dict__)  # noqa: S102 -- our own generated source, verified above
-    _confine(module, folder)
+    module.__file__ = os.path.join(folder or "<memory>", name + ".py")  # a name only: numba's cache is keyed by it
+    module.CACHE = False
+    sys.modules[name] = module  # numba finds a function's globals through its module
+    exec(compile(data, module.__file__, "exec"), module.__dict__)  # noqa: S102 -- our own generated source
+    module.CACHED = folder is not None and cache_module(module)
     _MODULES[name] = module
     return module

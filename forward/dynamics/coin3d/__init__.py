@@ -1,5 +1,6 @@
-"""The coin in three dimensions: the body of revolution as a top (the reduced billiard with its potential),
-the lab-frame rigid body, the caught flip (DHM) and the bounced coin."""
+"""The coin in three dimensions: the body of revolution as a top (the reduced billiard with its potential) and
+its compiled kernel, the lab-frame rigid body, the caught flip (DHM), the bounced coin, and the side-up
+correlation P(n) between two walls."""
 
 from coinwall._lazy import attach_stub
 

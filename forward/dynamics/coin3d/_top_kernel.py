@@ -53,7 +53,8 @@ from numba import njit, prange
 
 __all__ = []  # called through coinwall.forward.dynamics.coin3d.top
 
-OPTIONS = {"cache": True, "error_model": "numpy"}
+# no cache of numba's own: top._kernel() gives every function coinwall's (billiard.wallcode.cache_module)
+OPTIONS = {"cache": False, "error_model": "numpy"}
 INF = math.inf
 MAX_STEPS = 1_000_000
 #: status codes (as in :data:`.top.STATUS`)

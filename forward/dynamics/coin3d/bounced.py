@@ -26,7 +26,7 @@ import numpy as np
 
 from ...display import safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count, check_finite
+from ...validation import check_count, check_finite, check_seed
 
 __all__ = ["BounceStudy", "plot_studies", "same_side_by_bounce"]
 
@@ -119,7 +119,7 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
         if not ceiling > height + body.reach:
             raise InvalidArgument(f"`ceiling` must be above the launch height plus the coin's reach, got {ceiling:g}")
     table = TopTable(body, g=g / k1, e=e, H=H)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     v = rng.uniform(lo, hi, samples) / k1
     om = np.abs(rng.normal(mean, sd, samples))
     states = np.column_stack([np.zeros(samples), np.full(samples, height / k1), om * math.sin(psi), v])

@@ -34,7 +34,7 @@ import numpy as np
 
 from ...display import safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count, check_finite
+from ...validation import check_count, check_finite, check_seed
 
 __all__ = ["PsiFit", "dhm_same_side", "fit_psi", "likelihood_interval", "overdispersion", "psi_from_same_side",
            "sigma_from_same_side", "simulate_caught", "spread_same_side"]
@@ -286,7 +286,7 @@ def simulate_caught(psi: float, samples: int, seed=None, omega: float = 240.0, f
     lo, hi = (check_finite("flight", x) for x in flight)
     if not 0 < lo <= hi:
         raise InvalidArgument(f"`flight` must be two times 0 < lo <= hi, got {flight!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     times = rng.uniform(lo, hi, samples)
     table = TopTable(coin(1.0, 0.1), g=g)
     height = 0.5 * g * hi * hi + 10.0  # high enough that the (absent) floor never matters

@@ -201,16 +201,27 @@ def top_run(table: TopTable, state, lz: float, l3: float, impacts: int, method: 
         return TopFlight(*cols[:5], cols[5].astype(np.int8), lz, l3, STATUS[code], method)
     if method != "kernel":
         raise InvalidArgument(f"`method` must be 'kernel' or 'reference', got {method!r}")
-    from . import _top_kernel as k
+    k = _kernel()
 
     out = [np.empty(impacts) for _ in range(5)] + [np.empty(impacts, dtype=np.int8)]
     done, code = k.run(arr, lz, l3, -1, impacts, *table.kernel_args(), math.inf, *out)
     return TopFlight(*[o[:done] for o in out[:5]], out[5][:done], lz, l3, STATUS[int(code)], method)
 
 
+def _kernel():
+    """:mod:`._top_kernel`, its functions given coinwall's kernel cache on first use."""
+    from . import _top_kernel
+
+    if not hasattr(_top_kernel, "CACHED"):
+        from ..billiard.wallcode import cache_module
+
+        _top_kernel.CACHED = cache_module(_top_kernel)
+    return _top_kernel
+
+
 def state_after(table: TopTable, states, lz, l3, times) -> np.ndarray:
     """(θ, η, θ̇, η̇) of many free flights (no walls) after their own ``times`` (compiled, parallel)."""
-    from . import _top_kernel as k
+    k = _kernel()
 
     arr = np.ascontiguousarray(np.asarray(states, dtype=float).reshape(-1, 4))
     n = arr.shape[0]
@@ -231,7 +242,7 @@ def sides_at_bounces(table: TopTable, states, lz, l3, bounces: int):
     after a floor impact is below the barrier of the equator, ``ℓz²/2 + g b(π/2)`` (the least energy with which
     the axis can pass θ = π/2), keeps its side for ever: its remaining bounces get that side (status 1).  After
     another early stop the sides are 0."""
-    from . import _top_kernel as k
+    k = _kernel()
 
     bounces = check_count("bounces", bounces, maximum=100_000)
     arr = np.ascontiguousarray(np.asarray(states, dtype=float).reshape(-1, 4))

@@ -37,7 +37,7 @@ import numpy as np
 
 from ...display import json_numbers, safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count
+from ...validation import check_count, check_seed
 from .field import FieldTable, field_run_many
 
 __all__ = ["Fairness", "fairness", "fairness_curve", "plot_fairness"]
@@ -166,7 +166,7 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
     heads_k = names.index("heads") if "heads" in names else 0
     counts = np.zeros((bounces, 3))  # heads, tails (any other valley), undecided
     settled_counts = np.zeros(bounces)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     done = 0
     while done < samples:
         m = min(_CHUNK, samples - done)

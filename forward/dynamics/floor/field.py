@@ -1,8 +1,7 @@
 """Flights in a field: the billiard under constant gravity, with a floor (and a ceiling) and restitution.
 
 The set-up (the paper's "external fields").  Units: lengths in κ (the radius of gyration), time in
-seconds, so the field ``g`` is in κ/s² (a field of 9.81 m/s² on a body with κ = 1 cm is g = 981 κ/s²;
-:meth:`FieldTable.from_si`).  The body's centre-of-mass height is ``η = y/κ``; the kinetic energy of the
+seconds, so the field ``g`` is in κ/s² (a field of 9.81 m/s² on a body with κ = 1 cm is g = 981 κ/s²).  The body's centre-of-mass height is ``η = y/κ``; the kinetic energy of the
 vertical and rotational motion is ``½ M κ² (η̇² + θ̇²)`` and the potential energy ``M g κ η``, so in
 the (θ, η) plane the body is a point of unit mass in the field ``−g`` along η, with the Euclidean metric:
 
@@ -62,7 +61,7 @@ from ..billiard.kernel import source_after_marker
 from ..billiard.table import HEIGHT_MAX, HIT_TOL, Billiard
 
 __all__ = ["CHATTER_HEIGHT", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "FieldTable", "Flight", "Landscape",
-           "compile_field_kernel", "field_run", "field_run_many", "landscape", "reference_run"]
+           "field_run", "field_run_many", "landscape", "reference_run"]
 
 _MARKER = ("# ---- field kernel: the text from the line after this one to the end of the file is joined to the "
            "wall code ----\n")
@@ -250,14 +249,6 @@ class FieldTable:
             land = Landscape(land.minima, land.maxima, land.barriers, land.names, np.empty((0, 3)))
         object.__setattr__(self, "landscape", land)
 
-    @classmethod
-    def from_si(cls, wall: Wall, kappa: float, g: float = 9.80665, **kwargs) -> FieldTable:
-        """The table of a body whose radius of gyration is ``kappa`` metres in the field ``g`` m/s²
-        (the wall, b0 and H are then in units of κ as always)."""
-        if not (isinstance(kappa, (int, float)) and math.isfinite(kappa) and kappa > 0):
-            raise InvalidArgument(f"`kappa` must be a positive length in metres, got {kappa!r}")
-        return cls(wall, g=float(g) / float(kappa), **kwargs)
-
     @property
     def ceiling(self) -> bool:
         return self.H is not None
@@ -343,16 +334,9 @@ class _FieldKernel:
         # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
         self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
         self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
-        self.sealed = set()
 
     def call(self, name, *args):
-        result = getattr(self.module, name)(*args)
-        if name not in self.sealed:
-            from ..billiard.wallcode import seal
-
-            self.sealed.add(name)
-            seal(self.module)
-        return result
+        return getattr(self.module, name)(*args)
 
     def args(self, table: FieldTable):
         H = float(table.H) if table.H is not None else 0.0
@@ -383,22 +367,6 @@ def _kernel(table: FieldTable) -> _FieldKernel:
     if comp is None:
         comp = _FIELD_KERNELS[table.wall] = _FieldKernel(table.wall)
     return comp
-
-
-def compile_field_kernel(table: FieldTable) -> float:
-    """Compile (or load from numba's cache) the field kernels of ``table``'s wall; the seconds it took."""
-    import time
-
-    start = time.perf_counter()
-    state = np.array([[0.5, float(np.max(table.lower(np.linspace(0, TWO_PI, 64)))) + 1.0, 1.0, 0.0]])
-    if table.ceiling:
-        th = np.linspace(0, TWO_PI, 256)
-        mid = 0.5 * (table.lower(th) + table.upper(th))
-        i = int(np.argmax(table.upper(th) - table.lower(th)))
-        state = np.array([[th[i], mid[i], 1.0, 0.0]])
-    field_run(table, state[0], 1)
-    field_run_many(table, state, 1)
-    return time.perf_counter() - start
 
 
 # ---------------------------------------------------------------------------------------------------- inputs

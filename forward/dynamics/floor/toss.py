@@ -20,7 +20,7 @@ import numpy as np
 
 from ...display import safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count
+from ...validation import check_count, check_seed
 from .field import STATUS, FieldTable, settle_many
 
 __all__ = ["BasinMap", "Spread", "basin_map", "heads_fraction", "launch_states"]
@@ -254,7 +254,7 @@ def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int =
     if len(mean) != 2 or len(sigma) != 2 or not all(math.isfinite(x) for x in mean + sigma) or min(sigma) < 0:
         raise InvalidArgument(f"the spread needs a mean (v0, ω0) and two standard deviations >= 0, got {mean}, "
                               f"{sigma}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     v = rng.normal(mean[0], sigma[0], samples)
     w = rng.normal(mean[1], sigma[1], samples)
     states = launch_states(table, v, w, height, theta0)

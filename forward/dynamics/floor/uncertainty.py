@@ -30,7 +30,7 @@ import numpy as np
 
 from ...display import json_number, safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count
+from ...validation import check_count, check_seed
 from .field import FieldTable
 
 __all__ = ["Uncertainty", "plot_uncertainty", "uncertainty_exponent"]
@@ -149,7 +149,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
     if eps.size < 2 or not np.all(np.isfinite(eps)) or eps.min() <= 0 or eps.max() > 0.1:
         raise InvalidArgument(f"`epsilons` must be at least two numbers in (0, 0.1], got {list(np.ravel(epsilons))}")
     (vlo, vhi), (wlo, whi) = box
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     counts = np.zeros(eps.size, dtype=np.int64)
     for i, e in enumerate(eps):
         # launches whose ±ε neighbours stay in the box

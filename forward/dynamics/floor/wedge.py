@@ -37,7 +37,7 @@ import numpy as np
 
 from ...display import safe_repr
 from ...errors import InvalidArgument
-from ...validation import check_count
+from ...validation import check_count, check_seed
 from ...wall import Wall
 
 __all__ = ["WEDGE_CAP", "WedgeLyapunov", "plot_wedge", "wedge_flight", "wedge_lyapunov", "wedge_slope", "wedge_wall"]
@@ -258,7 +258,7 @@ def wedge_lyapunov(half_angle: float, orbits: int = 8, impacts: int = 20_000, ev
         raise InvalidArgument(f"`d0` must be a separation in (0, 1e-3), got {d0!r}")
     if not (isinstance(g, (int, float)) and 0.0 < g <= 1e6):
         raise InvalidArgument(f"`g` must be a field in (0, 1e6], got {g!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     segments = impacts // every
     if method == "map":
         top = _LEVEL_SHARE * slope * WEDGE_CAP

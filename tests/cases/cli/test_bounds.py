@@ -1,6 +1,7 @@
 """Bounds that hold: each valid-but-large request runs within its stated bound or is refused up front in one line.
 
-The subprocess checks run under a small RLIMIT_AS (and a timeout), so nothing here can take the machine down.
+The checks of a run that must fit in memory run in a subprocess under a small RLIMIT_AS (and a timeout), so nothing
+here can take the machine down; a refusal before any work runs in this process.
 """
 
 from __future__ import annotations
@@ -51,9 +52,18 @@ def test_solve_points_at_the_bound_runs_under_the_limit_and_above_it_is_refused(
     assert not (tmp_path / "other.json").exists()
 
 
-def test_quantum_near_the_critical_height_is_refused_with_the_height_that_fits():
-    result = _run(["quantum", "1", "--H", "2.0000001", "--levels", "4"], 2 * GIB, timeout=60)
-    line = _one_error_line(result)
+def _refused_in_process(args, capsys):
+    """A request refused before any work, run in this process (the refusal, not a memory limit, is tested)."""
+    from coinwall.cases.cli.main import main
+
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("coinwall: error: "), err
+    return err
+
+
+def test_quantum_near_the_critical_height_is_refused_with_the_height_that_fits(capsys):
+    line = _refused_in_process(["quantum", "1", "--H", "2.0000001", "--levels", "4"], capsys)
     assert "degrees of freedom" in line and "H ≥ 2.00" in line
 
 
@@ -73,7 +83,7 @@ def test_quantum_estimate_counts_the_mesh_before_building_it():
         assert column_count(strip, 8, region) == column_angles(strip, 8, region)[0].size
 
 
-def test_fourier_wall_is_bounded_in_harmonics(tmp_path):
+def test_fourier_wall_is_bounded_in_harmonics(tmp_path, capsys, monkeypatch):
     from coinwall.forward import Wall
     from coinwall.forward.errors import InvalidWall
     from coinwall.forward.wallbackends import MAX_HARMONICS
@@ -82,17 +92,16 @@ def test_fourier_wall_is_bounded_in_harmonics(tmp_path):
         Wall.from_fourier(2.0, [0.0] * (MAX_HARMONICS + 1))
     Wall.from_fourier(2.0, [0.0] * MAX_HARMONICS)
     (tmp_path / "f.json").write_text(json.dumps({"a0": 2.0, "cos": [0.0] * 100_000}))
-    result = _run(["critical", "f.json"], 2 * GIB, timeout=60, cwd=tmp_path)
-    assert "harmonics" in _one_error_line(result)
+    monkeypatch.chdir(tmp_path)
+    assert "harmonics" in _refused_in_process(["critical", "f.json"], capsys)
 
 
-def test_simulate_refuses_work_above_an_hour_and_reports_the_estimate():
-    result = _run(["simulate", "1", "--H", "3", "--collisions", "1e12"], 2 * GIB, timeout=60)
-    line = _one_error_line(result)
+def test_simulate_refuses_work_above_an_hour_and_reports_the_estimate(capsys):
+    from coinwall.cases.cli.main import main
+
+    line = _refused_in_process(["simulate", "1", "--H", "3", "--collisions", "1e12"], capsys)
     assert "days" in line and "--allow-long" in line
-    result = _run(["simulate", "1", "--H", "3", "--collisions", "1e4", "--method", "reference",
-                   "--collisions", "1e7"], 2 * GIB, timeout=60)
-    assert "--allow-long" in _one_error_line(result)
-    result = _run(["simulate", "1", "--H", "3", "--collisions", "1000", "--json"], 2 * GIB, timeout=60)
-    assert result.returncode == 0, result.stderr
-    assert json.loads(result.stdout)["estimated_seconds"] == pytest.approx(1000 * 1e-6)
+    assert "--allow-long" in _refused_in_process(["simulate", "1", "--H", "3", "--collisions", "1e4", "--method",
+                                                  "reference", "--collisions", "1e7"], capsys)
+    assert main(["simulate", "1", "--H", "3", "--collisions", "1000", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["estimated_seconds"] == pytest.approx(1000 * 1e-6)

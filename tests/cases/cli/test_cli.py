@@ -3,6 +3,7 @@
 import json
 import os
 
+import numpy as np
 import pytest
 
 from coinwall.cases.cli.main import main
@@ -291,31 +292,40 @@ def test_bad_output_creates_no_folder(tmp_path, capsys, monkeypatch):
 
 def test_check_paths_and_write_all(tmp_path):
     from coinwall.forward.errors import OutputError
-    from coinwall.forward.formats.output import check_paths, existing_files, prepare_folder, write_all
+    from coinwall.forward.formats.output import check_folder, check_paths, existing_files, write_all
 
     a, b = str(tmp_path / "x" / "y" / "a.json"), str(tmp_path / "b.json")
     (tmp_path / "file").write_text("")
     with pytest.raises(OutputError, match="is not a folder"):
         check_paths([a, str(tmp_path / "file" / "c.json")], (".json",))
-    assert not (tmp_path / "x").exists()  # validated all first
     with pytest.raises(OutputError, match="is a folder"):
         check_paths([str(tmp_path)], (".json", ""))
-    assert check_paths([a, b], (".json",)) is None and (tmp_path / "x" / "y").is_dir()
+    assert check_paths([a, b], (".json",)) is None and not (tmp_path / "x").exists()  # the folders come with files
     written = write_all({a: b"1", b: b"2"})
     assert written == [a, b] and isinstance(written, list) and written.replaced == ()
     written = write_all({a: b"3", str(tmp_path / "c.json"): b"4"})
     assert written.replaced == (a,) and existing_files([a, str(tmp_path / "d.json")]) == (a,)
-    assert prepare_folder(str(tmp_path / "p" / "q")) == str(tmp_path / "p" / "q") and (tmp_path / "p" / "q").is_dir()
+    assert check_folder(str(tmp_path / "p" / "q")) == str(tmp_path / "p" / "q") and not (tmp_path / "p").exists()
     with pytest.raises(OutputError, match="not a folder"):
-        prepare_folder(str(tmp_path / "file" / "q"))
+        check_folder(str(tmp_path / "file" / "q"))
 
 
 def test_verify_out_creates_the_folder(tmp_path, capsys, monkeypatch):
-    """`coinwall verify --out docs` from a folder where docs/ does not exist (outside the repository)."""
+    """`coinwall verify --out docs` from a folder where docs/ does not exist (outside the repository): the page
+    and its PNG figures.  The claims' checks are the paper tests' (tests/cases/test_paper_check.py, which runs
+    them once): here each row is its recorded verdict, so that this test pays for the files only."""
+    from coinwall.cases.paper import REGISTRY, verify
+    from coinwall.cases.paper.report import Row
+
+    rows = tuple(Row(c.key, c.claim, c.source, c.paper, "-", c.expected, c.expected, "") for c in REGISTRY.values())
+    monkeypatch.setattr(verify, "evaluate", lambda claims, resolution, progress=False: rows)
     monkeypatch.chdir(tmp_path)
-    assert main(["verify", "--fast", "--out", "docs", "--json"]) == 0
-    assert (tmp_path / "docs" / "paper-check.md").is_file()
-    assert any(name.endswith(".png") for name in os.listdir(tmp_path / "docs" / "figures"))
+    assert main(["verify", "--fast", "--out", "docs"]) == 0
+    text = (tmp_path / "docs" / "paper-check.md").read_text()
+    assert "| # | claim |" in text and "fig4_critical.png" in text
+    for name in ("fig4_critical.png", "appendix_gallery.png"):
+        assert (tmp_path / "docs" / "figures" / name).stat().st_size > 10000
+    assert "every verdict as recorded" in capsys.readouterr().out
 
 
 # --------------------------------------------------------------------------- numbers as a reader sees them
@@ -364,3 +374,32 @@ def test_an_unknown_wall_file_extension_is_named(tmp_path, capsys, monkeypatch):
         assert "extension '.txt'" in err and ".csv or .json" in err and len(err.strip().splitlines()) == 1
     assert main(["critical", "t.real"]) == 2
     assert "attribute access" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", [["simulate", "case:coin", "--H", "3"], ["section", "case:coin", "--H", "3"],
+                                     ["correlation", "case:coin", "--H", "3"], ["toss", "case:coin"],
+                                     ["quantum", "1", "--H", "3", "--levels", "2"]])
+@pytest.mark.parametrize("option", ["--sigma-b", "--sigma-theta"])
+def test_options_only_where_they_act(command, option, capsys):
+    """The dynamics and the quantum body read a sample file's values, not their half-widths: the options that
+    set them are not offered there (they used to be accepted and change nothing)."""
+    with pytest.raises(SystemExit) as exc:
+        main([*command, option, "0.1"])
+    assert exc.value.code == 2 and f"unrecognized arguments: {option}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args", [["simulate", "case:coin", "--H", "3", "--collisions", "10", "--seed", "-1"],
+                                  ["section", "case:coin", "--H", "3", "--orbits", "0"],
+                                  ["correlation", "case:coin", "--H", "3", "--bounces", "-1"],
+                                  ["kam", "--H", "3", "--bracket", "1,2,3"],
+                                  ["fit", "missing.csv", "--sigma-b", "-1"]])
+def test_the_library_checks_and_the_command_line_names_the_flag(args, capsys, tmp_path, monkeypatch):
+    """The rules of counts, seeds and ranges are the library's; its message reaches the user with the flag's name."""
+    monkeypatch.chdir(tmp_path)
+    theta = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    np.savetxt("missing.csv", np.column_stack([theta, 1 + 0.05 * np.cos(2 * theta)]), delimiter=",",
+               header="theta,b", comments="")
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    flag = args[-2]
+    assert err.count("\n") == 1 and err.startswith(f"coinwall: error: {flag}") and "`" not in err, err

@@ -1,8 +1,8 @@
 """The command line's argument parsing, its last line of defence and file output (issues 12 and 16).
 
 Bad input: one line on stderr, exit status 2, no traceback, no file written or replaced.  Outputs are
-written all or nothing (a failed rename restores what was replaced), temporaries are removed on SIGTERM
-and swept when stale, and no file is ever written with a NaN or an infinity.
+written all or nothing (a failed rename restores what was replaced), temporaries are removed on Ctrl-C,
+SIGTERM and SIGHUP, and no file is ever written with a NaN or an infinity.
 """
 
 import json
@@ -262,74 +262,120 @@ def test_fit_writes_wall_and_body_together(tmp_path, capsys, monkeypatch):
     assert sorted(os.listdir(tmp_path)) == ["scan.csv"]
 
 
-# --------------------------------------------------------------------------- 4. temporaries
+# --------------------------------------------------------------------------- 4. temporaries and signals
 
+# a command whose output is written slowly: it announces the write of the temporary, then takes long enough to
+# receive a signal (run through main(), which turns SIGTERM and SIGHUP into a normal exit, as the shell's
+# `coinwall` does)
 _SLOW_WRITER = textwrap.dedent("""
     import os, sys, time
-    from coinwall.forward.formats import output
+    from coinwall.cases.cli.main import main
 
     real_fdopen = os.fdopen
 
-    class Slow:  # the write of the temporary: announce it, then take long enough to be killed
+    class Slow:
         def __init__(self, fh):
             self.fh = fh
         def __enter__(self):
             return self
         def __exit__(self, *exc):
             self.fh.close()
+        def fileno(self):
+            return self.fh.fileno()
         def write(self, data):
             self.fh.write(data[:10])
             print("writing", flush=True)
             time.sleep(60)
 
     os.fdopen = lambda *a, **k: Slow(real_fdopen(*a, **k))
-    output.write_all({sys.argv[1]: b"x" * 1000})
+    sys.exit(main(["wall", "--polar", "1", "-o", sys.argv[1], "-o", sys.argv[2]]))
 """)
 
 
-def test_sigterm_during_a_write_leaves_nothing(tmp_path):
-    target = tmp_path / "out.csv"
-    proc = subprocess.Popen([sys.executable, "-c", _SLOW_WRITER, str(target)], stdout=subprocess.PIPE, text=True)
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGINT", "SIGHUP"])
+def test_a_signal_during_a_write_leaves_nothing(tmp_path, name):
+    """Killed while the temporary is written: one line, the shell's status for the signal, and the folder as it
+    was: the existing output untouched, no temporary, no folder made for the other output."""
+    number = getattr(signal, name)
+    (tmp_path / "old.csv").write_text("old")
+    before = sorted(os.listdir(tmp_path))
+    proc = subprocess.Popen([sys.executable, "-c", _SLOW_WRITER, str(tmp_path / "old.csv"),
+                             str(tmp_path / "new" / "w.json")], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert proc.stdout.readline().strip() == "writing"
         assert len(_temporaries(tmp_path)) == 1  # the temporary exists while the write runs
-        proc.send_signal(signal.SIGTERM)
-        status = proc.wait(timeout=30)
+        proc.send_signal(number)
+        _, err = proc.communicate(timeout=30)
     finally:
         proc.kill()
-    assert status == -signal.SIGTERM  # died of the signal, as an uncaught SIGTERM does (143 in a shell)
+    assert proc.returncode == 128 + number
+    assert err == ("coinwall: interrupted\n" if name == "SIGINT" else f"coinwall: stopped by {name}\n")
+    assert sorted(os.listdir(tmp_path)) == before and (tmp_path / "old.csv").read_text() == "old"
+
+
+def test_verify_killed_leaves_no_folder(tmp_path):
+    """`coinwall verify --out report` killed while it computes: the folder is made only with its content."""
+    script = textwrap.dedent("""
+        import sys, time
+        from coinwall.cases.cli.main import main
+        from coinwall.cases.paper import verify
+
+        def evaluate(claims, resolution, progress=False):
+            print("working", flush=True)
+            time.sleep(60)
+
+        verify.evaluate = evaluate
+        sys.exit(main(["verify", "--fast", "--json", "--out", "report"]))
+    """)
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, cwd=tmp_path)
+    try:
+        assert proc.stdout.readline().strip() == "working"
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    assert proc.returncode == 143 and err == "coinwall: stopped by SIGTERM\n"
     assert os.listdir(tmp_path) == []
 
 
-def test_write_all_restores_the_signal_handler(tmp_path):
-    before = signal.getsignal(signal.SIGTERM)
-    output.write_all({str(tmp_path / "a.csv"): b"1"})
-    assert signal.getsignal(signal.SIGTERM) is before
+def test_write_all_restores_the_signal_handlers(tmp_path):
+    before = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+    output.write_all({str(tmp_path / "a.csv"): b"1", str(tmp_path / "b.csv"): b"2"})
+    assert {number: signal.getsignal(number) for number in before} == before
 
 
-def test_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch):
-    """A SIGTERM that arrives while the renames run is handled after them: every file is written."""
-    calls = []
-    real_commit = output._commit
+def test_ctrl_c_during_the_commit_waits_for_it(tmp_path, monkeypatch):
+    """Ctrl-C while the temporaries are renamed over the outputs: the renames end first (every file new, no
+    second name of an old file left beside it), then the KeyboardInterrupt."""
+    a, b = str(tmp_path / "a.csv"), str(tmp_path / "b.csv")
+    for path in (a, b):
+        with open(path, "w") as fh:
+            fh.write("old")
+    real_replace = os.replace
+    seen = []
 
-    def commit(pairs):
-        os.kill(os.getpid(), signal.SIGTERM)  # Python runs the handler at the next bytecode: inside the commit
-        time.sleep(0.01)
-        return real_commit(pairs)
+    def replace(src, dst, *args, **kwargs):
+        if not seen:
+            os.kill(os.getpid(), signal.SIGINT)  # Python's handler would run at the next bytecode: in the commit
+            time.sleep(0.01)
+        seen.append(dst)
+        return real_replace(src, dst, *args, **kwargs)
 
-    previous = signal.signal(signal.SIGTERM, lambda number, frame: calls.append(number))
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        monkeypatch.setattr(output, "_commit", commit)
-        a, b = str(tmp_path / "a.csv"), str(tmp_path / "b.csv")
-        assert output.write_all({a: b"1", b: b"2"}) == [a, b]
-        assert calls == [signal.SIGTERM] and _read(a) == "1" and _read(b) == "2"
-        assert _temporaries(tmp_path) == []
+        monkeypatch.setattr(os, "replace", replace)
+        with pytest.raises(KeyboardInterrupt):
+            output.write_all({a: b"1", b: b"2"})
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGINT, previous)
+    assert seen == [a, b] and _read(a) == "1" and _read(b) == "2"
+    assert _temporaries(tmp_path) == []
 
 
-def test_signal_while_writing_with_a_program_handler(tmp_path, monkeypatch):
-    """A program that handles SIGTERM itself and goes on: its handler runs, the write is abandoned cleanly."""
+def test_a_program_handler_runs_and_the_write_completes(tmp_path, monkeypatch):
+    """A program that handles SIGTERM itself and goes on: its handler runs, the write completes whole."""
     calls = []
     real_fdopen = os.fdopen
 
@@ -338,68 +384,15 @@ def test_signal_while_writing_with_a_program_handler(tmp_path, monkeypatch):
         time.sleep(0.01)
         return real_fdopen(*args, **kwargs)
 
-    previous = signal.signal(signal.SIGTERM, lambda number, frame: calls.append(number))
+    handler = lambda number, frame: calls.append(number)  # noqa: E731
+    previous = signal.signal(signal.SIGTERM, handler)
     try:
         monkeypatch.setattr(os, "fdopen", fdopen)
-        with pytest.raises(OutputError, match="interrupted"):
-            output.write_all({str(tmp_path / "a.csv"): b"1"})
-        assert calls == [signal.SIGTERM] and os.listdir(tmp_path) == []
-        assert signal.getsignal(signal.SIGTERM) is not None and signal.getsignal(signal.SIGTERM).__name__ == "<lambda>"
+        assert output.write_all({str(tmp_path / "a.csv"): b"1"}) == [str(tmp_path / "a.csv")]
+        assert calls == [signal.SIGTERM] and os.listdir(tmp_path) == ["a.csv"]
+        assert signal.getsignal(signal.SIGTERM) is handler
     finally:
         signal.signal(signal.SIGTERM, previous)
-
-
-def _dead_pid():
-    proc = subprocess.Popen([sys.executable, "-c", "pass"])
-    proc.wait()
-    return proc.pid
-
-
-def _marked(folder, pid=None, host=None, kind="part"):
-    """A marked name as another coinwall process (``pid`` on ``host``) would have made it."""
-    body = f"{host or output._host_tag()}.{pid or os.getpid()}.{'ab' * 8}"
-    return f"{output._PREFIX}{body}.{output._mark(body + '.' + kind)}.{kind}"
-
-
-def test_stale_temporaries_of_our_naming_are_swept(tmp_path):
-    """Only names whose mark verifies are ours: swept when their process is gone (or a day old); every other
-    name, whatever it looks like, is left alone (a user's own .coinwall-settings.json, the older namings)."""
-    host = output._host_tag()
-    other_host = "0" * 8 if host != "0" * 8 else "1" * 8
-    dead, alive = _dead_pid(), os.getppid()
-    forged = _marked(tmp_path, dead)[:-len("0123456789abcdef.part")] + "0123456789abcdef.part"
-    planted = {
-        _marked(tmp_path, dead): False,                     # its process is gone: swept
-        _marked(tmp_path, alive): True,                     # its process runs: kept
-        _marked(tmp_path, dead, other_host): True,          # another host's pid: kept until old
-        forged: True,                                       # our naming, a mark that does not verify: never ours
-        f".coinwall-{host}-{dead}-deadbeef.csv": True,      # the naming of coinwall 0.x: not provably ours
-        ".coinwall-abcd_123.svg": True,                     # the older mkstemp naming: not provably ours
-        ".coinwall-settings.json": True,                    # a user's own files
-        ".coinwall-my_notes.csv": True,
-        "data.csv": True,
-    }
-    for name in planted:
-        (tmp_path / name).write_text("x")
-    link = _marked(tmp_path, dead).replace("abab", "cdcd", 1)
-    os.symlink(tmp_path / "data.csv", tmp_path / link)  # a link (and a mark that does not verify): never touched
-    planted[link] = True
-    old = time.time() - 2 * 86400
-    for name in planted:
-        if name != link:
-            os.utime(tmp_path / name, (old, old))
-    output.write_all({str(tmp_path / "out.csv"): b"1"})
-    kept = sorted([n for n, keep in planted.items() if keep] + ["out.csv"])
-    assert sorted(os.listdir(tmp_path)) == sorted(set(kept) - {_marked(tmp_path, alive),
-                                                                _marked(tmp_path, dead, other_host)})
-    assert (tmp_path / ".coinwall-settings.json").read_text() == "x"
-
-
-def test_temporary_names_say_whose_they_are(tmp_path):
-    name = os.path.basename(output.temporary_name(str(tmp_path / "body.json")))
-    assert output.is_marked(name) == (output._host_tag(), os.getpid(), "part")
-    assert name.startswith(".coinwall-tmp.") and name.endswith(".part")
-    assert output.is_marked(name.replace(name[-8], "0" if name[-8] != "0" else "1")) is None
 
 
 # --------------------------------------------------------------------------- 5. the last line of defence

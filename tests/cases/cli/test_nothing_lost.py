@@ -2,12 +2,11 @@
 test that gets one clear line and exit status 2 (or the right answer), with the folder listing compared before
 and after.
 
-1. Temporaries can only be ours (a keyed mark in the name): a user's ``.coinwall-settings.json`` survives a write;
-   folders made for a failed command are removed; an output that names an input is refused.
+1. A write touches nothing but its outputs: a user's ``.coinwall-settings.json`` survives it; folders made for a
+   failed command are removed; an output that names an input is refused.
 2. A scan store knows itself: with any single chunk damaged, a resumed scan ends with the arrays of an undamaged
    run; a store whose identity, coordinates or layout changed is refused in one line.
-3. The kernel cache heals from a manifest that is a folder (however deep) and sweeps only its own temporaries.
-4. Ctrl-C during a scan is one line.
+3. Ctrl-C during a scan is one line.
 """
 
 import errno
@@ -55,7 +54,7 @@ def test_users_own_files_of_the_old_pattern_survive_a_write(tmp_path, monkeypatc
     """`.coinwall-settings.json` and `.coinwall-my_notes.csv`, two days old, used to vanish on the next write."""
     monkeypatch.chdir(tmp_path)
     old = time.time() - 2 * 86400
-    for name in (".coinwall-settings.json", ".coinwall-my_notes.csv", ".coinwall-abcd_123.svg",
+    for name in (".coinwall-settings.json", ".coinwall-my_notes.csv", ".coinwall-abcd_123.svg", ".coinwall-x1y2z3w4.tmp",
                  ".coinwall-tmp.00000000.1.0123456789abcdef.0123456789abcdef.part"):
         (tmp_path / name).write_text("mine")
         os.utime(tmp_path / name, (old, old))
@@ -65,14 +64,25 @@ def test_users_own_files_of_the_old_pattern_survive_a_write(tmp_path, monkeypatc
     assert set(after) - set(before) == {"a.csv"} and all(after[k] == v for k, v in before.items())
 
 
-def test_a_marked_temporary_of_a_dead_process_is_swept(tmp_path):
-    proc = subprocess.Popen([sys.executable, "-c", "pass"])
-    proc.wait()
-    body = f"{output._host_tag()}.{proc.pid}.{'cd' * 8}"
-    ours = f"{output._PREFIX}{body}.{output._mark(body + '.part')}.part"
-    (tmp_path / ours).write_text("left by a SIGKILL")
-    output.write_all({str(tmp_path / "x.csv"): b"1"})
-    assert sorted(os.listdir(tmp_path)) == ["x.csv"]
+def test_ctrl_c_while_writing_leaves_nothing(tmp_path, monkeypatch):
+    """Ctrl-C while the second of three outputs is written (one of them in a folder still to be made): the old
+    file untouched, no temporary, no folder."""
+    (tmp_path / "a.csv").write_text("old")
+    before = listing(tmp_path)
+    real = os.fdopen
+    calls = []
+
+    def fdopen(fd, mode="r", *args, **kwargs):
+        calls.append(fd)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(fd, mode, *args, **kwargs)
+
+    monkeypatch.setattr(os, "fdopen", fdopen)
+    with pytest.raises(KeyboardInterrupt):
+        output.write_all({str(tmp_path / "a.csv"): b"new", str(tmp_path / "new" / "b.csv"): b"b",
+                          str(tmp_path / "c.csv"): b"c"})
+    assert listing(tmp_path) == before
 
 
 def test_an_output_path_too_long_is_refused_before_any_folder(tmp_path, monkeypatch, capsys):
@@ -329,93 +339,3 @@ def test_ctrl_c_during_a_scan_is_one_line(tmp_path):
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
     assert proc.returncode == 130 and err == "coinwall: interrupted\n", err
-
-
-# --------------------------------------------------------------------------------------------- 3. the kernel cache
-TINY = "from numba import njit\n\n\n@njit(cache=CACHE)\ndef shift(x):\n    return x + 1.5\n"
-
-
-@pytest.fixture
-def cache(tmp_path, monkeypatch):
-    from coinwall.forward.dynamics.billiard import wallcode
-
-    monkeypatch.setenv("COINWALL_CACHE_DIR", str(tmp_path / "cache"))
-    monkeypatch.setattr(wallcode, "_MODULES", {})
-    monkeypatch.setattr(wallcode, "_NOTED", set())
-    monkeypatch.setattr(wallcode, "_SWEPT", set())
-    return wallcode
-
-
-def _tiny(wallcode):
-    module = wallcode.load_module(TINY, "coinwall_test_heal")
-    assert module.shift(1.0) == 2.5
-    wallcode.seal(module)
-    wallcode._MODULES.clear()
-    wallcode._SWEPT.clear()
-    sys.modules.pop(module.__name__, None)
-    return module
-
-
-def _nest(path, depth):
-    os.mkdir(path)
-    fd = os.open(path, os.O_RDONLY)
-    for _ in range(depth):
-        os.mkdir("d", dir_fd=fd)
-        deeper = os.open("d", os.O_RDONLY, dir_fd=fd)
-        os.close(fd)
-        fd = deeper
-    os.close(fd)
-
-
-def _unnest(path):
-    """Remove a folder nested ``d/d/…`` however deep, one level at a time (shutil.rmtree recurses)."""
-    child, grand, up = os.path.join(path, "d"), os.path.join(path, "d", "d"), os.path.join(path, "up")
-    while os.path.isdir(child):
-        if os.path.isdir(grand):
-            os.rename(grand, up)
-            os.rmdir(child)
-            os.rename(up, child)
-        else:
-            os.rmdir(child)
-    os.rmdir(path)
-
-
-@pytest.mark.parametrize("depth", [0, 3000])  # deeper than Python can recurse (10⁵ takes 20 s to make and remove)
-def test_a_manifest_that_is_a_folder_heals(cache, capsys, depth):
-    """A `.sums` manifest that is a folder (or folders nested deeper than rmtree can go) used to make every run
-    compile in memory."""
-    module = _tiny(cache)
-    folder, name = module.COINWALL_CACHE_FOLDER, module.__name__
-    sums = os.path.join(folder, name + ".sums")
-    os.unlink(sums)
-    _nest(sums, depth)
-    capsys.readouterr()
-    assert _tiny(cache).CACHE
-    err = capsys.readouterr().err
-    assert "moved" in err and "not-a-file" in err and "compiling in memory" not in err
-    assert os.path.isfile(sums)
-    assert _tiny(cache).CACHE and capsys.readouterr().err == ""  # healed: silent, from the cache
-    for aside in [n for n in os.listdir(folder) if ".not-a-file-" in n]:  # (pytest's clean-up would recurse)
-        _unnest(os.path.join(folder, aside))
-
-
-def test_only_our_old_temporaries_are_swept_from_the_cache(cache, capsys):
-    module = _tiny(cache)
-    folder = module.COINWALL_CACHE_FOLDER
-    old = time.time() - 2 * 86400
-    ours = [f".tmp-{i:08d}.part" for i in range(10_000)]             # coinwall's earlier temporaries
-    ours.append(os.path.basename(output.marked_name(folder)))         # a marked one
-    numba = os.path.join("__pycache__", module.__name__ + ".shift-4.py311.nbi.tmp." + "0f" * 8)
-    theirs = [".tmp-notes.txt", ".tmp-12345678.csv", "notes.part"]
-    for name in [*ours, numba, *theirs]:
-        with open(os.path.join(folder, name), "w") as fh:
-            fh.write("x")
-        os.utime(os.path.join(folder, name), (old, old))
-    recent = os.path.basename(output.marked_name(folder))
-    with open(os.path.join(folder, recent), "w") as fh:  # being written by a live process (ours): kept
-        fh.write("x")
-    _tiny(cache)
-    left = set(os.listdir(folder)) | {os.path.join("__pycache__", n) for n in os.listdir(os.path.join(folder,
-                                                                                                      "__pycache__"))}
-    assert not (set(ours) | {numba}) & left
-    assert set(theirs) | {recent} <= left

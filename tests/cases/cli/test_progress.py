@@ -3,9 +3,10 @@
 ``coinwall simulate``, ``correlation``, ``kam``, ``section`` and ``coin3d bounce`` draw a tqdm bar on stderr when
 stderr is a terminal, counting in whole numbers, and draw nothing with ``--json`` or when stderr is a pipe; Ctrl-C
 stops ``coin3d bounce`` within a second with one line.  ``isatty`` cannot be faked
-in-process with pytest's capture, so each test runs the command in a fresh Python process with
+in-process with pytest's capture, so each test on a terminal runs the command in a fresh Python process with
 stderr (and for ``--json`` also stdout) on the slave side of a pty from ``os.openpty``.  Each run
-takes a few seconds (interpreter start, imports, the kernel's compile/load, a short run).
+takes a few seconds (interpreter start, imports, the kernel's compile/load, a short run).  Without a
+terminal the commands run in this process (pytest's capture is no terminal either).
 """
 
 import json
@@ -49,19 +50,13 @@ def _set_size(fd, rows, columns):
     fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
 
 
-def _run(argv, stderr_tty=True, stdout_tty=False, size=(24, 100), timeout=180):
-    """Run ``coinwall argv``; returns (exit status, stdout text, stderr text, what reached the terminal).
-
-    With ``stderr_tty`` stderr goes to a pty (and with ``stdout_tty`` stdout too), whose output is
-    returned as the fourth item (the pty turns "\\n" into "\\r\\n"); the other streams are pipes.
-    """
+def _run(argv, stdout_tty=False, size=(24, 100), timeout=180):
+    """Run ``coinwall argv`` with stderr on a pty (and with ``stdout_tty`` stdout too); returns (exit status,
+    stdout text, "", what reached the terminal) (the pty turns "\\n" into "\\r\\n")."""
     env = dict(os.environ)
     env["PYTHONPATH"] = ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env.pop("COLUMNS", None), env.pop("LINES", None)  # the terminal's own size must decide
     command = [sys.executable, "-c", "import sys; from coinwall.cases.cli import main; sys.exit(main())", *argv]
-    if not stderr_tty:
-        done = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, env=env, timeout=timeout)
-        return done.returncode, done.stdout.decode(), done.stderr.decode(), ""
     master, slave = os.openpty()
     if size is not None:
         _set_size(slave, *size)
@@ -127,12 +122,16 @@ def test_json_on_a_terminal_is_quiet(name):
 
 
 @pytest.mark.parametrize("name", sorted(COMMANDS))
-def test_no_bar_when_stderr_is_a_pipe(name):
+def test_no_bar_when_stderr_is_not_a_terminal(name, capsys):
+    """In this process: pytest's capture is a stream that is not a terminal, as a pipe or a file is."""
+    from coinwall.cases.cli.main import main
+
     argv, unit = COMMANDS[name]
-    status, stdout, stderr, _ = _run(argv, stderr_tty=False)
-    assert status == 0, stderr
-    assert not BAR.search(stderr) and f"{unit}/s" not in stderr and "\r" not in stderr, stderr
-    assert stdout.strip()
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert not sys.stderr.isatty()
+    assert not BAR.search(captured.err) and f"{unit}/s" not in captured.err and "\r" not in captured.err, captured.err
+    assert captured.out.strip()
 
 
 def test_ctrl_c_stops_coin3d_bounce_within_a_second():

@@ -354,7 +354,7 @@ def test_an_unexpected_exception_is_a_json_message(client):
 
 @contextlib.contextmanager
 def _worker():
-    worker = Worker("test")
+    worker = Worker("test", jobs="explore_jobs")  # the server's jobs and one that fails as a bug would
     try:
         yield worker
     finally:

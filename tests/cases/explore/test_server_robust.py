@@ -8,7 +8,6 @@ own and talk to it over a socket, as a browser or a script would.
 from __future__ import annotations
 
 import json
-import os
 import signal
 import socket
 import subprocess
