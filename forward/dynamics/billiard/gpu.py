@@ -424,8 +424,9 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
         Whole turns of θ, and the wall each state is on (−1: none).
     n : int
         Collisions per orbit.
-    rows : list of six ndarray (m, n)
-        time, θ, η, v_θ, v_η (float64) and side (int8), filled.
+    rows : list of six ndarray (m, n) or None
+        time, θ, η, v_θ, v_η (float64) and side (int8), filled; None for one that the caller does not read (it
+        stays on the GPU and is not copied: 8 bytes a collision fewer to bring back).
     done, status : ndarray (m,) of int64
         Collisions computed and the stop code per orbit, filled.
     last : ndarray (m, 2)
@@ -447,9 +448,13 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
 
     module = _billiard_module(table.wall)
     H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
+    m = states.shape[0]
+    kinds = [np.float64] * 5 + [np.int8]
+    outs = [Orbits(r, out=True) if r is not None else Orbits(np.broadcast_to(np.zeros((), d), (m, n)), out="gpu")
+            for r, d in zip(rows, kinds)]
     launch(module._run_gpu, [Orbits(states), Orbits(turns), Orbits(leaving), n, float(H), float(b0), c, cells, lookup,
-                             float(wmin), float(wmax), float(tol), *[Orbits(r, out=True) for r in rows],
-                             Orbits(done, out=True), Orbits(status, out=True), Orbits(last, out=True)], threads)
+                             float(wmin), float(wmax), float(tol), *outs, Orbits(done, out=True),
+                             Orbits(status, out=True), Orbits(last, out=True)], threads)
 
 
 def run_statistics(table, states, turns, leaving, n, speed, window, threads=THREADS) -> dict:
@@ -520,10 +525,11 @@ def run_statistics(table, states, turns, leaving, n, speed, window, threads=THRE
 
 
 class Orbits:
-    """An argument of :func:`launch` with one row per orbit: sent to the GPU in the launch's groups (``out=False``)
-    or filled there and copied back into the host array's rows (``out=True``)."""
+    """An argument of :func:`launch` with one row per orbit: sent to the GPU in the launch's groups (``out=False``),
+    filled there and copied back into the host array's rows (``out=True``), or filled there and left there
+    (``out="gpu"``: ``host`` gives only the shape and dtype, e.g. ``numpy.broadcast_to`` of a scalar)."""
 
-    def __init__(self, host, out: bool = False):
+    def __init__(self, host, out=False):
         self.host, self.out = host, out
 
 
@@ -565,5 +571,5 @@ def launch(kernel, args, threads: int = THREADS) -> None:
         with nvvm_options(fma=FMA):  # (compiled at the first launch)
             kernel[(k + threads - 1) // threads, threads](*sent)
         for a, d in zip(args, sent):
-            if isinstance(a, Orbits) and a.out:
+            if isinstance(a, Orbits) and a.out is True:
                 d.copy_to_host(a.host[part])
