@@ -71,8 +71,9 @@ with its one-step check (same state); ``orbits4`` — 4·M orbits per launch (a 
 idle wave of blocks); ``coalesced`` — the collision arrays laid out collision-major, so that the 32 threads of a
 warp store each collision to one contiguous stretch (a new compile: the arrays are strided); ``nowrite`` — the
 same compiled kernel writing every collision of an orbit to one place (stride 0: the stores stay in the cache;
-what a kernel that keeps nothing per collision would gain at most); ``threads64``/``threads256`` — other block
-sizes.
+what a kernel that keeps nothing per collision would gain at most); ``regs144`` — at most 144 registers a thread
+(ptxas, sm_90: 28 bytes of spills against none at the kernel's 154) in blocks of 64 threads, so that 14 warps fit
+on a multiprocessor instead of 12; ``threads64``/``threads256`` — other block sizes.
 
 Output, one block per table (numbers here are placeholders)::
 
@@ -119,7 +120,7 @@ TABLES = (("coin", 99.0, 3.0), ("ellipse", 0.55, 1.9))
 ONE_STEP_LIMIT = 1e-12     # the difference reported as "above" (the bound of each collision is what passes or fails)
 CHECKED_ORBITS = 2 ** 15   # the invariants read the first launch of this many orbits (all of it: every collision)
 ONE_STEP_ORBITS = 2 ** 13  # the one-step checks: every collision of the first launch of this many orbits
-VARIANTS = ("nofma", "orbits4", "coalesced", "nowrite")
+VARIANTS = ("nofma", "orbits4", "coalesced", "nowrite", "regs144")
 
 CARRY = '''
 from numba import cuda
@@ -153,12 +154,19 @@ def _simulator() -> bool:
     return bool(config.ENABLE_CUDASIM)
 
 
-def variant_kernel(wall, fma=True):
-    """The billiard's launcher in a module of its own (compiled at its first launch, inside ``nvvm_options``)."""
+def variant_kernel(wall, fma=True, registers=None):
+    """The billiard's launcher in a module of its own (compiled at its first launch, inside ``nvvm_options``), with
+    at most ``registers`` registers a thread when given."""
     from coinwall.forward.dynamics.billiard import gpu
     from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
 
-    return gpu.gpu_module(wall, KERNEL_SOURCE, gpu.BILLIARD_LAUNCHER, f"coinwall_gpu_fma{int(fma)}")._run_gpu
+    launcher = gpu.BILLIARD_LAUNCHER
+    if registers and not _simulator():  # (the simulator's cuda.jit takes no max_registers)
+        launcher = launcher.replace("@cuda.jit\ndef _run_gpu", f"@cuda.jit(max_registers={int(registers)})\ndef _run_gpu")
+        if launcher == gpu.BILLIARD_LAUNCHER:
+            raise RuntimeError("the launcher's text has changed: no @cuda.jit line before _run_gpu to cap")
+    prefix = f"coinwall_gpu_fma{int(fma)}_r{registers or 0}"
+    return gpu.gpu_module(wall, KERNEL_SOURCE, launcher, prefix)._run_gpu
 
 
 def _rows(cuda, m, n, layout):
@@ -488,11 +496,10 @@ def measure_table(name, eps, H, args, threads, device, report):
     return table, states, rate, trajs, verdict
 
 
-def run_variants(table, states, trajs, args, threads, headline, names):
-    """The variants of the module docstring, each as the headline; returns {name: dict}."""
-    from coinwall.forward.dynamics.billiard import gpu
+def run_variants(table, states, trajs, args, threads, headline, names, out, save):
+    """The variants of the module docstring, each as the headline, into ``out`` ({name: dict}; ``save()`` after
+    each)."""
 
-    out = {}
     for name in names:
         start = time.perf_counter()
         try:  # a variant is a report, not a check: one that cannot compile or run says so and the others go on
@@ -507,6 +514,9 @@ def run_variants(table, states, trajs, args, threads, headline, names):
             elif name in ("coalesced", "nowrite"):
                 layout = name
                 run_gpu(table, states[:t], 2, 1, t, layout=layout, keep=0)  # compile (once for both)
+            elif name == "regs144":
+                kernel, t = variant_kernel(table.wall, registers=144), 64
+                run_gpu(table, states[:t], 2, 1, t, kernel=kernel, keep=0)  # compile
             elif name.startswith("threads"):
                 t = int(name[len("threads"):])
             else:
@@ -524,13 +534,13 @@ def run_variants(table, states, trajs, args, threads, headline, names):
             print(f"variant coin {name}: failed ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")
             continue
         out[name] = entry
+        save()
         print(f"variant coin {name}: {rate:.3g} /s ({entry['relative']:.2f} of the headline in this run); "
               f"{got['registers'] or '?'} registers/thread, compiled in {compiled_in:.1f} s{extra}")
         if name == "nofma":
             for line in _worst_lines("same state", entry["one_step_same_state"]):
                 print(line)
         sys.stdout.flush()
-    return out
 
 
 def _first_parallel_run():
@@ -573,20 +583,26 @@ def main(argv=None):
     report["threading_layer"] = numba.threading_layer()
     print(f"cpu: {_cores()} numba threads (threading layer {report['threading_layer']}), {os.cpu_count()} logical CPUs")
     verdicts = []
+
+    def save():  # after each step: a run cut short by its time limit keeps what it measured
+        report["ok"] = all(verdicts)
+        if args.json:
+            with open(args.json, "w", encoding="utf-8") as fh:
+                json.dump(report, fh, indent=1, default=float)
+
     for name, eps, H in TABLES:
         table, states, rate, trajs, verdict = measure_table(name, eps, H, args, args.threads, device, report)
         if name == "coin":
             coin = (table, states, rate, trajs)
         verdicts.append(verdict)
+        save()
     names = [v for v in args.variants.split(",") if v.strip()]
-    report["variants"] = run_variants(coin[0], coin[1], coin[3], args, args.threads, coin[2], names)
-    report["ok"] = all(verdicts)
+    report["variants"] = {}
+    run_variants(coin[0], coin[1], coin[3], args, args.threads, coin[2], names, report["variants"], save)
     print(f"summary: invariants {'ok' if all(verdicts) else 'FAILED'}; coin "
           f"{report['tables']['coin']['gpu_rate']:.3g} /s, {report['tables']['coin']['ratio']:.3g}x the "
           f"{_cores()} cores on {device}")
-    if args.json:
-        with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(report, fh, indent=1, default=float)
+    save()
     return 0 if all(verdicts) else 1
 
 

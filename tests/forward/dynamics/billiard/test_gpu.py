@@ -241,13 +241,15 @@ def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
 
 
 def test_docstring_examples():
-    # the Examples sections of the GPU module, ensemble and ensemble_statistics run (those that need a GPU are
-    # skipped in the text)
+    # the Examples sections of the GPU module, the one-step check, ensemble and ensemble_statistics run (those that
+    # need a GPU are skipped in the text)
     from coinwall.forward.dynamics.analysis import orbitstats
+    from coinwall.forward.dynamics.billiard import onestep
     from coinwall.forward.dynamics.billiard import table as table_module
 
-    result = doctest.testmod(gpu, optionflags=doctest.ELLIPSIS)
-    assert result.failed == 0 and result.attempted > 0
+    for module in (gpu, onestep):
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+        assert result.failed == 0 and result.attempted > 0, module.__name__
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     for func in (table_module.ensemble, orbitstats.ensemble_statistics):
         for test in doctest.DocTestFinder().find(func, globs=vars(__import__(func.__module__, fromlist=["_"]))):
