@@ -36,14 +36,15 @@ Invariants, over every collision of the first launch of the first 32,768 orbits:
   independently (numpy on casadi's expression, not the GPU's code);
 * no flight through a wall: the midpoint of every flight lies strictly inside the strip;
 * the one-step check (:mod:`coinwall.forward.dynamics.billiard.onestep`, whose docstring derives the bound), over
-  the first 8,192 of those orbits, in two forms: ``same state`` — from each state the GPU reported, the GPU's next
+  the first 8,192 of those orbits (2.09 × 10⁶ collisions), in two forms: ``same state`` — from each state the GPU reported, the GPU's next
   collision (a launch of one collision) against the CPU's, both from identical floats, so every difference is the
   arithmetic's; ``orbit`` — the orbit's own next collision against the CPU's from the reported state, whose
   unwrapped θ is rounded (2 ulp(|θ|): 4e-12 at |θ| = 6000); this form also sees a skipped collision.  Each
   collision is held to the bound of what the kernel guarantees (its contact within ``tol`` of the wall, so two
   contacts on one flight at most ``4 tol/|g'|`` apart in time, ``|g'| = |v·n|·√(1 + b'²)``): ``ok`` when every
   next collision is on the same wall and within its bound.  Printed too: the largest relative difference, how
-  many exceed 1e-12, and the worst collisions (incidence ``|v·n|``, b'', both contacts' residuals);
+  many exceed 1e-12, and the worst collisions (incidence ``|v·n|``, b'', both contacts' residuals); and the orbit
+  form on the CPU's own orbits, the control;
 * mean free time against Santaló's ``π·A/P`` (derivation below), within 2σ.
 
 Santaló's mean free time on the billiard strip.  The table is the flat cylinder θ ∈ [0, 2π) (periodic), η between
@@ -75,7 +76,7 @@ what a kernel that keeps nothing per collision would gain at most); ``regs144`` 
 (ptxas, sm_90: 28 bytes of spills against none at the kernel's 154) in blocks of 64 threads, so that 14 warps fit
 on a multiprocessor instead of 12; ``threads64``/``threads256`` — other block sizes.
 
-Output, one block per table (numbers here are placeholders)::
+Output: a line on the CPU, then one block per table (numbers here are placeholders)::
 
     cpu: 16 numba threads (threading layer omp), 16 logical CPUs
     table coin: ellipse eps=99, H=3 (tol 3e-13), santalo 2.27336
@@ -83,24 +84,32 @@ Output, one block per table (numbers here are placeholders)::
       gpu kernel  262144 orbits x 4 launches x 256 = 2.68e+08 collisions in 0.576 s: 4.66e+08 /s
       gpu copy    2.75e+09 bytes: new arrays 1.6 s (1.7 GB/s), pinned 0.11 s (25 GB/s); with copies 1.4e+08 /s
       cpu kernel  16 threads, 32768 orbits x 4 x 256 = 3.36e+07 collisions in 0.53 s: 6.3e+07 /s (254 ns/collision/core)
-      cpu kernel  1 thread, 1024 orbits x 4 x 256: 231 ns/collision (16 threads scale 0.91 of perfect)
+      cpu kernel  1 thread, 256 orbits x 4 x 256: 231 ns/collision (16 threads scale 0.91 of perfect)
       gpu/cpu 7.4
-      cpu ensemble() 32768 orbits x 256: 1.1e+07 /s; gpu ensemble(): 9.5e+06 /s
-      simulate --orbits: gpu 4.1e+08 /s (262144 orbits x 1024), cpu 5.9e+07 /s (32768 orbits x 1024)
+      cpu ensemble() 32768 orbits x 256: 1.1e+07 /s; gpu ensemble(): 9.5e+06 /s (Trajectory objects included)
+      simulate --orbits: gpu 4.1e+08 /s (262144 orbits x 1024), cpu 5.9e+07 /s (32768 orbits); mean free time vs
+        santalo z = 0.31, -0.72 ok
       speed max||v|-1| 2.2e-16 ok
       contact max residual 8e-13 = 2.7 tol ok
       through-wall flights 0 of 8.36e+06 ok; orbits stopped early 0
-      one-step same state: max 1.3e-13, 0 above 1e-12, max/bound 2e-05, grazes 0, other wall 0 over 2.1e+06 ok
-      one-step orbit: max 9.1e-12, 12 above 1e-12, max/bound 0.003, grazes 0, other wall 0 over 2.1e+06 ok
+      one-step same state: max 1.3e-13, 0 above 1e-12, max/bound 2e-05, grazes 0, other wall 0 over 2.09e+06 ok
+      one-step orbit: max 9.1e-12, 12 above 1e-12, max/bound 0.003, grazes 0, other wall 0 over 2.09e+06 ok
+      one-step orbit, the CPU's own orbits (control): max 2.2e-12, 8 above 1e-12, max/bound 0.16, ... ok
         worst same state: diff 1.3e-13 (v_eta) bound 2e-09; wall 1 phi 1.6526 b' 0.63 b'' 4.5 |v.n| 0.013 ...
       free time 2.27291 +- 0.00051 vs santalo 2.27336: z = -0.88 ok
       targets: >= 1e9/s MISS, >= 20x cpu MISS
 
+(the ``worst`` lines: the three largest differences of each form, the component, its bound, the wall, the contact
+angle φ, b' and b'' there, the incidence |v·n|, the flight time, |θ| of the start, and the residual
+``η − wall(θ)`` of the CPU's contact and of the other one).  The control applies the orbit form to the CPU's own
+first launch (2^13 of its orbits): what the rounding of the reported θ alone gives.
+
 then one line per variant (``variant coin nofma: 4.3e+08 /s (0.92 of the headline in this run); 154
 registers/thread, compiled in 12.5 s; one-step same state ...``), one line ``summary: ...`` with the
-invariants' verdict, and ``--json FILE`` writes the same numbers as JSON.  The exit status is 1 when an
-invariant fails (the targets are reported, not enforced), 2 when there is no GPU (outside ``--smoke``, which runs
-in numba's CUDA simulator at a few orbits and collisions).
+invariants' verdict, and ``--json FILE`` writes the same numbers as JSON (after each table and variant, so a run
+cut short keeps what it measured).  The exit status is 1 when an invariant fails (the targets are reported, not
+enforced), 2 when there is no GPU (outside ``--smoke``, which runs in numba's CUDA simulator at a few orbits and
+collisions).
 """
 
 from __future__ import annotations
@@ -273,10 +282,10 @@ def _cores() -> int:
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
-def run_cpu(table, states, n, launches, workers=None, repeats=3):
+def run_cpu(table, states, n, launches, workers=None, repeats=3, keep=0):
     """The same protocol on the CPU: ``_run_many`` (what ensemble calls) on ``workers`` numba threads into arrays
     allocated once, L launches each continuing the last; a warm round, then the best of ``repeats``.  Returns
-    (seconds, collisions)."""
+    (seconds, collisions, the first launch's rows and done of the first ``keep`` orbits)."""
     from coinwall.forward.dynamics.billiard.kernel import _run_threads, compiled
     from coinwall.forward.dynamics.billiard.table import _check_states
 
@@ -290,11 +299,13 @@ def run_cpu(table, states, n, launches, workers=None, repeats=3):
     for round_ in range(repeats + 1):
         unit, leaving, turns = unit0.copy(), leaving0.copy(), turns0.copy()
         seconds, total = 0.0, 0
-        for _ in range(launches):
+        for launch in range(launches):
             start = time.perf_counter()
             _run_threads(comp, table, unit, turns, leaving, n, workers, out, done, status, last)
             seconds += time.perf_counter() - start
             total += int(done.sum())
+            if round_ == 0 and launch == 0 and keep:
+                first = ([o[:keep].copy() for o in out], done[:keep].copy())
             moved = done > 0
             at = np.maximum(done - 1, 0)
             unit[moved] = np.column_stack([last[:, 0], out[2][rows, at], out[3][rows, at], out[4][rows, at]])[moved]
@@ -302,7 +313,7 @@ def run_cpu(table, states, n, launches, workers=None, repeats=3):
             leaving[moved] = out[5][rows, at][moved]
         if round_:
             best = min(best, seconds)
-    return best, total
+    return (best, total, first) if keep else (best, total)
 
 
 def invariants(table, rows, done, status):
@@ -349,8 +360,9 @@ def trajectories(table, rows, done, count):
             if done[k] == n]
 
 
-def gpu_step(table, kernel, threads=128):
-    """One collision of ``kernel`` from each state (a ``device`` of one_step_check: another compiled kernel)."""
+def gpu_step(table, kernel, fma, threads=128):
+    """One collision of ``kernel`` (compiled with NVVM's ``-fma`` = ``fma``) from each state (a ``device`` of
+    one_step_check: another compiled kernel)."""
     from coinwall.forward.dynamics.billiard import gpu
     from coinwall.forward.dynamics.billiard.kernel import compiled
 
@@ -363,8 +375,9 @@ def gpu_step(table, kernel, threads=128):
         done, status, last = (cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64),
                               cuda.device_array((m, 2)))
         sent = [cuda.to_device(np.ascontiguousarray(a)) for a in (states, turns, leaving, c, cells, lookup)]
-        kernel[(m + threads - 1) // threads, threads](*sent[:3], 1, float(H), float(b0), *sent[3:], float(wmin),
-                                                      float(wmax), float(tol), *rows, done, status, last)
+        with gpu.nvvm_options(fma=fma):  # (already compiled for these types: this holds if it were not)
+            kernel[(m + threads - 1) // threads, threads](*sent[:3], 1, float(H), float(b0), *sent[3:], float(wmin),
+                                                          float(wmax), float(tol), *rows, done, status, last)
         host = [np.asarray(r.copy_to_host() if hasattr(r, "copy_to_host") else r)[:, 0] for r in rows]
         return np.column_stack(host[:5]), host[5], done.copy_to_host()
     return step
@@ -436,7 +449,8 @@ def measure_table(name, eps, H, args, threads, device, report):
     rows, done, status = g.pop("first")
     cpu_states = random_states(table, args.cpu_orbits, seed=2)
     cores = _cores()
-    cpu_seconds, cpu_total = run_cpu(table, cpu_states, args.collisions, args.launches)
+    cpu_seconds, cpu_total, (cpu_rows, cpu_done) = run_cpu(table, cpu_states, args.collisions, args.launches,
+                                                             keep=ONE_STEP_ORBITS)
     one = min(args.cpu_orbits, 256)
     one_seconds, one_total = run_cpu(table, cpu_states[:one], args.collisions, args.launches, workers=1, repeats=2)
     cpu_rate = cpu_total / cpu_seconds
@@ -447,6 +461,8 @@ def measure_table(name, eps, H, args, threads, device, report):
     del rows
     same = one_step(table, trajs, "gpu")
     orbit = one_step(table, trajs, None)
+    control = one_step(table, trajectories(table, cpu_rows, cpu_done, ONE_STEP_ORBITS), None)
+    del cpu_rows
     paths = _user_paths(table, states, cpu_states, args.collisions, args.launches)
     print(f"table {name}: ellipse eps={eps:g}, H={H:g} (tol {table.tol:.3g}), santalo {checks['santalo']:.6g}")
     print(f"  gpu  {device}, {threads} threads/block, {g['registers'] or '?'} registers/thread, compile "
@@ -478,6 +494,7 @@ def measure_table(name, eps, H, args, threads, device, report):
           f"orbits stopped early {checks['orbits_stopped']}")
     print("  " + _one_step_line("same state", same))
     print("  " + _one_step_line("orbit", orbit))
+    print("  " + _one_step_line("orbit, the CPU's own orbits (control)", control))
     for line in list(_worst_lines("same state", same)) + list(_worst_lines("orbit", orbit)):
         print(line)
     print(f"  free time {checks['free_time']:.6g} +- {checks['free_time_sigma']:.2g} vs santalo "
@@ -487,11 +504,12 @@ def measure_table(name, eps, H, args, threads, device, report):
         print(f"  targets: >= 1e9/s {'PASS' if targets['rate_1e9'] else 'MISS'}, >= 20x cpu "
               f"{'PASS' if targets['vs_cpu_20x'] else 'MISS'}")
     sys.stdout.flush()
-    verdict = checks["ok"] and same["ok"] and orbit["ok"] and paths["statistics_ok"]
+    verdict = checks["ok"] and same["ok"] and orbit["ok"] and control["ok"] and paths["statistics_ok"]
     report["tables"][name] = dict(checks, eps=eps, H=H, gpu=g, gpu_rate=rate, cpu_rate=cpu_rate,
                                   cpu_collisions=cpu_total, cpu_ns_per_collision_core=per_core,
                                   cpu_ns_per_collision_one_thread=single, ratio=rate / cpu_rate, threads=threads,
                                   compile_seconds=compile_seconds, one_step_same_state=same, one_step_orbit=orbit,
+                                  one_step_orbit_cpu_control=control,
                                   user_paths=paths, targets=targets, ok=verdict)
     return table, states, rate, trajs, verdict
 
@@ -528,7 +546,7 @@ def run_variants(table, states, trajs, args, threads, headline, names, out, save
             entry = {"rate": rate, "relative": rate / headline, "registers": got["registers"],
                      "compile_seconds": compiled_in}
             if name == "nofma":
-                entry["one_step_same_state"] = one_step(table, trajs, gpu_step(table, kernel))
+                entry["one_step_same_state"] = one_step(table, trajs, gpu_step(table, kernel, fma=False))
                 extra = "; " + _one_step_line("same state", entry["one_step_same_state"])
         except Exception as exc:  # noqa: BLE001
             print(f"variant coin {name}: failed ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")

@@ -238,7 +238,8 @@ def one_step_check(table, trajectories, device=None, worst: int = 5) -> OneStep:
     where = np.concatenate([np.stack([np.full(len(t) - 1, k), np.arange(1, len(t))], axis=1)
                             for k, t in enumerate(pieces)])
     described = []
-    for i in np.argsort(differences)[::-1][:worst]:
+    top = np.argpartition(differences, -min(worst, differences.size))[-worst:] if worst > 0 else []
+    for i in sorted(top, key=lambda i: -differences[i]):
         described.append({
             "orbit": int(where[i, 0]), "collision": int(where[i, 1]),
             "differences": dict(zip(NAMES, diff[i].tolist())), "bounds": dict(zip(NAMES, bound[i].tolist())),
