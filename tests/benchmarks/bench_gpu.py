@@ -4,7 +4,8 @@ Run:  python tests/benchmarks/bench_gpu.py [--orbits M] [--collisions N] [--laun
                                            [--threads T] [--variants LIST] [--json FILE] [--smoke]
 
 Two tables: the coin (the ellipse wall with ε = 99, H = 3) and the paper's mixed ellipse (ε = 0.55, H = 1.9; it
-has islands, so its orbits are not all chaotic).
+has islands, so its orbits are not all chaotic).  The GPU helpers (the variants' kernels, the layouts of the
+collision arrays, one collision from given states) are in tests/benchmarks/_gpu_runs.py.
 
 What each figure means (the same work on both sides: every orbit makes L launches of N collisions, each launch
 continuing every orbit from where the last one stopped, so the start-up of the first flight is not what is timed;
@@ -130,90 +131,9 @@ ONE_STEP_LIMIT = 1e-12     # the difference reported as "above" (the bound of ea
 CHECKED_ORBITS = 2 ** 15   # the invariants read the first launch of this many orbits (all of it: every collision)
 ONE_STEP_ORBITS = 2 ** 13  # the one-step checks: every collision of the first launch of this many orbits
 VARIANTS = ("nofma", "orbits4", "coalesced", "nowrite", "regs144")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # (python -P does not put this folder on the path)
 
-CARRY = '''
-from numba import cuda
-
-
-@cuda.jit
-def carry(states, turns, leaving, eta, vt, ve, side, done, last):
-    # the next launch continues each orbit from its last collision (an orbit that stopped is left as it is)
-    k = cuda.grid(1)
-    if k < states.shape[0]:
-        d = done[k]
-        if d > 0:
-            states[k, 0] = last[k, 0]
-            states[k, 1] = eta[k, d - 1]
-            states[k, 2] = vt[k, d - 1]
-            states[k, 3] = ve[k, d - 1]
-            turns[k] = int(last[k, 1])
-            leaving[k] = side[k, d - 1]
-'''
-
-
-def _carry_kernel():
-    namespace = {}
-    exec(compile(CARRY, "<bench_gpu carry>", "exec"), namespace)  # noqa: S102 -- our own text above
-    return namespace["carry"]
-
-
-def _simulator() -> bool:
-    from numba import config
-
-    return bool(config.ENABLE_CUDASIM)
-
-
-def variant_kernel(wall, fma=True, registers=None):
-    """The billiard's launcher in a module of its own (compiled at its first launch, inside ``nvvm_options``), with
-    at most ``registers`` registers a thread when given."""
-    from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
-
-    launcher = gpu.BILLIARD_LAUNCHER
-    if registers and not _simulator():  # (the simulator's cuda.jit takes no max_registers)
-        launcher = launcher.replace("@cuda.jit\ndef _run_gpu", f"@cuda.jit(max_registers={int(registers)})\ndef _run_gpu")
-        if launcher == gpu.BILLIARD_LAUNCHER:
-            raise RuntimeError("the launcher's text has changed: no @cuda.jit line before _run_gpu to cap")
-    prefix = f"coinwall_gpu_fma{int(fma)}_r{registers or 0}"
-    return gpu.gpu_module(wall, KERNEL_SOURCE, launcher, prefix)._run_gpu
-
-
-def _rows(cuda, m, n, layout):
-    """The six collision arrays (m, n) on the GPU: row-major (``C``), collision-major with a pad so that numba
-    types them as strided (``coalesced``), or all collisions of an orbit in one place (``nowrite``, stride 0)."""
-    kinds = [np.float64] * 5 + [np.int8]
-    if layout == "C":
-        return [cuda.device_array((m, n), dtype=d) for d in kinds]
-    if _simulator():  # (the simulator has no memory layout to speak of; it copies host arrays, contiguous ones)
-        from numpy.lib.stride_tricks import as_strided
-
-        if layout == "coalesced":
-            return [np.empty((m, n), dtype=d, order="F") for d in kinds]
-        return [as_strided(np.empty(m, dtype=d), (m, n), (np.dtype(d).itemsize, 0)) for d in kinds]
-    from numba.cuda.cudadrv.devicearray import DeviceNDArray
-
-    out = []
-    for d in kinds:
-        size = np.dtype(d).itemsize
-        base = cuda.device_array(n * (m + 1) if layout == "coalesced" else m, dtype=d)
-        strides = (size, size * (m + 1)) if layout == "coalesced" else (size, 0)
-        array = DeviceNDArray((m, n), strides, d, gpu_data=base.gpu_data)
-        array.base_keepalive = base  # the view does not own its memory
-        out.append(array)
-    return out
-
-
-def _registers(kernel, layout):
-    if _simulator():
-        return None
-    try:
-        for args, compiled in kernel.overloads.items():
-            strided = any(getattr(t, "layout", "C") == "A" for t in args)
-            if strided == (layout != "C"):
-                return int(compiled.regs_per_thread)
-    except Exception:  # noqa: BLE001 -- a report only
-        return None
-    return None
+from _gpu_runs import carry_kernel, collision_rows, gpu_step, registers_per_thread, variant_kernel
 
 
 def run_gpu(table, states, n, launches, threads, kernel=None, layout="C", keep=CHECKED_ORBITS, copies=False, fma=None):
@@ -228,13 +148,13 @@ def run_gpu(table, states, n, launches, threads, kernel=None, layout="C", keep=C
 
     cuda = gpu.cuda_module()
     kernel = kernel or gpu._billiard_module(table.wall)._run_gpu
-    carry = _carry_kernel()
+    carry = carry_kernel()
     unit, _speed, leaving, turns = _check_states(table, states, "states")
     m = unit.shape[0]
     H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
     consts = [cuda.to_device(np.ascontiguousarray(a)) for a in (c, cells, lookup)]
     d_states, d_turns, d_leaving = (cuda.to_device(np.ascontiguousarray(a)) for a in (unit, turns, leaving))
-    outs = _rows(cuda, m, n, layout)
+    outs = collision_rows(cuda, m, n, layout)
     d_done, d_status = cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64)
     d_last = cuda.device_array((m, 2))
     blocks = (m + threads - 1) // threads
@@ -272,7 +192,7 @@ def run_gpu(table, states, n, launches, threads, kernel=None, layout="C", keep=C
             except Exception as exc:  # noqa: BLE001
                 result["copy_pinned"] = math.nan
                 print(f"  (page-locked copy failed: {type(exc).__name__}: {str(exc).splitlines()[0][:120]})")
-    result["registers"] = _registers(kernel, layout)
+    result["registers"] = registers_per_thread(kernel, layout)
     return result
 
 
@@ -358,29 +278,6 @@ def trajectories(table, rows, done, count):
     return [Trajectory(time=rows[0][k], theta=rows[1][k], eta=rows[2][k], v_theta=rows[3][k], v_eta=rows[4][k],
                        side=rows[5][k], start=np.zeros(4), table=table) for k in range(min(count, len(done)))
             if done[k] == n]
-
-
-def gpu_step(table, kernel, fma, threads=128):
-    """One collision of ``kernel`` (compiled with NVVM's ``-fma`` = ``fma``) from each state (a ``device`` of
-    one_step_check: another compiled kernel)."""
-    from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.kernel import compiled
-
-    cuda = gpu.cuda_module()
-    H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
-
-    def step(states, turns, leaving):
-        m = states.shape[0]
-        rows = _rows(cuda, m, 1, "C")
-        done, status, last = (cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64),
-                              cuda.device_array((m, 2)))
-        sent = [cuda.to_device(np.ascontiguousarray(a)) for a in (states, turns, leaving, c, cells, lookup)]
-        with gpu.nvvm_options(fma=fma):  # (already compiled for these types: this holds if it were not)
-            kernel[(m + threads - 1) // threads, threads](*sent[:3], 1, float(H), float(b0), *sent[3:], float(wmin),
-                                                          float(wmax), float(tol), *rows, done, status, last)
-        host = [np.asarray(r.copy_to_host() if hasattr(r, "copy_to_host") else r)[:, 0] for r in rows]
-        return np.column_stack(host[:5]), host[5], done.copy_to_host()
-    return step
 
 
 def one_step(table, trajs, device):

@@ -151,9 +151,8 @@ def _bounds(table, start, nxt, side, delta, time_error):
     rate = np.abs(B - vt * slope)
     tau = table.tol + 16 * U * max(1.0, table.H) * (1 + np.abs(slope)) + np.abs(slope) * delta
     g2 = 2.0 * vt * vt * np.abs(curve)
-    graze = rate * rate < 8.0 * tau * g2
-    with np.errstate(divide="ignore"):
-        dt = np.where(graze, np.inf, 4.0 * tau / rate)
+    graze = rate * rate <= 8.0 * tau * g2  # (a flight along a straight wall, rate 0, too)
+    dt = 4.0 * tau / np.where(graze, 1.0, rate)
     dphi = np.abs(vt) * dt + delta
     ds = np.abs(curve) * dphi + 16 * U * (1 + np.abs(slope))
     absolute = np.column_stack([dt + time_error, dphi, np.abs(ve) * dt, 4 * ds, 4 * ds])
@@ -229,10 +228,11 @@ def one_step_check(table, trajectories, device=None, worst: int = 5) -> OneStep:
         step = device if callable(device) else (lambda *a: next_collisions(table, *a, device))
         other, other_side, other_found = step(start, turns.astype(np.int64), leaving)
         delta, time_error = 0.0, 0.0
-    diff = np.abs(other - cpu) / np.maximum(1.0, np.abs(cpu))
+    with np.errstate(invalid="ignore", over="ignore"):  # (a missing collision's row holds anything: set apart below)
+        diff = np.abs(other - cpu) / np.maximum(1.0, np.abs(cpu))
     bound, incidence, graze, phi, slope, curve = _bounds(table, start, cpu, cpu_side, delta, time_error)
     differences = diff.max(axis=1)
-    ratios = np.where(graze, 0.0, (diff / bound).max(axis=1))
+    ratios = np.where(graze, 0.0, (diff / bound).max(axis=1))  # (a graze's bound, computed at rate 1, is not used)
     apart = (cpu_found != 1) | (other_found != 1) | (cpu_side != other_side)
     differences[apart], ratios[apart] = np.inf, np.inf
     where = np.concatenate([np.stack([np.full(len(t) - 1, k), np.arange(1, len(t))], axis=1)
