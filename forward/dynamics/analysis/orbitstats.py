@@ -236,10 +236,10 @@ def ensemble_statistics(table: Billiard, states, collisions: int, device: str = 
                         progress=None) -> EnsembleStatistics:
     """Follow each of ``states`` for ``collisions`` collisions, in bounded memory, keeping only statistics.
 
-    Orbits go in groups (2·10^6 collisions held at once on the CPU; on the GPU
-    :func:`~.billiard.gpu.group_collisions`, so that a launch keeps it busy), each group in pieces continued
-    exactly (as :meth:`~.billiard.Trajectory.resume_state` continues an orbit) when its orbits are longer than a
-    group holds.  Each piece is reduced to a few numbers per orbit where it was computed: on the GPU the
+    Orbits go in groups (2·10^6 collisions held at once on the CPU; on the GPU up to 2^28, held there,
+    :func:`~.billiard.gpu.group_collisions` with ``on_host=False``, so that a launch keeps it busy), each group
+    in pieces continued exactly (as :meth:`~.billiard.Trajectory.resume_state` continues an orbit) when its
+    orbits are longer than a group holds.  Each piece is reduced to a few numbers per orbit where it was computed: on the GPU the
     collisions never leave it (:func:`~.billiard.gpu.run_statistics`), on the CPU they are read as arrays.
 
     Parameters
@@ -283,7 +283,7 @@ def ensemble_statistics(table: Billiard, states, collisions: int, device: str = 
     collisions = check_count("collisions", collisions, maximum=MAX_COLLISIONS)
     starts = np.array(states, dtype=float).reshape(-1, 4)
     m = starts.shape[0]
-    hold = CHUNK * 10 if device == "cpu" else group_collisions()
+    hold = CHUNK * 10 if device == "cpu" else group_collisions(on_host=False)
     piece = min(collisions, hold)
     group = max(1, min(m, hold // piece))
     rates, notes = [], []

@@ -374,14 +374,22 @@ def _billiard_module(wall):
     return module
 
 
-def group_collisions() -> int:
-    """How many collisions the analyses that follow orbits in groups (sections, P(n)) hold at once on the GPU.
+def group_collisions(on_host: bool = True) -> int:
+    """How many collisions the analyses that follow orbits in groups (sections, P(n), statistics) hold at once on
+    the GPU.
 
     On the CPU they hold 2·10^6 (82 MB at 41 bytes a collision: the cores are busy with a group of any size).
     A GPU needs 10^4–10^5 orbits in one launch to be busy, so its groups are up to 2^26 collisions (2.8 GB), as
     far as 1/(8·141 bytes) of the available memory allows (an analysis holds up to ~141 bytes per collision of a
-    group while it reads it) and half the GPU's free memory at 41 bytes a collision (:func:`run_statistics`
-    holds a whole group there).
+    group while it reads it) and half the GPU's free memory at 41 bytes a collision.  With ``on_host=False`` the
+    collisions stay on the GPU (:func:`run_statistics`: the host keeps ~80 bytes per orbit), so only the GPU's
+    memory bounds the group, up to 2^28 collisions (11 GB; 2^18 orbits of 1024 collisions: ~5 waves of blocks on
+    an H100, where fewer leave the last wave's tail a larger share).
+
+    Parameters
+    ----------
+    on_host : bool
+        Whether the group's collisions are brought to the host.
 
     Returns
     -------
@@ -395,6 +403,8 @@ def group_collisions() -> int:
     from ...validation import available_memory
 
     on_gpu = _free_bytes(cuda_module()) / (2 * 41)
+    if not on_host:
+        return int(max(2_000_000, min(2 ** 28, on_gpu)))
     return int(max(2_000_000, min(2 ** 26, available_memory() / (8 * 141), on_gpu)))
 
 
