@@ -1,28 +1,51 @@
 """Benchmark of the billiard kernel on a CUDA GPU against all the machine's CPU cores, in one run, with its invariants.
 
 Run:  python tests/benchmarks/bench_gpu.py [--orbits M] [--collisions N] [--launches L] [--cpu-orbits K]
-                                           [--threads T[,T...]] [--max-registers R[,R...]] [--json FILE] [--smoke]
+                                           [--threads T] [--variants LIST] [--json FILE] [--smoke]
 
 Two tables: the coin (the ellipse wall with ε = 99, H = 3) and the paper's mixed ellipse (ε = 0.55, H = 1.9; it
-has islands, so its orbits are not all chaotic).  For each, M Liouville-random orbits (:func:`random_states`) run
-on the GPU, one orbit per thread (``coinwall.forward.dynamics.billiard.gpu``: the CPU kernel's text compiled for
-CUDA), L launches of N collisions, each launch continuing every orbit from where the last one stopped (so the
-start-up of the first flight is not what is timed).  The GPU's time is wall-clock time from the launch to the
-end of the kernel (``cuda.synchronize``), transfers not included; the rate with the copy of every collision back
-to the host is printed too.  The CPU runs K of the same orbits with N collisions on all its cores (numba threads,
-``ensemble``), three times after a warm-up; its best time counts.  Compile time is excluded on both sides.
+has islands, so its orbits are not all chaotic).  The GPU helpers (the variants' kernels, the layouts of the
+collision arrays, one collision from given states) are in tests/benchmarks/_gpu_runs.py.
 
-Invariants, each over the first launch of the first 32,768 orbits (every one of their N collisions; the GPU's copy
-of the rest is timed, not read) unless said otherwise:
+What each figure means (the same work on both sides: every orbit makes L launches of N collisions, each launch
+continuing every orbit from where the last one stopped, so the start-up of the first flight is not what is timed;
+compile time and a first warm round are excluded on both sides):
 
-* speed: ``max | |v| − 1 |`` over every collision (the kernel keeps the speed 1 to rounding);
+* ``gpu kernel``: M Liouville-random orbits (:func:`random_states`), one per GPU thread (the CPU kernel's text
+  compiled for CUDA, ``coinwall.forward.dynamics.billiard.gpu``), timed from the launch to the end of the kernel
+  (``cuda.synchronize``); every collision is written to the GPU's memory and stays there.  This is the rate of
+  the commands that reduce on the GPU (``simulate --orbits``: :func:`.orbitstats.ensemble_statistics`).
+* ``gpu copy``: the same launch's collisions (41 bytes each) copied to the host, into new numpy arrays (what
+  ``ensemble(..., device="gpu")`` and the analyses that read every collision do: the host's first touch of each
+  page is part of it) and into page-locked buffers allocated beforehand (the transfer itself); ``with copies``
+  is the kernel and the first of these together.  This bounds the commands that bring every collision back.
+* ``cpu kernel``: K of the same kind of orbits, the same L × N collisions each, on all CPU cores (numba threads,
+  the ``_run_many`` that ``ensemble`` calls, into arrays allocated once), best of three after a warm round; and
+  the same on one thread.  ``ns/collision/core`` is the time × cores / collisions: it equals the one-thread
+  figure when the cores scale perfectly, so the reader can see the baseline is sane.  ``gpu/cpu`` is the ratio
+  of the two kernel rates.
+* ``cpu ensemble()``: the K orbits × N collisions through :func:`ensemble`, the per-orbit Trajectory objects
+  included (what a user's script gets); ``gpu ensemble()``: the same on the GPU.
+* ``simulate --orbits``: :func:`.orbitstats.ensemble_statistics` end to end, GPU (M orbits × L·N collisions:
+  the collisions stay on the GPU, ~80 bytes per orbit come back) and CPU (K orbits).
+
+Invariants, over every collision of the first launch of the first 32,768 orbits:
+
+* speed: ``max | |v| − 1 |`` (the kernel keeps the speed 1 to rounding);
 * contact: every collision lies on the wall it hit, ``|η − wall(θ)| ≤ tol`` (the table's contact tolerance,
   ``1e-13·max(1, H, max b)``) plus the rounding of the unwrapped θ (4 ulp(θ)·(1 + |b'|)), the wall evaluated
   independently (numpy on casadi's expression, not the GPU's code);
-* no flight through a wall: the midpoint of every flight lies strictly inside the strip; and the one-step check
-  on the first 64 collisions of the first 1024 orbits: from each GPU state the CPU kernel's next collision is the
-  GPU's next one to 1e-12 (a skipped collision would be found there: the CPU's certified search stops at the first
-  contact; later collisions carry θ unwrapped, whose last digits are lost beyond ~1e-13 at |θ| ~ 500);
+* no flight through a wall: the midpoint of every flight lies strictly inside the strip;
+* the one-step check (:mod:`coinwall.forward.dynamics.billiard.onestep`, whose docstring derives the bound), over
+  the first 8,192 of those orbits (2.09 × 10⁶ collisions), in two forms: ``same state`` — from each state the GPU reported, the GPU's next
+  collision (a launch of one collision) against the CPU's, both from identical floats, so every difference is the
+  arithmetic's; ``orbit`` — the orbit's own next collision against the CPU's from the reported state, whose
+  unwrapped θ is rounded (2 ulp(|θ|): 4e-12 at |θ| = 6000); this form also sees a skipped collision.  Each
+  collision is held to the bound of what the kernel guarantees (its contact within ``tol`` of the wall, so two
+  contacts on one flight at most ``4 tol/|g'|`` apart in time, ``|g'| = |v·n|·√(1 + b'²)``): ``ok`` when every
+  next collision is on the same wall and within its bound.  Printed too: the largest relative difference, how
+  many exceed 1e-12, and the worst collisions (incidence ``|v·n|``, b'', both contacts' residuals); and the orbit
+  form on the CPU's own orbits, the control;
 * mean free time against Santaló's ``π·A/P`` (derivation below), within 2σ.
 
 Santaló's mean free time on the billiard strip.  The table is the flat cylinder θ ∈ [0, 2π) (periodic), η between
@@ -36,38 +59,58 @@ the mean free time is ``τ = π A / P``.  The rate holds at every instant for or
 ``E[N(T)] = T P/(π A)`` exactly, on any table, chaotic or not.  The benchmark takes ``T`` = the earliest time at
 which an orbit of the first launch made its N-th collision, the rate ``r_k = N_k(T)/T`` of each orbit, and
 ``τ̂ = 1/mean(r)`` with ``σ = std(r)/(√M mean(r)²)`` (orbits are independent; a chaotic orbit's collisions are
-not, which is why the error comes from the spread between orbits).  (Total time over total collisions of orbits
-of N collisions each would instead average the orbits' own free times: on a table with islands that is not
-Santaló's harmonic mean, and it counts each start's first, partial flight.)  ``A`` and ``P`` come from
+not, which is why the error comes from the spread between orbits).  ``A`` and ``P`` come from
 ``Billiard.area_perimeter`` (trapezoid on 20,000 angles: exponentially accurate for these analytic walls).  A 2σ
 band is missed by chance 4.6 % of the time; the seed is fixed, so a run is reproducible.
 
 Targets (the GPU's): ≥ 10⁹ collisions/s on the coin on an H100/H200-class GPU, and ≥ 20× all the CPU cores of
 the same machine.
 
-Output, one block per table (numbers here are placeholders)::
+Variants, on the coin, each measured exactly as the headline (M orbits, L launches of N; a variant that cannot
+compile or run says so and the others go on): ``nofma`` — the launcher compiled with NVVM's ``-fma=0`` (no
+contraction of ``a·b + c``: the CPU kernel's arithmetic operation for operation, CUDA's ``cos``/``sin`` apart),
+with its one-step check (same state); ``orbits4`` — 4·M orbits per launch (a smaller share of the last, partly
+idle wave of blocks); ``coalesced`` — the collision arrays laid out collision-major, so that the 32 threads of a
+warp store each collision to one contiguous stretch (a new compile: the arrays are strided); ``nowrite`` — the
+same compiled kernel writing every collision of an orbit to one place (stride 0: the stores stay in the cache;
+what a kernel that keeps nothing per collision would gain at most); ``regs144`` — at most 144 registers a thread
+(ptxas, sm_90: 28 bytes of spills against none at the kernel's 154) in blocks of 64 threads, so that 14 warps fit
+on a multiprocessor instead of 12; ``threads64``/``threads256`` — other block sizes.
 
+Output: a line on the CPU, then one block per table (numbers here are placeholders)::
+
+    cpu: 16 numba threads (threading layer omp), 16 logical CPUs
     table coin: ellipse eps=99, H=3 (tol 3e-13), santalo 2.27336
-      gpu  NVIDIA H100 80GB HBM3 (compute capability 9.0), 128 threads/block, 154 registers/thread
-      gpu  1048576 orbits x 4 launches x 256 = 1.07e+09 collisions in 0.9 s: 1.19e+09 /s (with copies back 4.1e+08 /s)
-      cpu  16 cores, 32768 orbits x 256 = 8.39e+06 collisions in 0.4 s: 2.1e+07 /s
-      gpu/cpu 56.7
+      gpu  NVIDIA H200 (compute capability 9.0), 128 threads/block, 154 registers/thread, compile 12.8 s, fma on
+      gpu kernel  262144 orbits x 4 launches x 256 = 2.68e+08 collisions in 0.576 s: 4.66e+08 /s
+      gpu copy    2.75e+09 bytes: new arrays 1.6 s (1.7 GB/s), pinned 0.11 s (25 GB/s); with copies 1.4e+08 /s
+      cpu kernel  16 threads, 32768 orbits x 4 x 256 = 3.36e+07 collisions in 0.53 s: 6.3e+07 /s (254 ns/collision/core)
+      cpu kernel  1 thread, 256 orbits x 4 x 256: 231 ns/collision (16 threads scale 0.91 of perfect)
+      gpu/cpu 7.4
+      cpu ensemble() 32768 orbits x 256: 1.1e+07 /s; gpu ensemble(): 9.5e+06 /s (Trajectory objects included)
+      simulate --orbits: gpu 4.1e+08 /s (262144 orbits x 1024), cpu 5.9e+07 /s (32768 orbits); mean free time vs
+        santalo z = 0.31, -0.72 ok
       speed max||v|-1| 2.2e-16 ok
-      contact max residual 1.1e-13 = 0.37 tol ok
-      through-wall flights 0 of 2.7e+08 ok; one-step max 3.1e-15 over 261120 collisions ok
+      contact max residual 8e-13 = 2.7 tol ok
+      through-wall flights 0 of 8.36e+06 ok; orbits stopped early 0
+      one-step same state: max 1.3e-13, 0 above 1e-12, max/bound 2e-05, grazes 0, other wall 0 over 2.09e+06 ok
+      one-step orbit: max 9.1e-12, 12 above 1e-12, max/bound 0.003, grazes 0, other wall 0 over 2.09e+06 ok
+      one-step orbit, the CPU's own orbits (control): max 2.2e-12, 8 above 1e-12, max/bound 0.16, ... ok
+        worst same state: diff 1.3e-13 (v_eta) bound 2e-09; wall 1 phi 1.6526 b' 0.63 b'' 4.5 |v.n| 0.013 ...
       free time 2.27291 +- 0.00051 vs santalo 2.27336: z = -0.88 ok
-      targets: >= 1e9/s PASS, >= 20x cpu PASS
+      targets: >= 1e9/s MISS, >= 20x cpu MISS
 
-then, after both tables, one line per variant on the coin (one launch each: the other block sizes of ``--threads``,
-and the launcher compiled with a register cap for each ``--max-registers``: more threads per multiprocessor against
-spills to local memory; ptxas reports 154 registers and no spills uncapped, 112 bytes of spills at 128)::
+(the ``worst`` lines: the three largest differences of each form, the component, its bound, the wall, the contact
+angle φ, b' and b'' there, the incidence |v·n|, the flight time, |θ| of the start, and the residual
+``η − wall(θ)`` of the CPU's contact and of the other one).  The control applies the orbit form to the CPU's own
+first launch (2^13 of its orbits): what the rounding of the reported θ alone gives.
 
-    variant coin, 64 threads/block: 1.1e+09 /s (one launch; 154 registers/thread)
-    variant coin, at most 128 registers, 128 threads/block: 1.3e+09 /s (one launch; 128 registers/thread, compiled in 25.0 s)
-
-then one line ``summary: ...`` with the invariants' verdict, and ``--json FILE`` writes the same numbers as JSON.
-The exit status is 1 when an invariant fails (the targets are reported, not enforced), 2 when there is no GPU
-(outside ``--smoke``, which runs in numba's CUDA simulator at a few orbits and collisions).
+then one line per variant (``variant coin nofma: 4.3e+08 /s (0.92 of the headline in this run); 154
+registers/thread, compiled in 12.5 s; one-step same state ...``), one line ``summary: ...`` with the
+invariants' verdict, and ``--json FILE`` writes the same numbers as JSON (after each table and variant, so a run
+cut short keeps what it measured).  The exit status is 1 when an invariant fails (the targets are reported, not
+enforced), 2 when there is no GPU (outside ``--smoke``, which runs in numba's CUDA simulator at a few orbits and
+collisions).
 """
 
 from __future__ import annotations
@@ -78,50 +121,79 @@ import math
 import os
 import sys
 import time
+import warnings
 
 import numpy as np
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 TABLES = (("coin", 99.0, 3.0), ("ellipse", 0.55, 1.9))
-ONE_STEP_TOL = 1e-12
+ONE_STEP_LIMIT = 1e-12     # the difference reported as "above" (the bound of each collision is what passes or fails)
 CHECKED_ORBITS = 2 ** 15   # the invariants read the first launch of this many orbits (all of it: every collision)
-ONE_STEP_ORBITS = 1024     # the one-step check: the first ONE_STEP_COLLISIONS collisions of this many orbits
-ONE_STEP_COLLISIONS = 64   # (the unwrapped θ of a long orbit holds its last digits: 1e-13 at |θ| = 500)
+ONE_STEP_ORBITS = 2 ** 13  # the one-step checks: every collision of the first launch of this many orbits
+VARIANTS = ("nofma", "orbits4", "coalesced", "nowrite", "regs144")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # (python -P does not put this folder on the path)
 
-CARRY = '''
-from numba import cuda
-
-
-@cuda.jit
-def carry(states, turns, leaving, eta, vt, ve, side, done, last):
-    # the next launch continues each orbit from its last collision (an orbit that stopped is left as it is)
-    k = cuda.grid(1)
-    if k < states.shape[0]:
-        d = done[k]
-        if d > 0:
-            states[k, 0] = last[k, 0]
-            states[k, 1] = eta[k, d - 1]
-            states[k, 2] = vt[k, d - 1]
-            states[k, 3] = ve[k, d - 1]
-            turns[k] = int(last[k, 1])
-            leaving[k] = side[k, d - 1]
-'''
+from _gpu_runs import carry_kernel, collision_rows, gpu_step, registers_per_thread, variant_kernel
 
 
-def _carry_kernel():
-    namespace = {}
-    exec(compile(CARRY, "<bench_gpu carry>", "exec"), namespace)  # noqa: S102 -- our own text above
-    return namespace["carry"]
-
-
-def capped_kernel(wall, registers):
-    """The billiard's launcher compiled with at most ``registers`` registers a thread (more threads fit on a
-    multiprocessor, at the price of spills to local memory): the same kernel text, another launcher line."""
+def run_gpu(table, states, n, launches, threads, kernel=None, layout="C", keep=CHECKED_ORBITS, copies=False, fma=None):
+    """M orbits × L launches of n collisions on the GPU (coinwall's kernel, or ``kernel``; a kernel compiles at its
+    first launch, with NVVM's ``-fma`` set to ``fma``, by default coinwall's :data:`~gpu.FMA`).  Returns a dict:
+    seconds (kernel time), collisions, the first launch's rows/done/status of the first ``keep`` orbits (host),
+    registers, and with ``copies`` the seconds to copy one launch's collisions into new arrays and into
+    page-locked ones, and its bytes."""
     from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.kernel import KERNEL_SOURCE
+    from coinwall.forward.dynamics.billiard.kernel import compiled
+    from coinwall.forward.dynamics.billiard.table import _check_states
 
-    launcher = gpu.BILLIARD_LAUNCHER.replace("@cuda.jit\n", f"@cuda.jit(max_registers={int(registers)})\n")
-    return gpu.gpu_module(wall, KERNEL_SOURCE, launcher, f"coinwall_gpu_r{int(registers)}")._run_gpu
+    cuda = gpu.cuda_module()
+    kernel = kernel or gpu._billiard_module(table.wall)._run_gpu
+    carry = carry_kernel()
+    unit, _speed, leaving, turns = _check_states(table, states, "states")
+    m = unit.shape[0]
+    H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
+    consts = [cuda.to_device(np.ascontiguousarray(a)) for a in (c, cells, lookup)]
+    d_states, d_turns, d_leaving = (cuda.to_device(np.ascontiguousarray(a)) for a in (unit, turns, leaving))
+    outs = collision_rows(cuda, m, n, layout)
+    d_done, d_status = cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64)
+    d_last = cuda.device_array((m, 2))
+    blocks = (m + threads - 1) // threads
+    head, tail = (float(H), float(b0)), (float(wmin), float(wmax), float(tol))
+    result = {"seconds": 0.0, "collisions": 0}
+    for launch in range(launches):
+        cuda.synchronize()
+        start = time.perf_counter()
+        with gpu.nvvm_options(fma=gpu.FMA if fma is None else fma):
+            kernel[blocks, threads](d_states, d_turns, d_leaving, n, *head, *consts, *tail, *outs, d_done, d_status,
+                                    d_last)
+        carry[blocks, threads](d_states, d_turns, d_leaving, outs[2], outs[3], outs[4], outs[5], d_done, d_last)
+        cuda.synchronize()
+        result["seconds"] += time.perf_counter() - start
+        done = d_done.copy_to_host()
+        result["collisions"] += int(done.sum())
+        if launch == 0 and keep:
+            result["first"] = ([np.asarray(o[:keep].copy_to_host() if hasattr(o, "copy_to_host") else o[:keep])
+                                for o in outs], done[:keep], d_status.copy_to_host()[:keep])
+        if launch == 0 and copies:
+            result["bytes"] = sum(o.size * o.dtype.itemsize for o in outs)
+            start = time.perf_counter()
+            fresh = [o.copy_to_host() for o in outs]
+            result["copy_new"] = time.perf_counter() - start
+            del fresh
+            try:  # (a report only: a machine that cannot lock 2.8 GB of host memory says so)
+                pinned = [cuda.pinned_array(o.shape, dtype=o.dtype) for o in outs]
+                for o, p in zip(outs, pinned):  # (a first copy: the driver maps the buffers)
+                    o.copy_to_host(p)
+                start = time.perf_counter()
+                for o, p in zip(outs, pinned):
+                    o.copy_to_host(p)
+                result["copy_pinned"] = time.perf_counter() - start
+                del pinned
+            except Exception as exc:  # noqa: BLE001
+                result["copy_pinned"] = math.nan
+                print(f"  (page-locked copy failed: {type(exc).__name__}: {str(exc).splitlines()[0][:120]})")
+    result["registers"] = registers_per_thread(kernel, layout)
+    return result
 
 
 def _cores() -> int:
@@ -130,77 +202,42 @@ def _cores() -> int:
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
-def run_gpu(table, states, n, launches, threads, checked=CHECKED_ORBITS, kernel=None):
-    """M orbits × L launches of n collisions on the GPU (the kernel of coinwall's GPU module, or ``kernel``);
-    returns (seconds, collisions, (first launch's host rows, done, status), seconds with copies, registers per
-    thread)."""
-    from numba import config
-
-    from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.kernel import compiled
+def run_cpu(table, states, n, launches, workers=None, repeats=3, keep=0):
+    """The same protocol on the CPU: ``_run_many`` (what ensemble calls) on ``workers`` numba threads into arrays
+    allocated once, L launches each continuing the last; a warm round, then the best of ``repeats``.  Returns
+    (seconds, collisions, the first launch's rows and done of the first ``keep`` orbits)."""
+    from coinwall.forward.dynamics.billiard.kernel import _run_threads, compiled
     from coinwall.forward.dynamics.billiard.table import _check_states
 
-    cuda = gpu.cuda_module()
-    kernel = kernel or gpu._billiard_module(table.wall)._run_gpu
-    carry = _carry_kernel()
-    unit, _speed, leaving, turns = _check_states(table, states, "states")
-    m = unit.shape[0]
-    H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
-    consts = [cuda.to_device(np.ascontiguousarray(a)) for a in (c, cells, lookup)]
-    d_states, d_turns, d_leaving = (cuda.to_device(np.ascontiguousarray(a)) for a in (unit, turns, leaving))
-    outs = [cuda.device_array((m, n)) for _ in range(5)] + [cuda.device_array((m, n), dtype=np.int8)]
-    d_done, d_status = cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64)
-    d_last = cuda.device_array((m, 2))
-    blocks = (m + threads - 1) // threads
-    scalars = (float(H), float(b0))
-    tail = (float(wmin), float(wmax), float(tol))
-    seconds, total, first = 0.0, 0, None
-    copies = 0.0
-    for launch in range(launches):
-        cuda.synchronize()
-        start = time.perf_counter()
-        kernel[blocks, threads](d_states, d_turns, d_leaving, n, *scalars, *consts, *tail, *outs, d_done, d_status,
-                                d_last)
-        carry[blocks, threads](d_states, d_turns, d_leaving, outs[2], outs[3], outs[4], outs[5], d_done, d_last)
-        cuda.synchronize()
-        seconds += time.perf_counter() - start
-        done = d_done.copy_to_host()
-        total += int(done.sum())
-        start = time.perf_counter()
-        rows = [o.copy_to_host() for o in outs]
-        copies += time.perf_counter() - start
-        if launch == 0:
-            first = ([o[:checked].copy_to_host() for o in outs], done[:checked], d_status.copy_to_host()[:checked])
-        del rows
-    registers = None
-    if not config.ENABLE_CUDASIM:
-        try:
-            registers = int(next(iter(kernel.get_regs_per_thread().values())))
-        except Exception:  # noqa: BLE001 -- a report only
-            registers = None
-    return seconds, total, first, seconds + copies, registers
-
-
-def run_cpu(table, states, n, repeats=3):
-    """The same kind of orbits on all CPU cores (numba threads); the best of ``repeats`` runs: (seconds, collisions)."""
-    from coinwall.forward.dynamics.billiard.table import ensemble
-
-    ensemble(table, states[:2], 2)  # compile or load
+    comp = compiled(table)
+    unit0, _speed, leaving0, turns0 = _check_states(table, states, "states")
+    m = unit0.shape[0]
+    out = [np.empty((m, n)) for _ in range(5)] + [np.empty((m, n), dtype=np.int8)]
+    done, status, last = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.empty((m, 2))
+    rows = np.arange(m)
     best, total = math.inf, 0
-    for _ in range(repeats):
-        start = time.perf_counter()
-        trajs = ensemble(table, states, n)
-        best = min(best, time.perf_counter() - start)
-        total = sum(len(t) for t in trajs)
-        del trajs
-    return best, total
+    for round_ in range(repeats + 1):
+        unit, leaving, turns = unit0.copy(), leaving0.copy(), turns0.copy()
+        seconds, total = 0.0, 0
+        for launch in range(launches):
+            start = time.perf_counter()
+            _run_threads(comp, table, unit, turns, leaving, n, workers, out, done, status, last)
+            seconds += time.perf_counter() - start
+            total += int(done.sum())
+            if round_ == 0 and launch == 0 and keep:
+                first = ([o[:keep].copy() for o in out], done[:keep].copy())
+            moved = done > 0
+            at = np.maximum(done - 1, 0)
+            unit[moved] = np.column_stack([last[:, 0], out[2][rows, at], out[3][rows, at], out[4][rows, at]])[moved]
+            turns[moved] = last[moved, 1].astype(np.int64)
+            leaving[moved] = out[5][rows, at][moved]
+        if round_:
+            best = min(best, seconds)
+    return (best, total, first) if keep else (best, total)
 
 
-def invariants(table, rows, done, status, sample):
-    """The checks of the module docstring on the first launch (rows: time, θ, η, v_θ, v_η, side)."""
-    from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.table import Trajectory
-
+def invariants(table, rows, done, status):
+    """Speed, contact, flights and Santaló on the first launch (rows: time, θ, η, v_θ, v_η, side)."""
     n = rows[0].shape[1]
     full = done == n
     out = {"orbits_stopped": int(np.count_nonzero(~full))}
@@ -215,20 +252,12 @@ def invariants(table, rows, done, status, sample):
     out["contact"] = float(np.max(np.abs(residual)))
     out["contact_ok"] = bool(np.all(np.abs(residual) <= allowed))
     out["tol"] = float(table.tol)
-    # flights between consecutive collisions: their midpoints strictly inside the strip
     dt = np.diff(t, axis=1)
     mid_th = (th[:, :-1] + 0.5 * a[:, :-1] * dt).ravel()
     mid_eta = (et[:, :-1] + 0.5 * b[:, :-1] * dt).ravel()
     through = (mid_eta <= table.lower(mid_th)) | (mid_eta >= table.upper(mid_th))
     out["through"] = int(np.count_nonzero(through))
     out["flights"] = int(mid_th.size)
-    # the one-step check on the first orbits
-    c = ONE_STEP_COLLISIONS
-    trajs = [Trajectory(time=t[k, :c], theta=th[k, :c], eta=et[k, :c], v_theta=a[k, :c], v_eta=b[k, :c], side=sd[k, :c],
-                        start=np.zeros(4), table=table) for k in range(min(sample, t.shape[0]))]
-    out["one_step"] = float(gpu.one_step_check(table, trajs))
-    out["one_step_collisions"] = int(sum(len(x) - 1 for x in trajs))
-    # Santaló: the counts in the common window [0, T] (module docstring)
     window = float(np.min(t[:, -1]))
     rate = np.count_nonzero(t <= window, axis=1) / window
     tau = 1.0 / rate.mean()
@@ -237,12 +266,204 @@ def invariants(table, rows, done, status, sample):
     santalo = math.pi * area / perimeter
     out.update(free_time=float(tau), free_time_sigma=sigma, santalo=santalo, z=float((tau - santalo) / sigma))
     out["ok"] = bool(out["orbits_stopped"] == 0 and out["speed"] < 1e-14 and out["contact_ok"] and out["through"] == 0
-                     and out["one_step"] <= ONE_STEP_TOL and abs(out["z"]) <= 2.0)
+                     and abs(out["z"]) <= 2.0)
     return out
+
+
+def trajectories(table, rows, done, count):
+    """The first ``count`` orbits of a launch's rows as Trajectory objects (full orbits only)."""
+    from coinwall.forward.dynamics.billiard.table import Trajectory
+
+    n = rows[0].shape[1]
+    return [Trajectory(time=rows[0][k], theta=rows[1][k], eta=rows[2][k], v_theta=rows[3][k], v_eta=rows[4][k],
+                       side=rows[5][k], start=np.zeros(4), table=table) for k in range(min(count, len(done)))
+            if done[k] == n]
+
+
+def one_step(table, trajs, device):
+    """The one-step check as a dict of what is printed and stored."""
+    from coinwall.forward.dynamics.billiard.onestep import one_step_check
+
+    check = one_step_check(table, trajs, device=device, worst=3)
+    return {"max": check.max_difference, "above": int(np.count_nonzero(check.differences > ONE_STEP_LIMIT)),
+            "ratio": check.max_ratio, "grazes": check.grazes, "other_wall": check.other_wall,
+            "collisions": check.collisions, "ok": check.ok, "worst": check.worst}
+
+
+def _one_step_line(label, s) -> str:
+    return (f"one-step {label}: max {s['max']:.2g}, {s['above']} above {ONE_STEP_LIMIT:g}, max/bound {s['ratio']:.2g}, "
+            f"grazes {s['grazes']}, other wall {s['other_wall']} over {s['collisions']:.3g} {ok(s['ok'])}")
+
+
+def _worst_lines(label, s):
+    for w in s["worst"][:3]:
+        name = max(w["differences"], key=w["differences"].get)
+        yield (f"    worst {label}: diff {w['differences'][name]:.2g} ({name}) bound {w['bounds'][name]:.2g}; "
+               f"wall {w['side']} phi {w['phi']:.4f} b' {w['slope']:.3g} b'' {w['curvature']:.3g} |v.n| "
+               f"{w['incidence']:.2g} flight {w['flight']:.3g} |theta| {w['start_theta']:.3g}; residual cpu "
+               f"{w['residual_cpu']:.2g} other {w['residual_other']:.2g}")
 
 
 def ok(flag) -> str:
     return "ok" if flag else "FAILED"
+
+
+def _user_paths(table, states, cpu_states, n, launches):
+    """ensemble() and ensemble_statistics() end to end, collisions/s (the commands' own rates)."""
+    from coinwall.forward.dynamics.analysis.orbitstats import ensemble_statistics
+    from coinwall.forward.dynamics.billiard.table import ensemble
+
+    out = {}
+    for device, sample in (("cpu", cpu_states), ("gpu", cpu_states)):
+        ensemble(table, sample[:2], 2, device=device)
+        start = time.perf_counter()
+        got = ensemble(table, sample, n, device=device)
+        out[f"ensemble_{device}"] = sum(len(t) for t in got) / (time.perf_counter() - start)
+        del got
+    area, perimeter = table.area_perimeter()
+    santalo = math.pi * area / perimeter
+    for device, sample in (("gpu", states), ("cpu", cpu_states)):
+        start = time.perf_counter()
+        stats = ensemble_statistics(table, sample, n * launches, device=device)
+        out[f"statistics_{device}"] = stats.collisions / (time.perf_counter() - start)
+        out[f"statistics_{device}_z"] = (stats.mean_free_time - santalo) / stats.mean_free_time_stderr
+    out["statistics_ok"] = bool(abs(out["statistics_gpu_z"]) <= 3 and abs(out["statistics_cpu_z"]) <= 3)
+    return out
+
+
+def measure_table(name, eps, H, args, threads, device, report):
+    from coinwall.forward import Wall
+    from coinwall.forward.dynamics.billiard import gpu
+    from coinwall.forward.dynamics.billiard.table import Billiard, random_states
+
+    table = Billiard(Wall.from_expression(ELLIPSE, {"eps": eps}), H)
+    states = random_states(table, args.orbits, seed=1)
+    start = time.perf_counter()
+    run_gpu(table, states[:threads], 2, 1, threads, keep=0)  # compile (and load) outside the timing
+    compile_seconds = time.perf_counter() - start
+    g = run_gpu(table, states, args.collisions, args.launches, threads, copies=(name == "coin"))
+    rate = g["collisions"] / g["seconds"]
+    rows, done, status = g.pop("first")
+    cpu_states = random_states(table, args.cpu_orbits, seed=2)
+    cores = _cores()
+    cpu_seconds, cpu_total, (cpu_rows, cpu_done) = run_cpu(table, cpu_states, args.collisions, args.launches,
+                                                             keep=ONE_STEP_ORBITS)
+    one = min(args.cpu_orbits, 256)
+    one_seconds, one_total = run_cpu(table, cpu_states[:one], args.collisions, args.launches, workers=1, repeats=2)
+    cpu_rate = cpu_total / cpu_seconds
+    per_core = cpu_seconds * cores / cpu_total * 1e9
+    single = one_seconds / one_total * 1e9
+    checks = invariants(table, rows, done, status)
+    trajs = trajectories(table, rows, done, ONE_STEP_ORBITS)
+    del rows
+    same = one_step(table, trajs, "gpu")
+    orbit = one_step(table, trajs, None)
+    control = one_step(table, trajectories(table, cpu_rows, cpu_done, ONE_STEP_ORBITS), None)
+    del cpu_rows
+    paths = _user_paths(table, states, cpu_states, args.collisions, args.launches)
+    print(f"table {name}: ellipse eps={eps:g}, H={H:g} (tol {table.tol:.3g}), santalo {checks['santalo']:.6g}")
+    print(f"  gpu  {device}, {threads} threads/block, {g['registers'] or '?'} registers/thread, compile "
+          f"{compile_seconds:.1f} s, fma {'on' if gpu.FMA else 'off'}")
+    print(f"  gpu kernel  {args.orbits} orbits x {args.launches} launches x {args.collisions} = {g['collisions']:.3g} "
+          f"collisions in {g['seconds']:.3g} s: {rate:.3g} /s")
+    if "copy_new" in g:
+        per_launch = g["collisions"] / args.launches
+        with_copies = per_launch / (g["seconds"] / args.launches + g["copy_new"])
+        print(f"  gpu copy    {g['bytes']:.3g} bytes: new arrays {g['copy_new']:.2g} s ({g['bytes'] / g['copy_new'] / 1e9:.2g} "
+              f"GB/s), pinned {g['copy_pinned']:.2g} s ({g['bytes'] / g['copy_pinned'] / 1e9:.2g} GB/s); with copies "
+              f"{with_copies:.3g} /s")
+        g["rate_with_copies"] = with_copies
+    print(f"  cpu kernel  {cores} threads, {args.cpu_orbits} orbits x {args.launches} x {args.collisions} = "
+          f"{cpu_total:.3g} collisions in {cpu_seconds:.3g} s: {cpu_rate:.3g} /s ({per_core:.0f} ns/collision/core)")
+    print(f"  cpu kernel  1 thread, {one} orbits x {args.launches} x {args.collisions}: {single:.0f} ns/collision "
+          f"({cores} threads scale {single / per_core:.2f} of perfect)")
+    print(f"  gpu/cpu {rate / cpu_rate:.3g}")
+    print(f"  cpu ensemble() {args.cpu_orbits} orbits x {args.collisions}: {paths['ensemble_cpu']:.3g} /s; gpu "
+          f"ensemble(): {paths['ensemble_gpu']:.3g} /s (Trajectory objects included)")
+    print(f"  simulate --orbits: gpu {paths['statistics_gpu']:.3g} /s ({args.orbits} orbits x "
+          f"{args.launches * args.collisions}), cpu {paths['statistics_cpu']:.3g} /s ({args.cpu_orbits} orbits); "
+          f"mean free time vs santalo z = {paths['statistics_gpu_z']:.2f}, {paths['statistics_cpu_z']:.2f} "
+          f"{ok(paths['statistics_ok'])}")
+    print(f"  speed max||v|-1| {checks['speed']:.2g} {ok(checks['speed'] < 1e-14)}")
+    print(f"  contact max residual {checks['contact']:.2g} = {checks['contact'] / checks['tol']:.2g} tol "
+          f"{ok(checks['contact_ok'])}")
+    print(f"  through-wall flights {checks['through']} of {checks['flights']:.3g} {ok(checks['through'] == 0)}; "
+          f"orbits stopped early {checks['orbits_stopped']}")
+    print("  " + _one_step_line("same state", same))
+    print("  " + _one_step_line("orbit", orbit))
+    print("  " + _one_step_line("orbit, the CPU's own orbits (control)", control))
+    for line in list(_worst_lines("same state", same)) + list(_worst_lines("orbit", orbit)):
+        print(line)
+    print(f"  free time {checks['free_time']:.6g} +- {checks['free_time_sigma']:.2g} vs santalo "
+          f"{checks['santalo']:.6g}: z = {checks['z']:.2f} {ok(abs(checks['z']) <= 2)}")
+    targets = {"rate_1e9": rate >= 1e9, "vs_cpu_20x": rate >= 20 * cpu_rate}
+    if name == "coin":
+        print(f"  targets: >= 1e9/s {'PASS' if targets['rate_1e9'] else 'MISS'}, >= 20x cpu "
+              f"{'PASS' if targets['vs_cpu_20x'] else 'MISS'}")
+    sys.stdout.flush()
+    verdict = checks["ok"] and same["ok"] and orbit["ok"] and control["ok"] and paths["statistics_ok"]
+    report["tables"][name] = dict(checks, eps=eps, H=H, gpu=g, gpu_rate=rate, cpu_rate=cpu_rate,
+                                  cpu_collisions=cpu_total, cpu_ns_per_collision_core=per_core,
+                                  cpu_ns_per_collision_one_thread=single, ratio=rate / cpu_rate, threads=threads,
+                                  compile_seconds=compile_seconds, one_step_same_state=same, one_step_orbit=orbit,
+                                  one_step_orbit_cpu_control=control,
+                                  user_paths=paths, targets=targets, ok=verdict)
+    return table, states, rate, trajs, verdict
+
+
+def run_variants(table, states, trajs, args, threads, headline, names, out, save):
+    """The variants of the module docstring, each as the headline, into ``out`` ({name: dict}; ``save()`` after
+    each)."""
+
+    for name in names:
+        start = time.perf_counter()
+        try:  # a variant is a report, not a check: one that cannot compile or run says so and the others go on
+            kernel, layout, t, sample, extra = None, "C", threads, states, ""
+            if name == "nofma":
+                kernel = variant_kernel(table.wall, fma=False)
+                run_gpu(table, states[:t], 2, 1, t, kernel=kernel, keep=0, fma=False)  # compile
+            elif name == "orbits4":
+                from coinwall.forward.dynamics.billiard.table import random_states
+
+                sample = random_states(table, 4 * args.orbits, seed=1)
+            elif name in ("coalesced", "nowrite"):
+                layout = name
+                run_gpu(table, states[:t], 2, 1, t, layout=layout, keep=0)  # compile (once for both)
+            elif name == "regs144":
+                kernel, t = variant_kernel(table.wall, registers=144), 64
+                run_gpu(table, states[:t], 2, 1, t, kernel=kernel, keep=0)  # compile
+            elif name.startswith("threads"):
+                t = int(name[len("threads"):])
+            else:
+                raise ValueError(f"unknown variant {name!r}")
+            compiled_in = time.perf_counter() - start
+            got = run_gpu(table, sample, args.collisions, args.launches, t, kernel=kernel, layout=layout, keep=0,
+                          fma=False if name == "nofma" else None)
+            rate = got["collisions"] / got["seconds"]
+            entry = {"rate": rate, "relative": rate / headline, "registers": got["registers"],
+                     "compile_seconds": compiled_in}
+            if name == "nofma":
+                entry["one_step_same_state"] = one_step(table, trajs, gpu_step(table, kernel, fma=False))
+                extra = "; " + _one_step_line("same state", entry["one_step_same_state"])
+        except Exception as exc:  # noqa: BLE001
+            print(f"variant coin {name}: failed ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")
+            continue
+        out[name] = entry
+        save()
+        print(f"variant coin {name}: {rate:.3g} /s ({entry['relative']:.2f} of the headline in this run); "
+              f"{got['registers'] or '?'} registers/thread, compiled in {compiled_in:.1f} s{extra}")
+        if name == "nofma":
+            for line in _worst_lines("same state", entry["one_step_same_state"]):
+                print(line)
+        sys.stdout.flush()
+
+
+def _first_parallel_run():
+    from coinwall.forward import Wall
+    from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states
+
+    table = Billiard(Wall.from_expression(ELLIPSE, {"eps": 99.0}), 3.0)
+    ensemble(table, random_states(table, 2, seed=0), 2)
 
 
 def main(argv=None):
@@ -251,101 +472,52 @@ def main(argv=None):
     parser.add_argument("--collisions", type=int, default=256, help="collisions per orbit and launch (default 256)")
     parser.add_argument("--launches", type=int, default=4, help="launches, each continuing the last (default 4)")
     parser.add_argument("--cpu-orbits", type=int, default=2 ** 15, help="CPU orbits (default 2^15)")
-    parser.add_argument("--threads", default="128", help="threads per block; several (64,128,256): the first is "
-                                                         "the headline, the others one launch each on the coin")
-    parser.add_argument("--max-registers", default="", help="register caps to try on the coin after the main runs "
-                                                            "(e.g. 128; each costs a compile)")
+    parser.add_argument("--threads", type=int, default=128, help="threads per block (default 128)")
+    parser.add_argument("--variants", default=",".join(VARIANTS),
+                        help=f"variants on the coin, comma-separated (default {','.join(VARIANTS)}; also threadsT; "
+                             "'' for none)")
     parser.add_argument("--json", default=None, help="write the numbers as JSON to this file")
     parser.add_argument("--smoke", action="store_true", help="a few orbits in numba's CUDA simulator")
     args = parser.parse_args(argv)
+    # small launches (the compiles, the sampled one-step launches) warn of low occupancy: not what is measured
+    warnings.filterwarnings("ignore", message=".*Grid size .* will likely result in GPU under-utilization")
     if args.smoke:
         os.environ["NUMBA_ENABLE_CUDASIM"] = "1"  # before numba is imported
         args.orbits, args.collisions, args.launches, args.cpu_orbits = 6, 12, 2, 6
-    from coinwall.forward import Wall
+    import numba
+
     from coinwall.forward.dynamics.billiard import gpu
-    from coinwall.forward.dynamics.billiard.table import Billiard, random_states
 
     why = gpu.device_status()
     if why:
         print(f"bench_gpu: no GPU to measure: {why}")
         return 2
-    threads = [int(x) for x in args.threads.split(",")]
     device = gpu.device_name()
-    report, verdicts = {"device": device, "cores": _cores(), "tables": {}}, []
-    for name, eps, H in TABLES:
-        table = Billiard(Wall.from_expression(ELLIPSE, {"eps": eps}), H)
-        states = random_states(table, args.orbits, seed=1)
-        compile_start = time.perf_counter()
-        run_gpu(table, states[:threads[0]], 2, 1, threads[0])  # compile (and load) outside the timing
-        compile_seconds = time.perf_counter() - compile_start
-        seconds, total, (rows, done, status), with_copies, registers = run_gpu(table, states, args.collisions,
-                                                                                args.launches, threads[0])
-        rate = total / seconds
-        checks = invariants(table, rows, done, status, ONE_STEP_ORBITS)
-        del rows
-        cpu_states = random_states(table, args.cpu_orbits, seed=2)
-        cpu_seconds, cpu_total = run_cpu(table, cpu_states, args.collisions)
-        cpu_rate = cpu_total / cpu_seconds
-        print(f"table {name}: ellipse eps={eps:g}, H={H:g} (tol {table.tol:.3g}), santalo {checks['santalo']:.6g}")
-        print(f"  gpu  {device}, {threads[0]} threads/block, {registers or '?'} registers/thread, compile "
-              f"{compile_seconds:.1f} s")
-        print(f"  gpu  {args.orbits} orbits x {args.launches} launches x {args.collisions} = {total:.3g} collisions in "
-              f"{seconds:.3g} s: {rate:.3g} /s (with copies back {total / with_copies:.3g} /s)")
-        print(f"  cpu  {_cores()} cores, {args.cpu_orbits} orbits x {args.collisions} = {cpu_total:.3g} collisions in "
-              f"{cpu_seconds:.3g} s: {cpu_rate:.3g} /s")
-        print(f"  gpu/cpu {rate / cpu_rate:.3g}")
-        print(f"  speed max||v|-1| {checks['speed']:.2g} {ok(checks['speed'] < 1e-14)}")
-        print(f"  contact max residual {checks['contact']:.2g} = {checks['contact'] / checks['tol']:.2g} tol "
-              f"{ok(checks['contact_ok'])}")
-        print(f"  through-wall flights {checks['through']} of {checks['flights']:.3g} {ok(checks['through'] == 0)}; "
-              f"one-step max {checks['one_step']:.2g} over {checks['one_step_collisions']} collisions "
-              f"{ok(checks['one_step'] <= ONE_STEP_TOL)}; orbits stopped early {checks['orbits_stopped']}")
-        print(f"  free time {checks['free_time']:.6g} +- {checks['free_time_sigma']:.2g} vs santalo "
-              f"{checks['santalo']:.6g}: z = {checks['z']:.2f} {ok(abs(checks['z']) <= 2)}")
-        targets = {"rate_1e9": rate >= 1e9, "vs_cpu_20x": rate >= 20 * cpu_rate}
-        if name == "coin":
-            print(f"  targets: >= 1e9/s {'PASS' if targets['rate_1e9'] else 'MISS'}, >= 20x cpu "
-                  f"{'PASS' if targets['vs_cpu_20x'] else 'MISS'}")
-        verdicts.append(checks["ok"])
-        report["tables"][name] = dict(checks, eps=eps, H=H, gpu_rate=rate, gpu_seconds=seconds, gpu_collisions=total,
-                                      gpu_rate_with_copies=total / with_copies, cpu_rate=cpu_rate,
-                                      cpu_collisions=cpu_total, ratio=rate / cpu_rate, threads=threads[0],
-                                      registers=registers, compile_seconds=compile_seconds, targets=targets)
-        sys.stdout.flush()
-    # variants, on the coin, one launch each (after the main results: a run cut short keeps those)
-    table = Billiard(Wall.from_expression(ELLIPSE, {"eps": 99.0}), 3.0)
-    states = random_states(table, args.orbits, seed=1)
-    sweep = {}
-    variants = [(f"{t} threads/block", t, None) for t in threads[1:]]
-    from numba import config
+    report = {"device": device, "cores": _cores(), "tables": {}}
+    _first_parallel_run()  # numba picks its threading layer at the first parallel run
+    report["threading_layer"] = numba.threading_layer()
+    print(f"cpu: {_cores()} numba threads (threading layer {report['threading_layer']}), {os.cpu_count()} logical CPUs")
+    verdicts = []
 
-    caps = [int(x) for x in args.max_registers.split(",") if x.strip()]
-    if caps and config.ENABLE_CUDASIM:
-        print("variant register caps: not in the simulator (its cuda.jit takes no max_registers)")
-        caps = []
-    variants += [(f"at most {r} registers, {threads[0]} threads/block", threads[0], r) for r in caps]
-    for label, t, cap in variants:
-        start = time.perf_counter()
-        try:  # a variant is a report, not a check: one that cannot compile or run says so and the others go on
-            kernel = capped_kernel(table.wall, cap) if cap else None
-            if kernel is not None:
-                run_gpu(table, states[:t], 2, 1, t, kernel=kernel)  # compile
-            compiled_in = time.perf_counter() - start
-            seconds, total, _, _, registers = run_gpu(table, states, args.collisions, 1, t, kernel=kernel)
-        except Exception as exc:  # noqa: BLE001
-            print(f"variant coin, {label}: failed ({type(exc).__name__}: {str(exc).splitlines()[0][:200]})")
-            continue
-        sweep[label] = total / seconds
-        print(f"variant coin, {label}: {total / seconds:.3g} /s (one launch; {registers or '?'} registers/thread"
-              f"{f', compiled in {compiled_in:.1f} s' if cap else ''})")
-        sys.stdout.flush()
-    report["variants"] = sweep
+    def save():  # after each step: a run cut short by its time limit keeps what it measured
+        report["ok"] = all(verdicts)
+        if args.json:
+            with open(args.json, "w", encoding="utf-8") as fh:
+                json.dump(report, fh, indent=1, default=float)
+
+    for name, eps, H in TABLES:
+        table, states, rate, trajs, verdict = measure_table(name, eps, H, args, args.threads, device, report)
+        if name == "coin":
+            coin = (table, states, rate, trajs)
+        verdicts.append(verdict)
+        save()
+    names = [v for v in args.variants.split(",") if v.strip()]
+    report["variants"] = {}
+    run_variants(coin[0], coin[1], coin[3], args, args.threads, coin[2], names, report["variants"], save)
     print(f"summary: invariants {'ok' if all(verdicts) else 'FAILED'}; coin "
           f"{report['tables']['coin']['gpu_rate']:.3g} /s, {report['tables']['coin']['ratio']:.3g}x the "
           f"{_cores()} cores on {device}")
-    if args.json:
-        with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(report, fh, indent=1)
+    save()
     return 0 if all(verdicts) else 1
 
 

@@ -8,14 +8,15 @@
 # it solver plugins (IPOPT, HiGHS, MUMPS, ...) that coinwall's forward side never loads: the wall code needs casadi's
 # core (SX, Function, jacobian: casadi.py, _casadi.so, libcasadi.so), so the wheel is rewritten with only those files
 # (and a RECORD that lists them); the ~20 MB that remain are what travels.  numba-cuda 0.30.4 is carried as well, to be
-# installed only where the machine has none (gpu_check.sh decides).
+# installed only where the machine has none (gpu_check.sh decides).  GPU_WHEELS_PYTHON (default 3.12, the GPU
+# image's) picks another interpreter's wheels, e.g. this machine's for GPU_CHECK_DRY_RUN=1 of gpu_check.sh here.
 set -euo pipefail
 cd "$(git -C "$(dirname "$0")" rev-parse --show-toplevel)"
 rm -rf .whl
 mkdir -p .whl
 platforms=(--platform manylinux_2_28_x86_64 --platform manylinux_2_27_x86_64 --platform manylinux_2_24_x86_64
            --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 --platform manylinux1_x86_64)
-python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp "${platforms[@]}" \
+python3 -m pip download -q --no-deps --only-binary=:all: --python-version "${GPU_WHEELS_PYTHON:-3.12}" --implementation cp "${platforms[@]}" \
     -d .whl casadi==3.8.2 shapely==2.2.0 ezdxf==1.4.5 scikit-fem==12.0.2 defusedxml==0.7.1 numba-cuda==0.30.4
 python3 - .whl/casadi-*.whl <<'EOF'
 import base64, hashlib, sys, zipfile

@@ -205,13 +205,42 @@ class EnsembleStatistics:
                 f"free time {self.mean_free_time:.6g} ± {self.mean_free_time_stderr:.2g})")
 
 
+def _piece(table, unit, turns, leaving, n, speed, window, device, workers) -> dict:
+    """One piece of :func:`ensemble_statistics`: ``n`` collisions from each unit-speed state, reduced per orbit
+    (the keys of :func:`.billiard.gpu.run_statistics`, which does the same on the GPU without bringing the
+    collisions back)."""
+    if device == "gpu":
+        from ..billiard.gpu import run_statistics
+
+        return run_statistics(table, unit, turns, leaving, n, speed, window)
+    from ..billiard.kernel import _run_threads, compiled
+
+    m = unit.shape[0]
+    rows = [np.empty((m, n)) for _ in range(5)] + [np.empty((m, n), dtype=np.int8)]
+    done, status, last = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.empty((m, 2))
+    _run_threads(compiled(table), table, unit, turns, leaving, n, workers, rows, done, status, last)
+    valid = np.arange(n)[None, :] < done[:, None]
+    at = np.maximum(done - 1, 0)
+    final = np.column_stack([rows[c][np.arange(m), at] for c in (0, 2, 3, 4)])
+    final[done == 0] = 0.0
+    out = {"done": done, "status": status, "last": last, "final": final,
+           "side": np.where(done > 0, rows[5][np.arange(m), at], -1).astype(np.int8),
+           "bottom": np.count_nonzero(valid & (rows[5] == 0), axis=1), "counts": None}
+    limit = None if window is None else window(final[:, 0], done)
+    if limit is not None:
+        out["counts"] = np.count_nonzero(valid & (rows[0] / speed[:, None] <= limit), axis=1)
+    return out
+
+
 def ensemble_statistics(table: Billiard, states, collisions: int, device: str = "cpu", workers=None,
                         progress=None) -> EnsembleStatistics:
     """Follow each of ``states`` for ``collisions`` collisions, in bounded memory, keeping only statistics.
 
-    Orbits go in groups (2·10^6 collisions held at once on the CPU; on the GPU
-    :func:`~.billiard.gpu.group_collisions`, so that a launch keeps it busy), each group in pieces continued
-    exactly (:meth:`~.billiard.Trajectory.resume_state`) when its orbits are longer than a group holds.
+    Orbits go in groups (2·10^6 collisions held at once on the CPU; on the GPU up to 2^28, held there,
+    :func:`~.billiard.gpu.group_collisions` with ``on_host=False``, so that a launch keeps it busy), each group
+    in pieces continued exactly (as :meth:`~.billiard.Trajectory.resume_state` continues an orbit) when its
+    orbits are longer than a group holds.  Each piece is reduced to a few numbers per orbit where it was computed: on the GPU the
+    collisions never leave it (:func:`~.billiard.gpu.run_statistics`), on the CPU they are read as arrays.
 
     Parameters
     ----------
@@ -247,48 +276,58 @@ def ensemble_statistics(table: Billiard, states, collisions: int, device: str = 
     (20, 1000)
     """
     from ..billiard.gpu import check_device, group_collisions
-    from ..billiard.table import ensemble
+    from ..billiard.kernel import NOTES
+    from ..billiard.table import _check_states
 
     check_device(device)
     collisions = check_count("collisions", collisions, maximum=MAX_COLLISIONS)
     starts = np.array(states, dtype=float).reshape(-1, 4)
     m = starts.shape[0]
-    hold = CHUNK * 10 if device == "cpu" else group_collisions()
+    hold = CHUNK * 10 if device == "cpu" else group_collisions(on_host=False)
     piece = min(collisions, hold)
     group = max(1, min(m, hold // piece))
     rates, notes = [], []
     total_time, done_all, bottom = 0.0, 0, 0
     for first in range(0, m, group):
-        current, turns = starts[first:first + group], np.zeros(min(group, m - first), dtype=np.int64)
-        alive = np.arange(current.shape[0])
-        clock = np.zeros(current.shape[0])
+        unit, speed, leaving, turns = _check_states(table, starts[first:first + group], "states")
+        alive = np.arange(unit.shape[0])
+        clock = np.zeros(unit.shape[0])
         left = collisions
         while left > 0 and alive.size:
-            trajs = ensemble(table, current, min(piece, left), workers=workers, turns=turns, device=device)
-            if left == collisions:  # the first piece: the counts in the window [0, T] (class docstring)
-                ends = [t.time[-1] for t in trajs if len(t)]
-                window = min(ends) if ends else 0.0
-                if window > 0.0:
-                    rates += [np.count_nonzero(t.time <= window) / window for t in trajs]
-            keep, nxt, nxt_turns = [], [], []
-            for k, traj in zip(alive, trajs):
-                got = len(traj)
-                done_all += got
-                bottom += int(np.count_nonzero(traj.side == 0))
-                if got:
-                    clock[k] += float(traj.time[-1])
-                if traj.note or got < min(piece, left):
-                    notes.append(f"orbit {first + k}: {traj.note or 'stopped early'}")
-                    continue
-                state, whole = traj.resume_state()
-                keep.append(k), nxt.append(state), nxt_turns.append(whole)
+            n = min(piece, left)
+            scale = speed[alive]
+            window = []  # the first piece: the counts in the window [0, T] (class docstring)
+
+            def earliest(last_time, done, scale=scale, window=window):
+                ends = last_time[done > 0] / scale[done > 0]
+                if ends.size and ends.min() > 0.0:
+                    window.append(float(ends.min()))
+                    return window[0]
+                return None
+
+            got = _piece(table, unit, turns, leaving, n, scale, earliest if left == collisions else None, device,
+                         workers)
+            done = got["done"]
+            done_all += int(done.sum())
+            bottom += int(got["bottom"].sum())
+            clock[alive] += np.where(done > 0, got["final"][:, 0] / scale, 0.0)
+            if got["counts"] is not None:
+                rates.extend((got["counts"] / window[0]).tolist())
+            stopped = (got["status"] != 0) | (done < n)
+            for k in np.flatnonzero(stopped):
+                notes.append(f"orbit {first + alive[k]}: {NOTES.get(int(got['status'][k]), '') or 'stopped early'}")
+            keep = ~stopped
             if progress is not None:
-                progress(sum(len(t) for t in trajs))
-            del trajs
-            left -= min(piece, left)
-            alive = np.array(keep, dtype=np.int64)
-            if alive.size:
-                current, turns = np.array(nxt), np.array(nxt_turns, dtype=np.int64)
+                progress(int(done.sum()))
+            left -= n
+            alive = alive[keep]
+            # the next piece starts on the last collision, exactly as ensemble() continues Trajectory.resume_state:
+            # θ mod 2π with its turns, the velocity scaled back by the start speed and made unit again
+            v = got["final"][keep, 2:] * scale[keep, None]
+            unit = np.column_stack([got["last"][keep, 0], got["final"][keep, 1],
+                                    v / np.hypot(v[:, 0], v[:, 1])[:, None]])
+            turns = got["last"][keep, 1].astype(np.int64)
+            leaving = got["side"][keep].astype(np.int64)
         total_time += float(clock.sum())
     rate = np.array(rates)
     mean = float(rate.mean()) if rate.size else math.nan

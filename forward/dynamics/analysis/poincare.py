@@ -31,7 +31,7 @@ from ...angles import TWO_PI
 from ...display import safe_repr
 from ...errors import InvalidArgument
 from ...validation import check_count, check_memory
-from ..billiard.table import Billiard, ensemble, random_states, simulate
+from ..billiard.table import Billiard, random_states, simulate
 
 __all__ = ["PoincareSection", "incidence_angle", "poincare_section"]
 
@@ -220,6 +220,8 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     check_device(device)
     chunk = _CHUNK_COLLISIONS if device == "cpu" else group_collisions()
     collisions = check_count("collisions", collisions)
+    if workers is not None:
+        workers = check_count("workers", workers)
     count = check_count("orbits", orbits) if states is None else int(np.size(states) // 4)
     check_memory(f"{count} orbits × `collisions` = {collisions} (up to {BYTES_PER_POINT} bytes per collision for "
                  f"the section's points)", float(BYTES_PER_POINT) * count * collisions + 41.0 * chunk)
@@ -242,22 +244,12 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
             if progress is not None:
                 progress(first + 1)
             continue
-        trajs = ensemble(table, starts[first:first + group], collisions, workers=workers, device=device)
-        theta, v_theta, v_eta = [], [], []
-        for k, traj in enumerate(trajs, start=first):
-            bottom = traj.side == 0
-            theta.append(traj.theta[bottom])
-            v_theta.append(traj.v_theta[bottom])
-            v_eta.append(traj.v_eta[bottom])
-            counts.append(theta[-1].size)
-            if traj.note:
-                notes.append(f"orbit {k}: {traj.note}")
-        # the group's trajectories (41 bytes per collision, views of the kernel's output) must go
-        # before the next group is computed, including the loop variable's reference to the last one
-        del trajs, traj, bottom
-        theta = np.concatenate(theta)
+        theta, v_theta, v_eta, got, note = _bottom_collisions(table, starts[first:first + group], collisions, workers,
+                                                             device)
+        counts.extend(got.tolist())
+        notes.extend(f"orbit {first + k}: {why}" for k, why in note)
         # one call per group rather than per orbit: the wall is evaluated in blocks
-        phis.append(incidence_angle(table, theta, np.concatenate(v_theta), np.concatenate(v_eta)))
+        phis.append(incidence_angle(table, theta, v_theta, v_eta))
         thetas.append(np.mod(theta, TWO_PI))
         del theta, v_theta, v_eta
         if progress is not None:
@@ -270,6 +262,33 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     orbit = np.repeat(np.arange(n, dtype=np.int64), counts)
     return PoincareSection(theta=theta, phi=phi, orbit=orbit, starts=starts, collisions=collisions, table=table,
                            notes=tuple(notes))
+
+
+def _bottom_collisions(table, starts, collisions, workers, device):
+    """The bottom-wall collisions of a group of orbits, as :func:`ensemble` would give them (θ unwrapped, the velocity
+    at the start speed), read from the kernel's arrays without a Trajectory per orbit; on the GPU only θ, v_θ, v_η and
+    the wall come back (25 of the 41 bytes of a collision).  Returns θ, v_θ, v_η, the count per orbit and the notes
+    ``(orbit in the group, why it stopped)``."""
+    from ..billiard.kernel import NOTES, _run_threads, compiled
+    from ..billiard.table import _check_states
+
+    unit, speed, leaving, turns = _check_states(table, starts, "states")
+    m = unit.shape[0]
+    keep = (False, True, False, True, True, True)  # time and η are not read
+    rows = [np.empty((m, collisions), dtype=np.int8 if c == 5 else float) if keep[c] or device == "cpu" else None
+            for c in range(6)]
+    done, status, last = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.empty((m, 2))
+    if device == "gpu":
+        from ..billiard.gpu import run_into
+
+        run_into(table, unit, turns, leaving, collisions, rows, done, status, last)
+    else:
+        _run_threads(compiled(table), table, unit, turns, leaving, collisions, workers, rows, done, status, last)
+    bottom = (np.arange(collisions)[None, :] < done[:, None]) & (rows[5] == 0)
+    scale = np.broadcast_to(speed[:, None], bottom.shape)[bottom]
+    notes = [(k, NOTES.get(int(status[k]), "")) for k in np.flatnonzero(status != 0)]
+    return (rows[1][bottom], rows[3][bottom] * scale, rows[4][bottom] * scale, np.count_nonzero(bottom, axis=1),
+            notes)
 
 
 def _long_orbit(table, start, collisions):

@@ -11,9 +11,10 @@ text comes a launcher of a few lines (:data:`BILLIARD_LAUNCHER`): thread ``k`` r
 writing row ``k`` of the same output arrays as the CPU's ``_run_many``.  So the GPU makes no approximation
 that the CPU kernel does not make: the arithmetic is float64 throughout, the search and its certificates are
 the same code.  What differs is rounding: the CUDA compiler contracts ``a·b + c`` into fused multiply-adds
-(one rounding instead of two) and the math library (``cos``, ``sqrt``, …) is CUDA's, correctly rounded or
-within an ulp or two, so GPU and CPU agree collision by collision to rounding, not bit for bit (the tests
-check that from every GPU state the CPU's next collision is the GPU's, to 1e-12).
+(one rounding instead of two; :data:`FMA` turns that off) and the math library (``cos``, ``sin``) is CUDA's,
+within an ulp or two of the CPU's (``sqrt`` and division are correctly rounded on both), so GPU and CPU agree
+collision by collision to rounding, not bit for bit: :func:`.onestep.one_step_check` compares, from the same
+states, the GPU's next collision with the CPU's, each held to the bound of what the kernel guarantees.
 
 The same mechanism compiles any kernel text written this way (:func:`gpu_module`): the field kernel's text
 with a launcher of its own, for instance (:func:`launch` runs any such launcher over all orbits).  What keeps a
@@ -35,6 +36,7 @@ and removes the name again; nothing of numpy is changed after that.
 
 from __future__ import annotations
 
+import contextlib
 import weakref
 
 import numpy as np
@@ -42,14 +44,20 @@ import numpy as np
 from ...errors import InvalidArgument
 from ...validation import check_choice
 
-__all__ = ["BILLIARD_LAUNCHER", "DEVICES", "GPU_HEADER", "THREADS", "Orbits", "check_device", "cuda_module",
-           "device_name", "device_status", "gpu_module", "group_collisions", "launch", "one_step_check", "run_into"]
+__all__ = ["BILLIARD_LAUNCHER", "DEVICES", "FMA", "GPU_HEADER", "THREADS", "Orbits", "check_device", "cuda_module",
+           "device_name", "device_status", "gpu_module", "group_collisions", "launch", "nvvm_options", "run_into",
+           "run_statistics"]
 
 #: The values of every ``device`` argument: all CPU cores (numba threads) or one CUDA GPU.
 DEVICES = ("cpu", "gpu")
 #: Threads per block of a launch: the kernel needs ~150 registers a thread on sm_90, so 128 threads make
 #: blocks that several fit on one multiprocessor.
 THREADS = 128
+#: Whether CUDA's compiler may contract ``a·b + c`` into one fused multiply-add (NVVM's ``-fma``, on in CUDA by
+#: default).  The CPU kernel never contracts (numba compiles it without ``fastmath``): False makes the GPU's
+#: arithmetic the CPU's operation for operation, up to CUDA's ``cos``/``sin``.  Applied to the kernels that
+#: :func:`launch` compiles (a kernel is compiled at its first launch and kept).
+FMA = True
 
 # The imports and the decorators the kernel text expects, for CUDA (kernel.HEADER is the CPU's).  CUDA code is
 # compiled in memory in each process: CACHE (which the kernel text names) is False here, whatever the loader set
@@ -90,7 +98,9 @@ def carray(a, shape):
 
 '''
 
-#: The billiard's launcher, appended after the kernel text: thread k runs the CPU kernel's ``_run`` on orbit k.
+#: The billiard's launcher, appended after the kernel text: thread k runs the CPU kernel's ``_run`` on orbit k;
+#: and two small kernels that reduce the collisions to what statistics of many orbits need
+#: (:func:`run_statistics`), so that those stay on the GPU.
 BILLIARD_LAUNCHER = '''
 
 @cuda.jit
@@ -102,6 +112,41 @@ def _run_gpu(states, turns, leaving, n, H, b0, c, cells, lookup, wmin, wmax, tol
                     out_time[k], out_theta[k], out_eta[k], out_vt[k], out_ve[k], out_side[k], last[k])
         done[k] = d
         status[k] = s
+
+
+@cuda.jit
+def _summarise(time, eta, vt, ve, side, done, final, side_last, bottom):
+    # per orbit, what statistics of many orbits keep of its collisions: the last one (time, η, v) and its wall,
+    # and how many were on the bottom wall (run_statistics: only these come back from the GPU)
+    k = cuda.grid(1)
+    if k < done.shape[0]:
+        d = done[k]
+        count = 0
+        for i in range(d):
+            if side[k, i] == 0:
+                count += 1
+        bottom[k] = count
+        side_last[k] = -1
+        for i in range(4):
+            final[k, i] = 0.0
+        if d > 0:
+            final[k, 0] = time[k, d - 1]
+            final[k, 1] = eta[k, d - 1]
+            final[k, 2] = vt[k, d - 1]
+            final[k, 3] = ve[k, d - 1]
+            side_last[k] = side[k, d - 1]
+
+
+@cuda.jit
+def _count_below(time, done, speed, limit, counts):
+    # per orbit, its collisions at times (time / speed: the start speed's) up to the limit
+    k = cuda.grid(1)
+    if k < done.shape[0]:
+        count = 0
+        for i in range(done[k]):
+            if time[k, i] / speed[k] <= limit:
+                count += 1
+        counts[k] = count
 '''
 
 _CUDA = []  # numba.cuda, once imported (with the numpy guard of the module docstring)
@@ -128,6 +173,8 @@ def cuda_module():
         return _CUDA[0]
     from numba import config, cuda
 
+    if not config.ENABLE_CUDASIM:
+        _hook_nvvm()
     if not config.ENABLE_CUDASIM and not hasattr(np, "row_stack"):
         # numba-cuda <= 0.30.4 evaluates np.row_stack when its target loads this module (removed in numpy 2.5)
         np.row_stack = np.vstack
@@ -139,6 +186,56 @@ def cuda_module():
             del np.row_stack
     _CUDA.append(cuda)
     return cuda
+
+
+_NVVM_EXTRA: dict = {}  # NVVM options added to each CUDA compile while set (nvvm_options)
+
+
+def _hook_nvvm():
+    """Let :func:`nvvm_options` reach NVVM: numba-cuda passes it only ``opt`` and (for fastmath) ``fma``/``ftz``/
+    ``prec_*``, whatever the launcher asks; its code generator calls ``nvvm.compile_ir`` through the module, so a
+    wrapper there sees every compile."""
+    from numba.cuda.cudadrv import nvvm
+
+    if getattr(nvvm.compile_ir, "coinwall_hook", False):
+        return
+    original = nvvm.compile_ir
+
+    def compile_ir(llvmir, **options):
+        return original(llvmir, **{**options, **_NVVM_EXTRA})
+
+    compile_ir.coinwall_hook = True
+    nvvm.compile_ir = compile_ir
+
+
+@contextlib.contextmanager
+def nvvm_options(**options):
+    """NVVM options (``fma=False``: ``-fma=0``) for the CUDA kernels compiled inside the ``with`` block.
+
+    A kernel is compiled at its first launch (and kept): launch it inside the block.  The simulator compiles
+    nothing and ignores them.
+
+    Parameters
+    ----------
+    **options
+        NVVM's option names without the dash (booleans as 0/1), e.g. ``fma=False``.
+
+    Returns
+    -------
+    context manager
+
+    Examples
+    --------
+    >>> with nvvm_options(fma=False):
+    ...     pass
+    """
+    previous = dict(_NVVM_EXTRA)
+    _NVVM_EXTRA.update(options)
+    try:
+        yield
+    finally:
+        _NVVM_EXTRA.clear()
+        _NVVM_EXTRA.update(previous)
 
 
 def device_status() -> str:
@@ -277,13 +374,22 @@ def _billiard_module(wall):
     return module
 
 
-def group_collisions() -> int:
-    """How many collisions the analyses that follow orbits in groups (sections, P(n)) hold at once on the GPU.
+def group_collisions(on_host: bool = True) -> int:
+    """How many collisions the analyses that follow orbits in groups (sections, P(n), statistics) hold at once on
+    the GPU.
 
     On the CPU they hold 2·10^6 (82 MB at 41 bytes a collision: the cores are busy with a group of any size).
     A GPU needs 10^4–10^5 orbits in one launch to be busy, so its groups are up to 2^26 collisions (2.8 GB), as
     far as 1/(8·141 bytes) of the available memory allows (an analysis holds up to ~141 bytes per collision of a
-    group while it reads it).
+    group while it reads it) and half the GPU's free memory at 41 bytes a collision.  With ``on_host=False`` the
+    collisions stay on the GPU (:func:`run_statistics`: the host keeps ~80 bytes per orbit), so only the GPU's
+    memory bounds the group, up to 2^28 collisions (11 GB; 2^18 orbits of 1024 collisions: ~5 waves of blocks on
+    an H100, where fewer leave the last wave's tail a larger share).
+
+    Parameters
+    ----------
+    on_host : bool
+        Whether the group's collisions are brought to the host.
 
     Returns
     -------
@@ -296,7 +402,10 @@ def group_collisions() -> int:
     """
     from ...validation import available_memory
 
-    return int(max(2_000_000, min(2 ** 26, available_memory() / (8 * 141))))
+    on_gpu = _free_bytes(cuda_module()) / (2 * 41)
+    if not on_host:
+        return int(max(2_000_000, min(2 ** 28, on_gpu)))
+    return int(max(2_000_000, min(2 ** 26, available_memory() / (8 * 141), on_gpu)))
 
 
 def _free_bytes(cuda) -> float:
@@ -325,8 +434,9 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
         Whole turns of θ, and the wall each state is on (−1: none).
     n : int
         Collisions per orbit.
-    rows : list of six ndarray (m, n)
-        time, θ, η, v_θ, v_η (float64) and side (int8), filled.
+    rows : list of six ndarray (m, n) or None
+        time, θ, η, v_θ, v_η (float64) and side (int8), filled; None for one that the caller does not read (it
+        stays on the GPU and is not copied: 8 bytes a collision fewer to bring back).
     done, status : ndarray (m,) of int64
         Collisions computed and the stop code per orbit, filled.
     last : ndarray (m, 2)
@@ -348,16 +458,88 @@ def run_into(table, states, turns, leaving, n, rows, done, status, last, threads
 
     module = _billiard_module(table.wall)
     H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
+    m = states.shape[0]
+    kinds = [np.float64] * 5 + [np.int8]
+    outs = [Orbits(r, out=True) if r is not None else Orbits(np.broadcast_to(np.zeros((), d), (m, n)), out="gpu")
+            for r, d in zip(rows, kinds)]
     launch(module._run_gpu, [Orbits(states), Orbits(turns), Orbits(leaving), n, float(H), float(b0), c, cells, lookup,
-                             float(wmin), float(wmax), float(tol), *[Orbits(r, out=True) for r in rows],
-                             Orbits(done, out=True), Orbits(status, out=True), Orbits(last, out=True)], threads)
+                             float(wmin), float(wmax), float(tol), *outs, Orbits(done, out=True),
+                             Orbits(status, out=True), Orbits(last, out=True)], threads)
+
+
+def run_statistics(table, states, turns, leaving, n, speed, window, threads=THREADS) -> dict:
+    """Run the billiard kernel on the GPU for each state and bring back per-orbit summaries only.
+
+    The collisions stay on the GPU (41 bytes each); what comes back is ~80 bytes per orbit: how many collisions
+    were computed and why an orbit stopped, the last one (time, η, v_θ, v_η, its wall, θ mod 2π with its turns),
+    the number on the bottom wall, and the number at times up to a limit that ``window`` computes from the last
+    times (the counts in a common window of :func:`.orbitstats.ensemble_statistics`).  The caller sizes the group
+    (:func:`group_collisions`): all its collisions are held on the GPU at once.
+
+    Parameters
+    ----------
+    table : Billiard
+    states : ndarray (m, 4)
+        Unit-speed states with θ in [0, 2π).
+    turns, leaving : ndarray (m,) of int64
+        Whole turns of θ, and the wall each state is on (−1: none).
+    n : int
+        Collisions per orbit.
+    speed : ndarray (m,)
+        The start speed of each orbit: its times are the kernel's divided by it.
+    window : callable or None
+        ``window(last_time, done)`` (kernel times of the last collisions, collisions per orbit) → the limit of
+        the times counted, or None for no counts.
+    threads : int
+        Threads per block.
+
+    Returns
+    -------
+    dict
+        ``done``, ``status`` (m,) int64; ``last`` (m, 2) θ mod 2π and turns after the last collision; ``final``
+        (m, 4) time, η, v_θ, v_η of the last collision; ``side`` (m,) int8 its wall (−1: none); ``bottom`` (m,)
+        int64; ``counts`` (m,) int64 or None.
+
+    Examples
+    --------
+    >>> run_statistics  # doctest: +ELLIPSIS
+    <function run_statistics at ...>
+    """
+    from .kernel import compiled
+
+    cuda = cuda_module()
+    module = _billiard_module(table.wall)
+    H, b0, c, cells, lookup, wmin, wmax, tol = compiled(table).args(table)
+    m = states.shape[0]
+    blocks = (m + threads - 1) // threads
+    rows = [cuda.device_array((m, n)) for _ in range(5)] + [cuda.device_array((m, n), dtype=np.int8)]
+    done, status, last = (cuda.device_array(m, dtype=np.int64), cuda.device_array(m, dtype=np.int64),
+                          cuda.device_array((m, 2)))
+    sent = [cuda.to_device(np.ascontiguousarray(a)) for a in (states, turns, leaving)]
+    with nvvm_options(fma=FMA):
+        module._run_gpu[blocks, threads](*sent, n, float(H), float(b0), cuda.to_device(c), cuda.to_device(cells),
+                                         cuda.to_device(lookup), float(wmin), float(wmax), float(tol), *rows, done,
+                                         status, last)
+    final, side, bottom = cuda.device_array((m, 4)), cuda.device_array(m, dtype=np.int8), cuda.device_array(
+        m, dtype=np.int64)
+    module._summarise[blocks, threads](rows[0], rows[2], rows[3], rows[4], rows[5], done, final, side, bottom)
+    out = {"done": done.copy_to_host(), "status": status.copy_to_host(), "last": last.copy_to_host(),
+           "final": final.copy_to_host(), "side": side.copy_to_host(), "bottom": bottom.copy_to_host(), "counts": None}
+    limit = None if window is None else window(out["final"][:, 0], out["done"])
+    if limit is not None:
+        counts = cuda.device_array(m, dtype=np.int64)
+        module._count_below[blocks, threads](rows[0], done, cuda.to_device(np.ascontiguousarray(speed, dtype=float)),
+                                             float(limit), counts)
+        out["counts"] = counts.copy_to_host()
+    return out
 
 
 class Orbits:
-    """An argument of :func:`launch` with one row per orbit: sent to the GPU in the launch's groups (``out=False``)
-    or filled there and copied back into the host array's rows (``out=True``)."""
+    """An argument of :func:`launch` with one row per orbit: sent to the GPU in the launch's groups (``out=False``),
+    filled there and copied back into the host array's rows (``out=True``), or filled there and left there
+    (``out="gpu"``: ``host`` gives only the shape and dtype, e.g. ``numpy.broadcast_to`` of a scalar)."""
 
-    def __init__(self, host, out: bool = False):
+    def __init__(self, host, out=False):
         self.host, self.out = host, out
 
 
@@ -396,61 +578,8 @@ def launch(kernel, args, threads: int = THREADS) -> None:
         sent = [(cuda.device_array((k,) + a.host.shape[1:], dtype=a.host.dtype) if a.out
                  else cuda.to_device(np.ascontiguousarray(a.host[part]))) if isinstance(a, Orbits) else d
                 for a, d in zip(args, shared)]
-        kernel[(k + threads - 1) // threads, threads](*sent)
+        with nvvm_options(fma=FMA):  # (compiled at the first launch)
+            kernel[(k + threads - 1) // threads, threads](*sent)
         for a, d in zip(args, sent):
-            if isinstance(a, Orbits) and a.out:
+            if isinstance(a, Orbits) and a.out is True:
                 d.copy_to_host(a.host[part])
-
-
-def one_step_check(table, trajectories) -> float:
-    """The largest difference between each collision of ``trajectories`` and the CPU kernel's next collision
-    from the collision before it: the check that GPU and CPU agree collision by collision.
-
-    From the state after collision i of an orbit (θ reduced mod 2π with its whole turns, η, v, on the wall it
-    was on), the CPU kernel computes one collision; its time of flight, θ, η, v_θ and v_η are compared with
-    collision i + 1, each relative to max(1, |value|); a different wall, or no collision, is ``inf``.  Orbits of
-    unit start speed (what :func:`~.table.random_states` draws).
-
-    Parameters
-    ----------
-    table : Billiard
-    trajectories : list of Trajectory
-        Orbits computed on the GPU (or on the CPU: then the answer is 0 up to the reduction of θ).
-
-    Returns
-    -------
-    float
-        The largest difference (0 when no orbit has two collisions; ``inf`` when the CPU's next collision is on
-        the other wall or missing).
-
-    Examples
-    --------
-    >>> from coinwall.forward import Wall
-    >>> from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states
-    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
-    >>> one_step_check(table, ensemble(table, random_states(table, 2, seed=0), 6)) < 1e-12
-    True
-    """
-    from .kernel import _run_threads, compiled
-
-    two_pi = 2.0 * np.pi
-    pieces = [t for t in trajectories if len(t) >= 2]
-    if not pieces:
-        return 0.0
-    theta = np.concatenate([t.theta[:-1] for t in pieces])
-    turns = np.floor(theta / two_pi)
-    states = np.column_stack([theta - two_pi * turns, np.concatenate([t.eta[:-1] for t in pieces]),
-                              np.concatenate([t.v_theta[:-1] for t in pieces]),
-                              np.concatenate([t.v_eta[:-1] for t in pieces])])
-    leaving = np.concatenate([t.side[:-1] for t in pieces]).astype(np.int64)
-    m = states.shape[0]
-    out = [np.empty((m, 1)) for _ in range(5)] + [np.empty((m, 1), dtype=np.int8)]
-    done, status, last = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.empty((m, 2))
-    _run_threads(compiled(table), table, np.ascontiguousarray(states), turns.astype(np.int64), leaving, 1, None, out,
-                 done, status, last)
-    expect = [np.concatenate([np.diff(t.time) for t in pieces])] + [
-        np.concatenate([getattr(t, name)[1:] for t in pieces]) for name in ("theta", "eta", "v_theta", "v_eta")]
-    worst = max(float(np.max(np.abs(col[:, 0] - want) / np.maximum(1.0, np.abs(want))))
-                for col, want in zip(out[:5], expect))
-    same_wall = np.array_equal(out[5][:, 0], np.concatenate([t.side[1:] for t in pieces]))
-    return worst if np.all(done == 1) and same_wall else float("inf")

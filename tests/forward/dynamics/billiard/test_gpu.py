@@ -3,9 +3,10 @@
 The default run executes the GPU code path in numba's CUDA simulator (tests/conftest.py sets
 NUMBA_ENABLE_CUDASIM=1): the kernel text runs as Python, one thread per orbit, and must give the CPU kernel's
 collisions.  tests/benchmarks/gpu_check.sh runs this file on a real GPU (NUMBA_ENABLE_CUDASIM=0); there the
-collisions agree to rounding (fused multiply-adds, CUDA's math library), which the one-step check measures: from
-every GPU state the CPU's next collision is the GPU's next one to 1e-12.  Sizes are small (the simulator runs
-~10^4 collisions a second).
+collisions agree to rounding (fused multiply-adds, CUDA's math library), which the one-step check measures
+(coinwall.forward.dynamics.billiard.onestep): from every GPU state, the GPU's and the CPU's next collisions,
+each within the bound of what the kernel guarantees.  Sizes are small (the simulator runs ~10^4 collisions a
+second).
 """
 
 from __future__ import annotations
@@ -18,13 +19,13 @@ import pytest
 
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import gpu
+from coinwall.forward.dynamics.billiard.onestep import next_collisions, one_step_check
 from coinwall.forward.dynamics.billiard.table import Billiard, ensemble, random_states
 from coinwall.forward.errors import InvalidArgument
 
 numba = pytest.importorskip("numba")
 pytest.importorskip("numba.cuda", reason="numba-cuda is not installed (pip install 'coinwall[gpu]')")
 SIMULATOR = bool(numba.config.ENABLE_CUDASIM)
-ONE_STEP_TOL = 1e-12
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
@@ -53,7 +54,7 @@ def test_gpu_orbits_are_the_cpu_kernels(name):
     # the simulator runs the kernel text as Python: the CPU kernel's floats exactly.  A real GPU rounds differently
     # (fused multiply-adds, its math library) and chaos amplifies that (the coin's λ ≈ 1.2 per collision: 1e-16
     # becomes 1e-12 in ~8 collisions), so whole orbits are compared over their first 6 collisions only; the
-    # one-step check below holds every collision to 1e-12
+    # one-step checks below hold every collision
     first = 25 if SIMULATOR else 6
     for g, c in zip(on_gpu, on_cpu):
         assert len(g) == len(c) == 25 and g.note == c.note == ""
@@ -65,8 +66,13 @@ def test_gpu_orbits_are_the_cpu_kernels(name):
             else:
                 assert np.allclose(got, want, rtol=0, atol=1e-9), field
         assert (g.end_angle, g.end_turns) == (c.end_angle, c.end_turns) or not SIMULATOR
-    # the collision-by-collision check: from each GPU state, the CPU's next collision (exact in the simulator)
-    assert gpu.one_step_check(table, on_gpu) <= ONE_STEP_TOL
+    # collision by collision: from each GPU state, the GPU's next collision against the CPU's (the same floats in,
+    # so in the simulator the same floats out) and the orbit's own next one against the CPU's (the reported θ is
+    # unwrapped and rounded: the simulator's differences are that rounding), each within the kernel's bound
+    same, orbit = one_step_check(table, on_gpu, device="gpu"), one_step_check(table, on_gpu)
+    assert same.collisions == orbit.collisions == 4 * 24 and same.ok and orbit.ok, (same.worst, orbit.worst)
+    if SIMULATOR:
+        assert same.max_difference == 0.0 and orbit.max_difference < 1e-13
 
 
 def test_one_step_check_sees_a_wrong_collision():
@@ -74,16 +80,52 @@ def test_one_step_check_sees_a_wrong_collision():
     # orbit whose second collision is taken from another orbit (a flight through a wall, or a missed collision)
     table = TABLES["fourier"]
     orbits = ensemble(table, random_states(table, 3, seed=3), 8)
-    assert gpu.one_step_check(table, orbits) <= ONE_STEP_TOL
+    assert one_step_check(table, orbits).ok
     from dataclasses import replace
 
     moved = orbits[0].time.copy()
     moved[4] += 1e-9
-    assert gpu.one_step_check(table, [replace(orbits[0], time=moved)]) > 1e-10
+    check = one_step_check(table, [replace(orbits[0], time=moved)])
+    assert not check.ok and check.max_ratio > 10 and check.worst[0]["collision"] in (4, 5)  # (flights into 4 and 5)
     other = orbits[0]
     spliced = replace(other, theta=np.r_[other.theta[:2], orbits[1].theta[2:]],
                       eta=np.r_[other.eta[:2], orbits[1].eta[2:]])
-    assert gpu.one_step_check(table, [spliced]) > 1e-3
+    assert not one_step_check(table, [spliced]).ok
+
+
+def _contacts_at_gap(table, states, turns, leaving, gap):
+    """The next collision of each state moved along its flight to where the gap to the wall is ``gap`` (Newton on
+    the numpy wall from the CPU kernel's contact), and reflected with the wall's slope there (the kernel's law)."""
+    nxt, side, found = next_collisions(table, states, turns, leaving)
+    th0, eta0, vt, ve = states.T
+    t = nxt[:, 0].copy()
+    up = side == 1
+    for _ in range(8):
+        phi = th0 + vt * t + np.where(up, np.pi, 0.0)
+        b, d1, _ = table.wall.derivatives(phi)
+        g = np.where(up, table.H - table.b0 - eta0 - ve * t - b, eta0 + ve * t - table.b0 - b)
+        rate = np.where(up, -ve, ve) - vt * d1
+        t -= (g - gap) / rate
+    s = np.where(up, -d1, d1)
+    f = 2 * (ve - s * vt) / (1 + s * s)
+    v = np.column_stack([vt + f * s, ve - f])
+    v /= np.hypot(v[:, 0], v[:, 1])[:, None]
+    moved = np.column_stack([t, th0 + vt * t + 2 * np.pi * turns, eta0 + ve * t, v])
+    return moved, side, found
+
+
+@pytest.mark.parametrize("name", ["coin", "fourier"])
+def test_one_step_bound_is_what_the_kernel_promises(name):
+    # the bound of a collision covers any contact the kernel could return (|gap| ≤ tol on the same flight):
+    # contacts moved to gaps of ±0.99 tol pass it, and not by orders of magnitude (the time moves by tol/|g'|,
+    # a quarter of the bound); a contact at 8 tol, which the kernel never returns, fails it
+    table = TABLES[name]
+    orbits = ensemble(table, random_states(table, 40, seed=9), 12)
+    for gap, passes in ((0.99, True), (-0.99, True), (8.0, False)):
+        check = one_step_check(table, orbits, device=lambda *a, g=gap: _contacts_at_gap(table, *a, g * table.tol))
+        assert check.collisions == 40 * 11 and check.other_wall == 0 and check.grazes == 0
+        assert check.ok == passes, (gap, check)
+        assert 0.1 < check.max_ratio < 1.0 if passes else check.max_ratio > 1.0
 
 
 @pytest.mark.filterwarnings("ignore:divide by zero:RuntimeWarning")  # the simulator runs 1/v_η = 1/0 as numpy
@@ -104,7 +146,7 @@ def test_free_flight_and_resumed_orbits_on_the_gpu():
     for g, c in zip(on_gpu[1:], on_cpu[1:]):
         assert len(g) == 9 and np.allclose(g.theta[:first], c.theta[:first], rtol=0, atol=1e-9)
         assert np.array_equal(g.side[:first], c.side[:first])
-    assert gpu.one_step_check(table, on_gpu[1:]) <= ONE_STEP_TOL
+    assert one_step_check(table, on_gpu[1:]).ok and one_step_check(table, on_gpu[1:], device="gpu").ok
 
 
 def test_analyses_take_the_device():
@@ -199,13 +241,15 @@ def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
 
 
 def test_docstring_examples():
-    # the Examples sections of the GPU module, ensemble and ensemble_statistics run (those that need a GPU are
-    # skipped in the text)
+    # the Examples sections of the GPU module, the one-step check, ensemble and ensemble_statistics run (those that
+    # need a GPU are skipped in the text)
     from coinwall.forward.dynamics.analysis import orbitstats
+    from coinwall.forward.dynamics.billiard import onestep
     from coinwall.forward.dynamics.billiard import table as table_module
 
-    result = doctest.testmod(gpu, optionflags=doctest.ELLIPSIS)
-    assert result.failed == 0 and result.attempted > 0
+    for module in (gpu, onestep):
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+        assert result.failed == 0 and result.attempted > 0, module.__name__
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     for func in (table_module.ensemble, orbitstats.ensemble_statistics):
         for test in doctest.DocTestFinder().find(func, globs=vars(__import__(func.__module__, fromlist=["_"]))):
@@ -233,16 +277,22 @@ a1, a2, v64 = types.Array(f64, 1, "C"), types.Array(f64, 2, "C"), types.Array(i6
 signature = (a2, v64, v64, i64, f64, f64, a1, a2, v64, f64, f64, f64, a2, a2, a2, a2, a2,
              types.Array(types.int8, 2, "C"), v64, v64, a2)
 ptx, _ = cuda.compile_ptx(module._run_gpu.py_func, signature, cc=(9, 0))
-print(ptx)
+with gpu.nvvm_options(fma=False):
+    exact, _ = cuda.compile_ptx(module._run_gpu.py_func, signature, cc=(9, 0))
+print(ptx + "\n//// fma=0\n" + exact)
 """
 
 
 @pytest.mark.slow
 def test_kernel_text_compiles_for_cuda(tmp_path):
     # the simulator runs the kernel text as Python and never types it for CUDA: here numba-cuda compiles it through
-    # NVVM to PTX for sm_90 (where NVVM is installed: a CUDA toolkit, or numba-cuda[cu12]/[cu13]); all the kernel's
-    # functions are inlined into the launcher (the only call left is CUDA's own slow path of trigonometry)
+    # NVVM to PTX for sm_90 (where NVVM and NVRTC are installed: a CUDA toolkit, or numba-cuda[cu12]/[cu13]); all
+    # the kernel's functions are inlined into the launcher (the only call left is CUDA's own slow path of
+    # trigonometry).  With gpu.nvvm_options(fma=False) NVVM fuses nothing: every float64 add, subtract and multiply
+    # carries the rounding mode .rn, which also forbids ptxas to fuse it; the fused multiply-adds left are those
+    # that CUDA's library functions (cos, sin, division, sqrt) are written with
     import os
+    import re
     import subprocess
     import sys
 
@@ -250,16 +300,25 @@ def test_kernel_text_compiles_for_cuda(tmp_path):
         from cuda.pathfinder import load_nvidia_dynamic_lib
 
         load_nvidia_dynamic_lib("nvvm")
+        load_nvidia_dynamic_lib("nvrtc")
     except Exception as exc:  # noqa: BLE001 -- no NVVM here: nothing to compile with
-        pytest.skip(f"no NVVM library ({type(exc).__name__})")
+        pytest.skip(f"no NVVM or NVRTC library ({type(exc).__name__})")
     env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "0", "COINWALL_CACHE_DIR": str(tmp_path)}
     done = subprocess.run([sys.executable, "-c", COMPILE_FOR_SM90, ELLIPSE], capture_output=True, text=True, env=env,
                           timeout=600, check=False)
     assert done.returncode == 0, done.stderr[-3000:]
-    ptx = done.stdout
+    ptx, exact = done.stdout.split("//// fma=0")
     assert ".target sm_90" in ptx and ".entry" in ptx
     called = {line.split()[0].rstrip(",") for line in ptx.split("call.uni (retval0), \n")[1:]}
     assert called <= {"__internal_trig_reduction_slowpathd"}, called
+
+    def ops(text):
+        return re.findall(r"\s((?:add|sub|mul|fma)(?:\.rn)?\.f64)\s", text)
+
+    fused, plain = ops(ptx).count("fma.rn.f64"), sum(op in ("add.f64", "sub.f64", "mul.f64") for op in ops(ptx))
+    assert plain > 0  # by default NVVM leaves some unrounded, so ptxas may fuse those too
+    assert not any(op in ("add.f64", "sub.f64", "mul.f64") for op in ops(exact))
+    assert 0 < ops(exact).count("fma.rn.f64") < fused
 
 
 def test_scan_cells_on_the_gpu(monkeypatch):
