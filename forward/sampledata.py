@@ -61,6 +61,9 @@ class SampleData:
         The certified bound on ``|b'|`` near each angle that turned ``sigma_theta`` into a value error.
     count : ndarray
         How many input samples each angle holds.
+    notes : tuple of str
+        What the reader of the samples decided about them that a user should know (a designed grid taken
+        as exact, or not).
     """
 
     theta: np.ndarray
@@ -70,6 +73,7 @@ class SampleData:
     sigma_theta: np.ndarray
     slope: np.ndarray
     count: np.ndarray
+    notes: tuple = ()
 
     @property
     def merged(self) -> int:

@@ -78,6 +78,14 @@ class Body:
     regimes : tuple of str
         Every regime the data allow at ``b0`` (``("corner", "critical", "convex")`` where they cannot
         decide; :attr:`regime` is then ``"critical"``); for a formula wall, ``(regime,)``.
+    outline_tolerance : float or None
+        For a wall given as data (at an offset where some convex body is inside every sample's interval):
+        certified bound on the Hausdorff distance between this outline and every convex body whose support
+        function lies in the samples' intervals (the true body among them).  None otherwise.
+    possible_corners : tuple of coinwall.inverse.certify.DataCorner
+        For data: windows where the samples allow a corner that they do not force.
+    band : coinwall.inverse.band.Band or None
+        For data: the envelopes of every consistent body (what the figures draw).
     """
 
     wall: object
@@ -108,6 +116,9 @@ class Body:
     b_c_lower: float | None = None
     b_c_upper: float | None = None
     regimes: tuple = field(default=())
+    outline_tolerance: float | None = None
+    possible_corners: tuple = field(default=())
+    band: object = field(default=None, repr=False, compare=False)
 
     @property
     def regime_decided(self) -> bool:
@@ -185,6 +196,8 @@ class Body:
             "regime_decided": self.regime_decided,
             "b_c_lower": json_number(self.b_c_lower),
             "b_c_upper": json_number(self.b_c_upper),
+            "outline_tolerance": json_number(self.outline_tolerance),
+            "possible_corners": [c.to_dict() for c in self.possible_corners],
             "points": int(self.x.size),
             "max_wall_error": json_number(self.max_wall_error),
             "cross_check": json_number(self.cross_check),
