@@ -24,7 +24,6 @@ of length ``E``, with ``Δ`` the gap.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

@@ -86,6 +86,9 @@ class Body:
         For data: windows where the samples allow a corner that they do not force.
     band : coinwall.inverse.band.Band or None
         For data: the envelopes of every consistent body (what the figures draw).
+    statistics : coinwall.inverse.noise.NoisyCritical or None
+        For samples given with standard deviations: ``b_c`` as an estimate with a confidence interval (then
+        :attr:`b_c_lower` and :attr:`b_c_upper`, which are certified bounds, are None).
     """
 
     wall: object
@@ -119,6 +122,7 @@ class Body:
     outline_tolerance: float | None = None
     possible_corners: tuple = field(default=())
     band: object = field(default=None, repr=False, compare=False)
+    statistics: object = field(default=None, repr=False, compare=False)
 
     @property
     def regime_decided(self) -> bool:
@@ -198,6 +202,7 @@ class Body:
             "b_c_upper": json_number(self.b_c_upper),
             "outline_tolerance": json_number(self.outline_tolerance),
             "possible_corners": [c.to_dict() for c in self.possible_corners],
+            "b_c_confidence": self.statistics.to_dict() if self.statistics is not None else None,
             "points": int(self.x.size),
             "max_wall_error": json_number(self.max_wall_error),
             "cross_check": json_number(self.cross_check),

@@ -319,34 +319,53 @@ def _estimate(theta, values):
 
 
 def _critical_angles(theta, values, least, lowest_gap, lower):
-    """The critical angles (module docstring): runs of samples whose lowest possible ``ρ`` (at the sample, or in
-    a gap beside it) is at most ``−lower``, the largest value the minimum can have."""
+    """The critical angles (module docstring): where the lowest possible ``ρ`` — at a sample, or inside a gap
+    under :data:`ASSUMPTION` — is at most ``−lower``, the largest value the minimum can have.  Samples and gaps
+    alternate around the circle; each run of them is one place the minimum may be: an interval where the run
+    holds three samples or more (a vertex window), else one angle (the parabola through the discrete values
+    around the run's least one)."""
     n = theta.size
     slack = 1e-12 * max(1.0, float(np.max(np.abs(values))))
-    mark = (least <= -lower + slack) | (lowest_gap <= -lower + slack) | (np.roll(lowest_gap, 1) <= -lower + slack)
-    if not mark.any():  # rounding: the sample of least ρ
-        mark[int(np.argmin(least))] = True
+    cells = np.empty(2 * n, bool)  # sample 0, gap 0, sample 1, gap 1, …
+    cells[0::2] = least <= -lower + slack
+    cells[1::2] = lowest_gap <= -lower + slack
+    if not cells.any():  # rounding: the sample of least ρ
+        cells[2 * int(np.argmin(least))] = True
     rho = curvature(theta, values)
     before = np.diff(np.concatenate([[theta[-1] - TWO_PI], theta]))
     after = np.roll(before, -1)
+    unwrapped = np.concatenate([theta, theta + TWO_PI])
     angles, intervals, tolerance = [], [], 0.0
-    starts, lengths = cyclic_runs(mark)
-    for start, length in zip(starts.tolist(), lengths.tolist()):
-        idx = (start + np.arange(length)) % n
-        lo = float(theta[start])
-        span = float(np.mod(theta[idx[-1]] - lo, TWO_PI)) if length < n else TWO_PI
-        if length >= 3:
+    starts, lengths = cyclic_runs(cells)
+    holds = [bool(np.any((start + np.arange(length)) % 2 == 0)) for start, length in zip(starts, lengths)]
+    m = len(holds)
+    for r, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist())):
+        cell = (start + np.arange(length)) % (2 * n)
+        samples = cell[cell % 2 == 0] // 2
+        if samples.size == 0 and m > 1 and (holds[r - 1] or holds[(r + 1) % m]):
+            # a gap next to an edge's sample, beside a run of samples: the run's own minimum reaches into it
+            continue
+        # the run's extent: from its first cell's start to its last cell's end (a gap spans to the next sample)
+        lo = float(theta[cell[0] // 2])
+        last = int(cell[-1])
+        hi_index = last // 2 + (last % 2)
+        span = TWO_PI if length >= 2 * n else float(np.mod(unwrapped[hi_index] - lo, TWO_PI))
+        if samples.size >= 3:
             intervals.append((lo, lo + span))
             angles.append(float(np.mod(lo + 0.5 * span, TWO_PI)))
-            tolerance = max(tolerance, 0.5 * span + float(max(before[start], after[idx[-1]])))
+            tolerance = max(tolerance, 0.5 * span)
             continue
-        k = int(idx[np.argmin(rho[idx])])
+        if samples.size == 0:  # inside one gap
+            angles.append(float(np.mod(lo + 0.5 * span, TWO_PI)))
+            tolerance = max(tolerance, 0.5 * span)
+            continue
+        k = int(samples[np.argmin(rho[samples])])
         left, mid, right = rho[(k - 1) % n], rho[k], rho[(k + 1) % n]
         second = left - 2.0 * mid + right
         shift = float(np.clip(0.5 * (left - right) / second, -0.5, 0.5)) if second > 0 else 0.0
-        step = after[k] if shift > 0 else before[k]
-        angles.append(float(np.mod(theta[k] + shift * step, TWO_PI)))
-        tolerance = max(tolerance, span + float(max(before[start], after[idx[-1]])))
+        where = theta[k] + shift * (after[k] if shift > 0 else before[k])
+        angles.append(float(np.mod(where, TWO_PI)))
+        tolerance = max(tolerance, float(np.mod(where - lo, TWO_PI)), float(np.mod(lo + span - where, TWO_PI)))
     order = np.argsort(angles)
     return tuple(angles[i] for i in order), tuple(sorted(intervals)), tolerance
 
@@ -576,11 +595,19 @@ def data_critical_offset(wall):
     >>> theta = np.linspace(0, 2 * np.pi, 360, endpoint=False)
     >>> result = critical_offset(Wall.from_samples(theta, 1 + 0.1 * np.sin(3 * theta)))
     >>> bool(result.lower <= -0.2 <= result.upper), [round(float(a), 3) for a in result.angles]
-    (True, [1.571, 3.665, 5.76])
+    (True, [0.524, 2.618, 4.712])
     """
     from .critical import CriticalOffset
 
     data = wall.sample_data
+    if data.sd is not None:  # statistics: an estimate with a confidence interval (coinwall.inverse.noise)
+        from .noise import noisy_critical
+
+        found = noisy_critical(data.theta, data.b, data.sd)
+        tolerance = max(found.estimate - found.lower, found.upper - found.estimate)
+        return CriticalOffset(found.estimate, found.angles, (), float(TWO_PI / (64 * found.harmonics)), tolerance,
+                              found.lower, found.upper, f"a {found.level:.0%} confidence interval, assuming "
+                              f"{found.assumption}", found.samples)
     bound = wall.__dict__.get("_certified_bound")
     if bound is None:
         bound = critical_bound(data.theta, data.b, data.halfwidth)

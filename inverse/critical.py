@@ -52,8 +52,9 @@ class CriticalOffset:
         distance from :attr:`b_c` to an end of the certified interval.
     lower, upper : float or None
         For data: every wall consistent with the samples' intervals has ``b_c ≥ lower`` (certified by a
-        linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).
-        None for a formula wall (exact to :attr:`b_c_tolerance`).
+        linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).  For
+        samples with standard deviations, a confidence interval (:mod:`coinwall.inverse.noise`; the
+        assumption says so).  None for a formula wall (exact to :attr:`b_c_tolerance`).
     assumption : str
         What :attr:`upper` rests on (empty for a formula wall).
     samples_used : int

@@ -31,8 +31,14 @@ from .band import band_of
 from .body import Body
 from .certify import certify, critical_bound
 from .corners import Corner
-from .discrete import _through_point, discrete_support, halfspace_polygon, simplest_inside, support_polygon, \
-    vertex_owner
+from .discrete import (
+    _through_point,
+    discrete_support,
+    halfspace_polygon,
+    simplest_inside,
+    support_polygon,
+    vertex_owner,
+)
 from .smooth import body_warnings, outline_support, shape_check, solve_smooth
 from .tolerances import WALL_ACCURACY
 
@@ -155,6 +161,8 @@ def _snap_corners(points, normals, certificate, theta, h, w):
             angles.append(normals[k])
             fresh.append(False)
     new = np.array(rows)
+    if new.shape[0] < 3:
+        return points, normals
     fresh = np.array(fresh)
     if extra and min(extra) == 0 or not keep[0]:
         fresh[-1] = True  # the last vertex's edge leads to a new first point
@@ -168,16 +176,19 @@ def _snap_corners(points, normals, certificate, theta, h, w):
 
 
 def _forced_corners(certificate, points, normals):
-    """:class:`Corner` for each forced window, at the body's vertex that supports the window's middle normal."""
+    """:class:`Corner` for each forced window: the body's vertex that supports the window's middle normal, with
+    that vertex's own window of normals (which holds the forced one) and the certified length of the turn."""
     corners = []
+    m = points.shape[0]
     for found in certificate.corners:
-        lo, hi = found.window
-        mid = 0.5 * (lo + hi)
-        p = points[int(vertex_owner(normals, np.array([mid]))[0])]
+        mid = 0.5 * (found.window[0] + found.window[1])
+        k = int(vertex_owner(normals, np.array([mid]))[0])
+        start = float(np.mod(normals[(k - 1) % m], TWO_PI))
+        width = float(np.mod(normals[k] - start, TWO_PI))
+        p = points[k]
         direction = float(np.mod(math.atan2(p[1], p[0]), TWO_PI))
-        corners.append(Corner(0.0 if direction >= TWO_PI else direction, 0.5 * (hi - lo), float(math.hypot(*p)), 0.0,
-                              (float(np.mod(lo, TWO_PI)), float(np.mod(lo, TWO_PI) + hi - lo)),
-                              float(np.mod(mid, TWO_PI)), False, float(found.length)))
+        corners.append(Corner(0.0 if direction >= TWO_PI else direction, 0.5 * width, float(math.hypot(*p)), 0.0,
+                              (start, start + width), float(np.mod(mid, TWO_PI)), False, float(found.length)))
     return corners
 
 
@@ -235,6 +246,8 @@ def _halfplane(theta, h, w, used, b0, *, lifted=False):
 def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float) -> Body:
     """The body of a sampled wall at offset ``b0`` (see the module docstring)."""
     data = wall.sample_data
+    if data.sd is not None:
+        return _solve_noisy(wall, data, b0, started)
     theta, b, w = data.theta, data.b, data.halfwidth
     h = b0 + b
     lowest = int(np.argmin(h))
@@ -314,8 +327,8 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         outline = Outline.from_polygon(points_)
         body = _polygon_body(wall, b0, certificate, outline, corners, cross, started)
         body_wall = outline_support(body.outline, theta, convex=body.convex and body.valid)
-        notes.append(f"the samples are not smooth or force corners: the body is built from the sampled support lines "
-                     f"(exact for them); `points` does not apply")
+        notes.append("the samples are not smooth or force corners: the body is built from the sampled support lines "
+                     "(exact for them); `points` does not apply")
         if method == "polar":
             notes.append("the polar equation needs a smooth wall: these data were solved by the half-plane construction")
 
@@ -402,3 +415,38 @@ def _polygon_body(wall, b0, certificate, outline, corners, cross, started):
                 phi_in=normal_in, phi_out=normal_in + width, corners=tuple(corners), folds=(), max_wall_error=0.0,
                 cross_check=cross, polar_residual=None, convex=convex, valid=valid, com_inside=True,
                 seconds=time.perf_counter() - started)
+
+
+def _solve_noisy(wall, data, b0, started):
+    """Samples with standard deviations: b_c an estimate with a confidence interval (:mod:`.noise`), the body
+    the simplest convex one the noise allows (:func:`.fit.fit_convex`), the regime from both."""
+    from .fit import MAX_DIRECTIONS, fit_convex
+
+    theta, b, sd = data.theta, data.b, data.sd
+    if theta.size > MAX_DIRECTIONS:
+        # the fit takes at most MAX_DIRECTIONS directions: the samples averaged in as many bins of angle
+        bins = np.minimum((theta / TWO_PI * MAX_DIRECTIONS).astype(int), MAX_DIRECTIONS - 1)
+        count = np.bincount(bins, minlength=MAX_DIRECTIONS)
+        filled = count > 0
+        weight = 1.0 / sd**2
+        theta_f = (np.bincount(bins, theta * weight, MAX_DIRECTIONS) / np.bincount(bins, weight, MAX_DIRECTIONS))[filled]
+        b_f = (np.bincount(bins, b * weight, MAX_DIRECTIONS) / np.bincount(bins, weight, MAX_DIRECTIONS))[filled]
+        sd_f = 1.0 / np.sqrt(np.bincount(bins, weight, MAX_DIRECTIONS)[filled])
+    else:
+        theta_f, b_f, sd_f = theta, b, sd
+    fit = fit_convex(theta_f, b_f, b0, sd=sd_f)
+    found = fit.critical
+    body = fit.body
+    notes = [*data.notes,
+             f"noisy samples ({theta.size} angles with standard deviations, typically {found.sd:.2g}): b_c = "
+             f"{found.estimate:.6g}, {found.level:.0%} confidence interval [{found.lower:.6g}, {found.upper:.6g}] "
+             f"assuming {found.assumption}",
+             f"the body is the simplest convex body the noise allows (coinwall fit: {fit.corners} corner(s) supported "
+             f"of {len(fit.tests)} candidates; rms residual {fit.rms_residual:.3g}); no outline tolerance is "
+             "certified for statistical samples"]
+    return dataclasses.replace(
+        body, wall=wall, b0=b0, b_c=found.estimate, critical_angles=found.angles, regime=fit.body.regime,
+        regimes=fit.body.regimes, b_c_lower=None, b_c_upper=None,
+        b_c_tolerance=max(found.estimate - found.lower, found.upper - found.estimate), notes=(*notes, *body.notes),
+        outline_tolerance=None, possible_corners=(), band=None, statistics=found,
+        seconds=time.perf_counter() - started)
