@@ -16,20 +16,18 @@ rests on (docs/theory.md, "What the data certify"):
   and the ascent out of it); edges (positive spikes of the discrete curvature) and steps are no dips;
 * **the critical angles**: every sample, or gap, where ``b + b''`` may reach its least value (its lowest
   possible value there at most ``−b_c⁻``, the largest the least value can be);
-* **forced corners** at the offset ``b0``: windows of normal angles ``[θ_i, θ_j]`` through which every
-  consistent body turns along a piece of boundary at most ``L`` long, with ``L/(θ_j − θ_i)`` below the
-  curvature the data resolve (:func:`certify`).  The turn of a body between the normals of two consecutive
-  support lines happens on the piece of the second line between its neighbours, so the boundary over the
-  window is at most the sum of the pieces ``ℓ_k = ρ_k·(tan(Δ₋/2) + tan(Δ₊/2))`` of the lines inside it:
-  a linear function of the values, whose largest value over every consistent set of values is a small
-  linear programme (certified from its dual, like the lower end of b_c);
+* **forced corners** at the offset ``b0``: windows ``[θ_i, θ_j]`` (two samples or more) through which every
+  consistent body turns along at most ``L`` of boundary (:func:`certify`).  A consistent body touches line
+  ``k`` on that line's piece between its neighbours, so its boundary from its touch point on line ``i`` to the
+  one on line ``j`` is at most the sum of the pieces ``ℓ_k = ρ_k·(tan(Δ₋/2) + tan(Δ₊/2))``, ``i ≤ k ≤ j``: linear
+  in the values, its largest value over every consistent set of values a small linear programme, certified
+  from its dual like the lower end of b_c;
 * **possible corners**: runs of samples where zero curvature is within the intervals but is not forced.
 
 Samples closer than their own uncertainty say little about curvature (the discrete curvature of lines a hair
-apart is their rounding divided by the square of the hair), so ``b_c`` is computed on the samples at the
-spacing, from a ladder of spacings, where its interval is narrowest (:func:`choose_spacing`); thinning drops
-constraints, so the lower end stays certified.  Corners are looked for at every spacing of the ladder,
-the data's own included: a window that the full data resolve is never lost to thinning.
+apart is their rounding over the square of the hair): ``b_c`` is computed at the spacing, from a ladder, where
+its interval is narrowest; thinning drops constraints, so the lower end stays certified.  Corners are looked
+for at every spacing of the ladder, the data's own included: a window the full data resolve is never lost.
 """
 
 from __future__ import annotations
@@ -46,7 +44,7 @@ from coinwall.forward.sampledata import discrete_rho as curvature
 from .tolerances import OFFSET_TOLERANCE
 
 __all__ = ["ASSUMPTION", "Certificate", "CriticalBound", "DataCorner", "certify", "critical_bound",
-           "curvature_range", "cyclic_runs", "data_critical_offset", "lp_lower_bound", "upper_bound"]
+           "curvature_range", "cyclic_runs", "data_critical_offset", "lp_lower_bound"]
 
 #: the assumption the upper end of the interval rests on (module docstring)
 ASSUMPTION = ("between samples, b + b'' dips no lower than its discrete values on either side and their slopes "
@@ -80,13 +78,9 @@ class CriticalBound:
         The samples the interval was computed on (all of them, or a thinned subset of dense data).
     spacing : float
         The thinning spacing (rad; 0 if none).
-    lp_gap : float
-        HiGHS's objective minus the certified lower end (how far the solver was from its own bound).
-    angles : tuple of float
-        Every angle where ``b + b''`` may reach its least value: one per run of candidate samples (the midpoint
-        of a run of three or more, else its best estimate).
-    intervals : tuple of (float, float)
-        The runs of three or more candidate samples, where the minimum may be reached anywhere (vertex windows).
+    angles, intervals : tuple
+        Every angle where ``b + b''`` may reach its least value (one per run of candidate samples: the midpoint
+        of a run of three or more, else its best estimate); the runs of three or more (vertex windows).
     angle_tolerance : float
         How far the true minimiser of each run may be from its reported angle (rad).
     ladder : tuple of (ndarray, float)
@@ -99,7 +93,6 @@ class CriticalBound:
     assumption: str
     used: np.ndarray
     spacing: float
-    lp_gap: float
     angles: tuple = ()
     intervals: tuple = ()
     angle_tolerance: float = 0.0
@@ -135,23 +128,21 @@ class DataCorner:
         How many samples (at the spacing that found it) lie in the window.
     length : float
         Certified: every body consistent with the samples turns through the whole window along a piece of
-        boundary at most this long (``inf`` where nothing is certified: a possible corner).
-    forced : bool
-        Whether every consistent body has it (``length / width`` within the curvature the data resolve).
+        boundary at most this long; ``inf`` for a possible corner (nothing certified), finite for a forced one.
     """
 
     window: tuple
     samples: int
     length: float
-    forced: bool
 
     @property
     def width(self) -> float:
         return float(self.window[1] - self.window[0])
 
     def to_dict(self) -> dict:
-        return {"window": list(self.window), "samples": self.samples,
-                "length": self.length if math.isfinite(self.length) else None, "forced": self.forced}
+        forced = math.isfinite(self.length)
+        return {"window": list(self.window), "samples": self.samples, "length": self.length if forced else None,
+                "forced": forced}
 
 
 @dataclass(frozen=True, repr=False)
@@ -166,7 +157,7 @@ class Certificate:
     corners : tuple of DataCorner
         The forced corners, by angle.
     possible : tuple of DataCorner
-        Windows where the data allow a corner they do not force (at the spacing that resolves ``b_c``).
+        Windows where the data allow a corner they do not force (at any spacing of the ladder).
     regimes : tuple of str
         The regimes the data allow at ``b0``; one when they decide it.
     regime : str
@@ -179,10 +170,6 @@ class Certificate:
     possible: tuple
     regimes: tuple
     regime: str
-
-    @property
-    def decided(self) -> bool:
-        return len(self.regimes) == 1
 
     def __repr__(self) -> str:
         return (f"Certificate(b0={self.b0:g}, {'/'.join(self.regimes)}, {len(self.corners)} forced corners, "
@@ -268,13 +255,6 @@ def _lowest_in_gaps(theta, r):
     return np.minimum(left, right) - 2.0 * np.minimum(descent, ascent)
 
 
-def upper_bound(theta, lo, hi, rho_low=None) -> float:
-    """The upper end of ``b_c`` under :data:`ASSUMPTION` (module docstring)."""
-    theta = np.asarray(theta, float)
-    r = curvature_range(theta, lo, hi)[0] if rho_low is None else np.asarray(rho_low, float)
-    return -float(min(np.min(_lowest_in_gaps(theta, r)), np.min(r)))
-
-
 def choose_spacing(theta, lo, hi, *, max_samples: int = MAX_LP_SAMPLES):
     """``(indices, spacing, ladder)``: the thinning at which the crude certified interval of ``b_c`` is
     narrowest (or the finest within a factor 2 of it), among a ladder of spacings from the data's own to a
@@ -296,7 +276,8 @@ def choose_spacing(theta, lo, hi, *, max_samples: int = MAX_LP_SAMPLES):
                 1 - 1e-9):
             continue
         least, most = curvature_range(theta[idx], lo[idx], hi[idx])
-        found.append((upper_bound(theta[idx], lo[idx], hi[idx], least) + float(np.min(most)), idx, spacing))
+        upper = -float(min(np.min(_lowest_in_gaps(theta[idx], least)), np.min(least)))
+        found.append((upper + float(np.min(most)), idx, spacing))
     if not found:
         idx = thin(theta, TWO_PI / max_samples)
         return idx, TWO_PI / max_samples, tuple(ladder)
@@ -398,7 +379,7 @@ def critical_bound(theta, b, halfwidth) -> CriticalBound:
     lo, hi = b - w, b + w
     idx, spacing, ladder = choose_spacing(theta, lo, hi)
     t, l_, h_ = theta[idx], lo[idx], hi[idx]
-    certified, objective = lp_lower_bound(t, l_, h_)
+    certified, _ = lp_lower_bound(t, l_, h_)
     least = curvature_range(t, l_, h_)[0]
     lowest_gap = _lowest_in_gaps(t, least)
     upper = -float(min(np.min(lowest_gap), np.min(least)))
@@ -406,8 +387,8 @@ def critical_bound(theta, b, halfwidth) -> CriticalBound:
     lower = min(certified, estimate)
     angles, intervals, tolerance = _critical_angles(t, b[idx], least, lowest_gap, lower)
     idx.setflags(write=False)
-    return CriticalBound(lower + 0.0, upper + 0.0, estimate + 0.0, ASSUMPTION, idx, spacing,
-                         max(objective - certified, 0.0), angles, intervals, tolerance, ladder)
+    return CriticalBound(lower + 0.0, upper + 0.0, estimate + 0.0, ASSUMPTION, idx, spacing, angles, intervals,
+                         tolerance, ladder)
 
 
 # ---------------------------------------------------------------------------------------------- corners at b0
@@ -435,12 +416,11 @@ def _window_length(theta, lo, hi, b0, first, count):
     # constraints b0 + ρ_k(s) ≥ 0 for the lines whose three values are all variables
     position = np.full(n, -1)
     position[var] = np.arange(var.size)
-    rows_k = [k for k in var if position[(k - 1) % n] >= 0 and position[(k + 1) % n] >= 0]
-    rows_k = np.array(rows_k, int)
-    m = rows_k.size
+    rows_k = var[(position[(var - 1) % n] >= 0) & (position[(var + 1) % n] >= 0)]
     cols = np.stack([position[(rows_k - 1) % n], position[rows_k], position[(rows_k + 1) % n]], axis=1)
     coef = np.stack([a[rows_k], c[rows_k], d[rows_k]], axis=1)
-    A = coo_matrix((coef.ravel(), (np.repeat(np.arange(m), 3), cols.ravel())), shape=(m, var.size)).toarray()
+    A = coo_matrix((coef.ravel(), (np.repeat(np.arange(rows_k.size), 3), cols.ravel())),
+                   shape=(rows_k.size, var.size)).tocsr()
     # the objective: Σ_{k inside} norm_k ρ_k(s) (+ b0 Σ norm_k), as a row over the variables
     objective = np.zeros(var.size)
     for col, table in ((-1, a), (0, c), (1, d)):
@@ -474,14 +454,18 @@ def _runs_at(theta, lo, hi, b0):
     return starts, lengths, widths, box
 
 
-def _possible(theta, lo, hi, b0, taken):
-    starts, lengths, widths, _ = _runs_at(theta, lo, hi, b0)
+def _possible(theta, lo, hi, b0, ladder, taken):
+    """Runs where zero curvature is within the intervals, narrower than π/2, at every spacing of the ladder
+    (finest first), each window once and none overlapping ``taken``."""
     out = []
-    for start, length, width in zip(starts.tolist(), lengths.tolist(), widths.tolist()):
-        window = (float(theta[start]), float(theta[start]) + width)
-        if not any(_overlap(window, other) for other in taken):
-            out.append(DataCorner(window, int(length), math.inf, False))
-    return out
+    for idx, _ in ladder:
+        starts, lengths, widths, _ = _runs_at(theta[idx], lo[idx], hi[idx], b0)
+        for start, length, width in zip(starts.tolist(), lengths.tolist(), widths.tolist()):
+            window = (float(theta[idx][start]), float(theta[idx][start]) + width)
+            if width < 0.5 * math.pi and not any(_overlap(window, other) for other in taken):
+                out.append(DataCorner(window, int(length), math.inf))
+                taken.append(window)
+    return sorted(out, key=lambda c: np.mod(c.window[0], TWO_PI))
 
 
 def _overlap(a, b):
@@ -560,8 +544,7 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
                     budget -= 1
                     certified = min(certified, _window_length(t, l_, h_, b0, start, length))
                 if forced(certified, width):
-                    found.append(DataCorner((float(t[start]), float(t[start]) + width), int(length), certified,
-                                            True))
+                    found.append(DataCorner((float(t[start]), float(t[start]) + width), int(length), certified))
         # overlapping windows (one corner seen at several spacings): the widest stands for them
         for corner in sorted(found, key=lambda c: -c.width):
             if not any(_overlap(corner.window, other.window) for other in corners):
@@ -576,9 +559,8 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
     else:
         regimes = bound.regimes(b0, tol)
     possible = []
-    if regimes != ("convex",) and regimes != ("corner",):
-        used = bound.used
-        possible = _possible(theta[used], lo[used], hi[used], b0, [c.window for c in corners])
+    if regimes not in (("convex",), ("corner",)):
+        possible = _possible(theta, lo, hi, b0, bound.ladder, [c.window for c in corners])
     regime = regimes[0] if len(regimes) == 1 else "critical"
     return Certificate(bound, float(b0), tuple(corners), tuple(possible), tuple(regimes), regime)
 

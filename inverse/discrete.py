@@ -109,30 +109,6 @@ class DiscreteSupport:
     rho_tolerance: np.ndarray
     spacing_error: np.ndarray
 
-    @property
-    def critical_index(self) -> int:
-        """The sample where ρ is smallest; among samples tied within rounding, the one where ρ is
-        best determined (smallest spacing error: inside a vertex window rather than at its end)."""
-        low = float(np.min(self.rho))
-        tied = np.flatnonzero(self.rho <= low + 2 * self.rho_tolerance)
-        return int(tied[np.argmin(self.spacing_error[tied] + self.rho[tied] - low)])
-
-    @property
-    def b_c(self) -> float:
-        """The data's critical offset ``−min ρ_i`` (exact for the lines)."""
-        return -float(np.min(self.rho))
-
-    @property
-    def tolerance(self) -> float:
-        """How well the data fix ``b_c``: rounding plus the spacing error where ρ is smallest."""
-        i = self.critical_index
-        return float(self.rho_tolerance[i] + self.spacing_error[i])
-
-    def vertex_windows(self, b0: float = 0.0) -> np.ndarray:
-        """Mask of the samples whose line passes through the same point as both neighbours
-        (``|ρ_i + b0| ≤`` its rounding tolerance)."""
-        return np.abs(self.rho + b0) <= self.rho_tolerance
-
 
 def discrete_support(theta, b, rounding=None) -> DiscreteSupport:
     """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π)); ``rounding``: how far

@@ -267,7 +267,7 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
     if bound.used.size < theta.size:
         notes.append(f"b_c was computed on {bound.used.size} of the {theta.size} samples (at least {bound.spacing:.3g} "
                      "rad apart: closer samples say less about curvature than their rounding hides)")
-    if not certificate.decided:
+    if len(certificate.regimes) > 1:
         notes.append(f"regime undecided at b0 = {b0:.6g}: the data allow {' or '.join(certificate.regimes)} "
                      f"(b_c in [{bound.lower:.6g}, {bound.upper:.6g}])")
     elif certificate.corners and certificate.regime == "critical":
@@ -447,6 +447,6 @@ def _solve_noisy(wall, data, b0, started):
     return dataclasses.replace(
         body, wall=wall, b0=b0, b_c=found.estimate, critical_angles=found.angles, regime=fit.body.regime,
         regimes=fit.body.regimes, b_c_lower=None, b_c_upper=None,
-        b_c_tolerance=max(found.estimate - found.lower, found.upper - found.estimate), notes=(*notes, *body.notes),
+        b_c_tolerance=max(found.estimate - found.lower, found.upper - found.estimate), notes=tuple(notes),
         outline_tolerance=None, possible_corners=(), band=None, statistics=found,
         seconds=time.perf_counter() - started)

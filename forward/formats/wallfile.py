@@ -157,12 +157,13 @@ def read_samples_csv(path: str, *, degrees: bool = False):
     return table["theta"], table["b"]
 
 
-def _angle_rounding(values, period, b=None, b_rounding=None):
+def _angle_rounding(values, period, b=None, b_rounding=None, sd=None):
     """``(rounding, notes)`` of angles as written (in the file's unit): half a unit of the last digit of each,
     or a few ulps where the angles are a designed uniform grid (0°, 1°, …; distinct, every step equal) and the
     values agree: their scatter about a smooth wall (:func:`~coinwall.forward.sampledata.grid_scatter`) is
     within what their own digits allow.  Where it is not — angles read off an instrument to the grid's step,
-    say — the grid is not exact: the angles are taken to half a step, and a note says so."""
+    say — the grid is not exact: the angles are taken to half a step, and a note says so.  Values given with
+    standard deviations ``sd`` may scatter by as much (noise in the values, not in the angles)."""
     import numpy as np
 
     from ..sampledata import grid_scatter
@@ -179,6 +180,8 @@ def _angle_rounding(values, period, b=None, b_rounding=None):
             order = np.argsort(values)
             scatter = grid_scatter(np.asarray(b, float)[order])
             allowed = 3.0 * float(np.median(b_rounding)) / math.sqrt(3.0)  # uniform rounding: w/√3
+            if sd is not None:
+                allowed = max(allowed, 3.0 * float(np.median(sd)))
             if scatter[2] > allowed and scatter[2] >= 0.5 * scatter[0]:
                 return np.full(values.size, 0.5 * step), (
                     f"the angles look like a designed grid (every {step:g}{unit}), but the values scatter about a "
@@ -186,7 +189,8 @@ def _angle_rounding(values, period, b=None, b_rounding=None):
                     f"is not taken as exact, every angle is known to ±{0.5 * step:g}{unit}",)
             return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period), (
                 f"the angles are a designed grid (every {step:g}{unit}), taken as exact: the values agree (their "
-                f"scatter about a smooth wall, {scatter[2]:.2g}, is within what their digits allow)",)
+                f"scatter about a smooth wall, {scatter[2]:.2g}, is within what their "
+                f"{'standard deviations' if sd is not None else 'digits'} allow)",)
     return rounding_of(values), ()
 
 
@@ -276,7 +280,7 @@ def _careful_columns(path, rows, cells, number, width, columns):
     return [np.array(d) for d in data]
 
 
-def read_sample_table(path: str, *, degrees: bool = False) -> dict:
+def read_sample_table(path: str, *, degrees: bool = False, b_sd: float | None = None) -> dict:
     """Samples from a CSV as people write them: angles, values, their half-widths and line numbers.
 
     The delimiter is a comma, a semicolon, a tab or white space (decimal commas are read with a
@@ -370,7 +374,7 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
             raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a {what} is negative")
     period = 360.0 if in_degrees else 2 * np.pi
     b_rounding = np.maximum(rounding_of(b), sigma.get("halfwidth_value", 0.0))
-    theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding)
+    theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding, _largest(sigma.get("sd_value"), b_sd))
     theta_rounding = np.maximum(theta_rounding, sigma.get("halfwidth_angle", 0.0))
     if in_degrees:
         theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
@@ -421,7 +425,7 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
 
     if path.lower().endswith(".csv"):
         # numbers written as text carry their rounding in their digits
-        table = read_sample_table(path, degrees=degrees)
+        table = read_sample_table(path, degrees=degrees, b_sd=b_sd)
         angle = math.radians if table.get("degrees") else float
         sd, theta_sd_ = _largest(table["b_sd"], b_sd), _largest(table["theta_sd"], None if theta_sd is None else
                                                                   angle(theta_sd))
@@ -456,7 +460,7 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
             in_degrees = doc.get("degrees", False) is True or degrees
             period = 360.0 if in_degrees else 2 * np.pi
             b_rounding = np.maximum(rounding_of(b), given["b_halfwidth"])
-            theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding)
+            theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding, given["b_sd"])
             theta_rounding = np.maximum(theta_rounding, given["theta_halfwidth"])
             angle = math.radians if in_degrees else float
             if in_degrees:
