@@ -532,24 +532,21 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
     if bound.lower - tol <= b0 <= bound.upper + tol:
         budget = MAX_CORNER_PROGRAMMES
         found = []
-        for idx, _ in bound.ladder:
+        for idx, _ in reversed(bound.ladder):  # coarsest first: a window certified there is not solved again
             t, l_, h_ = theta[idx], lo[idx], hi[idx]
             starts, lengths, widths, box = _runs_at(t, l_, h_, b0)
             for start, length, width, length_box in zip(starts.tolist(), lengths.tolist(), widths.tolist(),
                                                         box.tolist()):
-                if length < 2 or not 0 < width < math.pi:
+                window = (float(t[start]), float(t[start]) + width)
+                if length < 2 or not 0 < width < math.pi or any(_overlap(window, c.window) for c in found):
                     continue
                 certified = length_box
                 if not forced(certified, width) and budget > 0 and length <= MAX_CORNER_LINES:
                     budget -= 1
                     certified = min(certified, _window_length(t, l_, h_, b0, start, length))
                 if forced(certified, width):
-                    found.append(DataCorner((float(t[start]), float(t[start]) + width), int(length), certified))
-        # overlapping windows (one corner seen at several spacings): the widest stands for them
-        for corner in sorted(found, key=lambda c: -c.width):
-            if not any(_overlap(corner.window, other.window) for other in corners):
-                corners.append(corner)
-        corners.sort(key=lambda c: np.mod(c.window[0], TWO_PI))
+                    found.append(DataCorner(window, int(length), certified))
+        corners = sorted(found, key=lambda c: np.mod(c.window[0], TWO_PI))
     if b0 < bound.lower - tol:
         regimes = ("corner",)
     elif b0 > bound.upper + tol:

@@ -136,7 +136,9 @@ def _snap_corners(points, normals, certificate, theta, h, w):
         lo, hi = found.window
         idx = np.flatnonzero(np.mod(theta - lo, TWO_PI) <= hi - lo)
         idx = np.unique(np.concatenate([idx, [(idx[0] - 1) % theta.size, (idx[-1] + 1) % theta.size]]))
-        point = _through_point(theta[idx], h[idx], w[idx] + 1e-15 * max(1.0, float(np.max(np.abs(h)))))
+        # the point from at most 64 of the window's lines, spread over it (the check below looks at all)
+        pick = idx[np.unique(np.linspace(0, idx.size - 1, min(idx.size, 64)).astype(int))]
+        point = _through_point(theta[pick], h[pick], w[pick] + 1e-15 * max(1.0, float(np.max(np.abs(h)))))
         if point is None:
             continue
         cluster = np.unique(vertex_owner(normals, theta[idx]))
@@ -381,7 +383,12 @@ def _smooth_body(wall, data, bound, used, b0, method, points, cross_check, start
     from coinwall.forward.wall import Wall
 
     theta, b, w = data.theta, data.b, data.halfwidth
-    geo = wall if used.size == theta.size else Wall.from_samples(theta[used], b[used], rounding=w[used])
+    n = theta.size
+    if used.size < n and np.allclose(np.diff(theta), TWO_PI / n, rtol=0, atol=1e-9):
+        # uniform data: every k-th sample, k a divisor of n, so the subset is uniform too (its interpolant an FFT)
+        divisors = np.flatnonzero(n % np.arange(1, n // 8 + 1) == 0) + 1
+        used = np.arange(0, n, int(divisors[np.argmin(np.abs(divisors - n / used.size))]))
+    geo = wall if used.size == n else Wall.from_samples(theta[used], b[used], rounding=w[used])
     if not interpolant_agrees(geo, discrete_support(theta[used], b[used], w[used]), bound):
         return None
     from .critical import CriticalOffset
