@@ -487,7 +487,8 @@ def simplest_inside(vertices, theta, lower, normals=None) -> tuple[np.ndarray, n
     support at each ``theta`` at least ``lower`` there — the fewest vertices, within rounding, that stay inside
     the intervals the polygon met (vertices are only removed, so the result lies inside the polygon).
 
-    Passes alternate between the even and the odd vertices (two neighbours are never removed in one pass);
+    Each pass looks at vertices no two of them neighbours: first those standing out farthest from their
+    neighbours' chord (taller than both), then, when none of those can go, the even and the odd ones in turn;
     removing vertex ``j`` replaces its support over its normal window by the larger of its neighbours', so a
     pass is one vectorised look at the samples in each candidate's window.  ``normals``: the normal angle of
     each edge ``j → j + 1`` where known exactly (the outer body's edges lie on sample lines); a new edge's
@@ -495,14 +496,15 @@ def simplest_inside(vertices, theta, lower, normals=None) -> tuple[np.ndarray, n
 
     Examples
     --------
-    The outer 12-gon of a hexagon's exact support at 12 angles comes back as the hexagon:
+    The outer body of a pentagon's exact support at every 10° (its vertices and a roof over each edge) comes
+    back as the pentagon:
 
-    >>> theta = np.arange(12) * np.pi / 6 + np.pi / 12
-    >>> corners = np.exp(1j * np.pi * np.arange(6) / 3)
+    >>> theta = np.radians(np.arange(0, 360, 10.0))
+    >>> corners = np.exp(1j * (0.3 + 2 * np.pi * np.arange(5) / 5))
     >>> h = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
     >>> outer = halfspace_polygon(theta, h)
     >>> len(outer), len(simplest_inside(outer, theta, h - 1e-12)[0])
-    (12, 6)
+    (10, 5)
     """
     v = np.asarray(vertices, float)
     theta = np.asarray(theta, float)
@@ -513,13 +515,23 @@ def simplest_inside(vertices, theta, lower, normals=None) -> tuple[np.ndarray, n
     normal = np.asarray(normals, float).copy()
     direction = np.column_stack([np.cos(theta), np.sin(theta)])
     stalled = parity = 0
-    while v.shape[0] > 3 and stalled < 2:
+    tallest = True
+    while v.shape[0] > 3 and stalled < 3:
         m = v.shape[0]
         # the vertex whose normal window (from its incoming edge's normal to its outgoing one's) holds a sample
         owner = vertex_owner(normal, theta)
-        candidate = (np.arange(m) % 2) == parity
-        if m % 2:
-            candidate[m - 1] = False  # it neighbours vertex 0
+        if tallest:
+            # the vertices standing farthest out from their neighbours' chord first (a roof over a flat edge
+            # goes before the vertices on the curves beside it): those taller than both neighbours
+            before, after = np.roll(v, 1, axis=0), np.roll(v, -1, axis=0)
+            chord = after - before
+            height = (chord[:, 1] * (v - before)[:, 0] - chord[:, 0] * (v - before)[:, 1]) / np.maximum(
+                np.hypot(*chord.T), 1e-300)  # outward: to the right of the chord of a counter-clockwise polygon
+            candidate = (height > np.roll(height, 1)) & (height >= np.roll(height, -1))
+        else:
+            candidate = (np.arange(m) % 2) == parity
+            if m % 2:
+                candidate[m - 1] = False  # it neighbours vertex 0
         pick = np.flatnonzero(candidate[owner])
         own = owner[pick]
         chord = np.maximum(np.einsum("ij,ij->i", v[(own - 1) % m], direction[pick]),
@@ -530,9 +542,11 @@ def simplest_inside(vertices, theta, lower, normals=None) -> tuple[np.ndarray, n
         excess = int(drop.sum()) - (m - 3)
         if excess > 0:
             drop[np.flatnonzero(drop)[-excess:]] = False
-        parity ^= 1
+        if not tallest:
+            parity ^= 1
         if not drop.any():
             stalled += 1
+            tallest = False  # then every other vertex, both ways
             continue
         stalled = 0
         # the edge j − 1 → j + 1 replaces j − 1 → j and j → j + 1: its normal, kept between theirs
