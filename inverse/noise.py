@@ -10,7 +10,8 @@ interval for ``b_c = −min(b + b'')`` under an assumption about the wall's smoo
   the harmonics looked at (5 %, Bonferroni: the last one the data resolve).  ``ρ̂ = b̂ + b̂''`` is linear in the data, its covariance exact;
 * **the assumption** (the *tail bound* ``T``): ``b + b''`` differs from its first ``K`` harmonics by at most
   ``T`` at every angle.  Its default is read off the data: the resolved amplitudes ``a_k`` are enveloped by
-  ``A·q^k`` (``q`` from their decay, at least 0.1 and at most 0.9; ``A`` the least that lies above every one),
+  ``A·q^k`` (``q`` from their decay, at least 0.1 and at most 0.9 — at most 1/2 from two, 1/2 from fewer;
+  ``A`` the least that lies above every one),
   and ``T = Σ_{k>K} (k² − 1)·A·q^k`` — the harmonics the noise hides, had they gone on decaying as the
   resolved ones do.  Walls with kinks decay slowly, give a large ``T`` and a wide interval; a user who knows
   better sets ``T``;
@@ -134,7 +135,8 @@ def _default_tail(amp, resolved, K):
     keep &= (k <= K) & (k >= 2)
     if np.count_nonzero(keep) >= 2:
         slope = np.polyfit(k[keep], np.log(amp[keep]), 1)[0]
-        q = float(min(max(math.exp(slope), 0.1), 0.9))
+        # two points say little about a decay: no slower than halving then
+        q = float(min(max(math.exp(slope), 0.1), 0.9 if np.count_nonzero(keep) >= 3 else 0.5))
     else:
         q = 0.5
     scale = float(np.max(amp[keep] / q ** k[keep])) if keep.any() else 0.0
