@@ -50,9 +50,9 @@ def _outer_spread(body, theta, upper):
     inside = np.zeros(2)
     cut = HalfspaceIntersection(np.column_stack([np.cos(theta), np.sin(theta), -upper]), inside)
     points = cut.intersections[ConvexHull(cut.intersections).vertices]
-    grid = np.linspace(0, T.TWO_PI, 100_000, endpoint=False)
+    grid = np.linspace(0, T.TWO_PI, 20_000, endpoint=False)
     outer = np.max(np.cos(grid)[:, None] * points[:, 0] + np.sin(grid)[:, None] * points[:, 1], axis=1)
-    own = T.outline_support(body.outline.nodes, body.outline.controls, grid)
+    own = T.outline_support(body.outline.nodes, body.outline.controls, grid, 1 if body.method == "halfplanes" else 16)
     return float(np.max(np.abs(outer - own)))
 
 

@@ -57,9 +57,10 @@ def _outer_distance(body, b0=0.0):
     upper = b0 + data.b + data.halfwidth
     cut = HalfspaceIntersection(np.column_stack([np.cos(data.theta), np.sin(data.theta), -upper]), np.zeros(2))
     points = cut.intersections[ConvexHull(cut.intersections).vertices]
-    grid = np.linspace(0, T.TWO_PI, 50_000, endpoint=False)
+    grid = np.linspace(0, T.TWO_PI, 20_000, endpoint=False)
     outer = np.max(np.cos(grid)[:, None] * points[:, 0] + np.sin(grid)[:, None] * points[:, 1], axis=1)
-    return float(np.max(np.abs(outer - T.outline_support(body.outline.nodes, body.outline.controls, grid))))
+    own = T.outline_support(body.outline.nodes, body.outline.controls, grid, 1 if body.method == "halfplanes" else 16)
+    return float(np.max(np.abs(outer - own)))
 
 
 def _corner_points(body):
@@ -144,7 +145,7 @@ def test_walldata_bodies_within_the_band(tmp_path, ref, digits):
     tolerance of the truth."""
     path = tmp_path / "w.csv"
     path.write_text(W.write_rounded(ref, digits, theta_digits=digits).text)
-    b0 = max(0.0, ref.b_c + 0.5)  # where a body is inside the intervals (a cam's b_c is positive)
+    b0 = 0.0 if ref.b_c <= 0 else ref.b_c + 0.5  # where a body is inside the intervals (a cam's b_c is positive)
     body = solve_body(load_wall_file(str(path)), b0)
     assert body.b_c_lower <= ref.b_c <= body.b_c_upper
     truth = T.Truth(ref.name, lambda t: b0 + ref.b_of(t), ref.b_c, np.zeros((0, 2)), np.zeros((0, 2)))
