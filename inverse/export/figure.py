@@ -105,6 +105,8 @@ def _rho_panel(ax, body):
     data = sampled_curvature(body)
     ax.axhline(0, color="0.3", lw=0.8)
     _shade_windows(ax, body, label=False)
+    for k, angle in enumerate(body.critical_angles):  # the one set solve, critical and the JSON list
+        ax.axvline(angle, color=PALETTE[1], lw=0.7, ls=":", label="critical angles" if k == 0 else None)
     if data is None:
         theta = np.linspace(0, TWO_PI, 1200)
         b, _, d2 = body.wall.derivatives(theta)

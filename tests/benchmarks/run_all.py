@@ -32,6 +32,7 @@ RUNS = [
     ("solve", "bench_solve.py", [], False),
     ("data", "bench_data.py", [], False),
     ("dense_data", "bench_dense_data.py", [], True),
+    ("data_truth", "bench_data_truth.py", [], False),
     ("billiard", "bench_billiard.py", ["--collisions", "1000000", "--count"], False),
     ("toss", "bench_toss.py", [], False),
     ("correlation", "bench_correlation.py", [], False),
