@@ -150,6 +150,24 @@ def _slope_bound(theta, b, sigma_b, sigma_theta, h_bound, noise):
     return np.maximum(bounds[0], bounds[1])
 
 
+def _grid_verdict(theta, b, halfwidth, sd, step):
+    """The note on a designed grid: exact where the samples' scatter is within their own errors (3 standard
+    deviations of uniform rounding, ``w/√3``, or of the given noise) or falls off with the order of the
+    differences (a smooth wall, not noise); else not exact."""
+    scatter = grid_scatter(np.asarray(b, float)[np.argsort(np.mod(theta, TWO_PI))])
+    allowed = 3.0 * float(np.median(halfwidth)) / math.sqrt(3.0)
+    if sd is not None:
+        allowed = max(allowed, 3.0 * float(np.median(sd)))
+    every = f"every {math.degrees(step):.6g}°"
+    if scatter[2] > allowed and scatter[2] >= 0.5 * scatter[0]:
+        return (f"the angles look like a designed grid ({every}), but the values scatter about a smooth wall by "
+                f"about {scatter[2]:.2g}, more than their digits allow ({allowed:.2g}): the grid is not taken as "
+                f"exact, every angle is known to ±{0.5 * math.degrees(step):.6g}°",)
+    errors = "standard deviations" if sd is not None else "digits"
+    return (f"the angles are a designed grid ({every}), taken as exact: the values agree (their scatter about a "
+            f"smooth wall, {scatter[2]:.2g}, is within what their {errors} allow)",)
+
+
 def grid_scatter(values) -> tuple[float, float, float]:
     """Robust estimates of the scatter of samples on a uniform grid of angles about a smooth wall, from their
     4th, 6th and 8th cyclic differences: ``median |Δᵏb| / (0.6745 √C(2k, k))``, the standard deviation of
@@ -246,7 +264,7 @@ def _h_bound(theta, b, noise):
 
 
 def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None, *, merge: str = "intersect", sd=None,
-                     theta_sd=None, notes=()) -> SampleData:
+                     theta_sd=None, grid=None) -> SampleData:
     """The samples as intervals at distinct angles (module docstring).
 
     Parameters
@@ -265,8 +283,11 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None, *, m
     sd, theta_sd : float or array_like, optional
         Standard deviations of the values and of the angles (radians), one or one per sample: statistics,
         kept apart from the half-widths (:attr:`SampleData.sd`); with either, samples at one angle are averaged.
-    notes : sequence of str
-        Kept as :attr:`SampleData.notes`.
+    grid : float, optional
+        The step (radians) of a uniform grid the angles were written on: exact — the design of the data — where
+        the values agree, their scatter about a smooth wall (:func:`grid_scatter`) within what their half-widths
+        (or standard deviations) allow; where it is not, every angle is taken to ``±grid/2``.  A note says which
+        (:attr:`SampleData.notes`).
 
     Raises
     ------
@@ -289,6 +310,9 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None, *, m
     sb = spread(sigma_b, "b_halfwidth", face)
     st = spread(sigma_theta, "theta_halfwidth", 4.0 * _EPS * np.maximum(np.abs(theta), TWO_PI))
     statistical = sd is not None or theta_sd is not None
+    notes = () if grid is None else _grid_verdict(theta, b, sb, sd, grid)
+    if len(notes) and "not taken as exact" in notes[0]:
+        st = np.maximum(st, 0.5 * grid)
     if statistical:
         merge = "mean"
         var_b = spread(sd, "b_sd", np.zeros(n_in)) ** 2
@@ -372,4 +396,4 @@ def sample_intervals(theta, b, sigma_b=None, sigma_theta=None, labels=None, *, m
         deviation.setflags(write=False)
     for arr in (angle, middle, halfwidth, sig_b, sig_t, slope, count):
         arr.setflags(write=False)
-    return SampleData(angle, middle, halfwidth, sig_b, sig_t, slope, count, tuple(notes), deviation)
+    return SampleData(angle, middle, halfwidth, sig_b, sig_t, slope, count, notes, deviation)

@@ -98,19 +98,6 @@ class CriticalBound:
     angle_tolerance: float = 0.0
     ladder: tuple = field(default=(), repr=False)
 
-    def regimes(self, b0: float, tol: float = 0.0) -> tuple[str, ...]:
-        """The regimes the data allow at offset ``b0`` from the interval alone: ``("corner",)`` below
-        :attr:`lower`, ``("convex",)`` above :attr:`upper`, else the ones between (``"critical"`` among them)."""
-        if b0 < self.lower - tol:
-            return ("corner",)
-        if b0 > self.upper + tol:
-            return ("convex",)
-        allowed = ["corner"] if b0 > self.lower + tol else []
-        allowed.append("critical")
-        if b0 < self.upper - tol:
-            allowed.append("convex")
-        return tuple(allowed)
-
     def __repr__(self) -> str:
         return (f"CriticalBound(b_c in [{self.lower:.6g}, {self.upper:.6g}], estimate {self.estimate:.6g}, "
                 f"{self.used.size} samples used, {len(self.angles)} critical angles)")
@@ -162,6 +149,8 @@ class Certificate:
         The regimes the data allow at ``b0``; one when they decide it.
     regime : str
         The decided regime, or ``"critical"`` where they do not decide (the body is then the simplest one).
+    band : coinwall.inverse.band.Band or None
+        The envelopes of every consistent body at ``b0`` (None below ``b_c⁻``, where there is none).
     """
 
     bound: CriticalBound
@@ -170,6 +159,7 @@ class Certificate:
     possible: tuple
     regimes: tuple
     regime: str
+    band: object = field(default=None, repr=False)
 
     def __repr__(self) -> str:
         return (f"Certificate(b0={self.b0:g}, {'/'.join(self.regimes)}, {len(self.corners)} forced corners, "
@@ -474,8 +464,7 @@ def _overlap(a, b):
     return bool(shift <= a[1] - a[0] or shift + (b[1] - b[0]) >= TWO_PI)
 
 
-def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
-            outline_tolerance: float = 0.0) -> Certificate:
+def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None) -> Certificate:
     """What the samples ``b ± halfwidth`` at ``theta`` certify at the offset ``b0`` (module docstring).
 
     A window of width ``W`` through which every consistent body turns along at most ``L`` of boundary is a
@@ -497,8 +486,6 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
         The offset.
     bound : CriticalBound, optional
         :func:`critical_bound` of the same data, when already computed.
-    outline_tolerance : float
-        The band's width at ``b0`` (:func:`coinwall.inverse.band.band_of`), 0 if not known.
 
     Returns
     -------
@@ -522,6 +509,12 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
     lo, hi = b - w, b + w
     scale = max(1.0, float(np.max(np.abs(b + b0))))
     tol = OFFSET_TOLERANCE * scale
+    band = None
+    if b0 >= bound.lower - tol:  # some consistent body: the envelopes of them all (coinwall.inverse.band)
+        from .band import band_of
+
+        band = band_of(theta, b0 + lo, b0 + hi)
+    outline_tolerance = band.tolerance if band is not None else 0.0
     bend = CORNER_RADIUS_FRACTION * max(float(np.median(b + b0)), 1e-300)
     resolution = 0.5 * (bound.upper - bound.lower)
 
@@ -553,13 +546,14 @@ def certify(theta, b, halfwidth, b0: float, bound: CriticalBound | None = None,
         regimes, corners = ("convex",), []
     elif corners:
         regimes = ("critical",)
-    else:
-        regimes = bound.regimes(b0, tol)
+    else:  # every regime the interval allows (critical always)
+        regimes = tuple(r for r, ok in (("corner", b0 > bound.lower + tol), ("critical", True),
+                                        ("convex", b0 < bound.upper - tol)) if ok)
     possible = []
     if regimes not in (("convex",), ("corner",)):
         possible = _possible(theta, lo, hi, b0, bound.ladder, [c.window for c in corners])
     regime = regimes[0] if len(regimes) == 1 else "critical"
-    return Certificate(bound, float(b0), tuple(corners), tuple(possible), tuple(regimes), regime)
+    return Certificate(bound, float(b0), tuple(corners), tuple(possible), tuple(regimes), regime, band)
 
 
 def data_critical_offset(wall):

@@ -27,9 +27,8 @@ from coinwall.forward.angles import TWO_PI
 from coinwall.forward.errors import InvalidWall
 from coinwall.forward.outline import Outline, support_function
 
-from .band import band_of
 from .body import Body
-from .certify import certify, critical_bound
+from .certify import certify
 from .corners import Corner
 from .discrete import (
     _through_point,
@@ -113,15 +112,6 @@ def _wall_errors(body_wall, theta, h, w, windows):
     excess = error - w
     worst = int(np.argmax(excess))
     return max(float(np.max(error)), 0.0), float(excess[worst]), float(theta[worst])
-
-
-def _bound(wall, theta, b, w):
-    """The b_c interval of the wall's data, computed once per wall (a wall is immutable)."""
-    bound = wall.__dict__.get("_certified_bound")
-    if bound is None:
-        bound = critical_bound(theta, b, w)
-        object.__setattr__(wall, "_certified_bound", bound)  # a wall is immutable: its data's bound is too
-    return bound
 
 
 def _snap_corners(points, normals, certificate, theta, h, w):
@@ -260,10 +250,9 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
     scale = max(1.0, float(np.max(np.abs(h))))
     tiny = 1e-9 * scale
     # ---------------------------------------------------------------- certify, band
-    bound = _bound(wall, theta, b, w)
-    tol = 1e-9 * scale
-    band = band_of(theta, h - w, h + w) if b0 >= bound.lower - tol else None
-    certificate = certify(theta, b, w, b0, bound, band.tolerance if band is not None else 0.0)
+    certificate = certify(theta, b, w, b0, wall.__dict__.get("_certified_bound"))
+    bound, band = certificate.bound, certificate.band
+    object.__setattr__(wall, "_certified_bound", bound)  # a wall is immutable: its data's bound is too
     consistent = certificate.regimes != ("corner",)
     notes = [*data.notes, _interval_note(data, bound, theta.size)]
     if bound.used.size < theta.size:

@@ -157,41 +157,20 @@ def read_samples_csv(path: str, *, degrees: bool = False):
     return table["theta"], table["b"]
 
 
-def _angle_rounding(values, period, b=None, b_rounding=None, sd=None):
-    """``(rounding, notes)`` of angles as written (in the file's unit): half a unit of the last digit of each,
-    or a few ulps where the angles are a designed uniform grid (0°, 1°, …; distinct, every step equal) and the
-    values agree: their scatter about a smooth wall (:func:`~coinwall.forward.sampledata.grid_scatter`) is
-    within what their own digits allow.  Where it is not — angles read off an instrument to the grid's step,
-    say — the grid is not exact: the angles are taken to half a step, and a note says so.  Values given with
-    standard deviations ``sd`` may scatter by as much (noise in the values, not in the angles)."""
+def _angle_rounding(values, period):
+    """``(rounding, grid)`` of angles as written (in the file's unit): half a unit of the last digit of each,
+    or, where the angles are a uniform grid (0°, 1°, …; distinct, every step equal), a few ulps and the grid's
+    step: the grid may be the design of the data, exact — which the samples' own scatter decides
+    (:func:`coinwall.forward.sampledata.sample_intervals`)."""
     import numpy as np
-
-    from ..sampledata import grid_scatter
 
     values = np.asarray(values, dtype=float)
     distinct = np.unique(values)
     if distinct.size == values.size and distinct.size >= 8:
         steps = np.diff(distinct)
         if np.all(np.abs(steps - steps[0]) <= 64 * np.finfo(float).eps * max(period, float(np.max(np.abs(values))))):
-            unit = "°" if period == 360.0 else " rad"
-            step = float(steps[0])
-            if b is None:
-                return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period), ()
-            order = np.argsort(values)
-            scatter = grid_scatter(np.asarray(b, float)[order])
-            allowed = 3.0 * float(np.median(b_rounding)) / math.sqrt(3.0)  # uniform rounding: w/√3
-            if sd is not None:
-                allowed = max(allowed, 3.0 * float(np.median(sd)))
-            if scatter[2] > allowed and scatter[2] >= 0.5 * scatter[0]:
-                return np.full(values.size, 0.5 * step), (
-                    f"the angles look like a designed grid (every {step:g}{unit}), but the values scatter about a "
-                    f"smooth wall by about {scatter[2]:.2g}, more than their digits allow ({allowed:.2g}): the grid "
-                    f"is not taken as exact, every angle is known to ±{0.5 * step:g}{unit}",)
-            return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period), (
-                f"the angles are a designed grid (every {step:g}{unit}), taken as exact: the values agree (their "
-                f"scatter about a smooth wall, {scatter[2]:.2g}, is within what their "
-                f"{'standard deviations' if sd is not None else 'digits'} allow)",)
-    return rounding_of(values), ()
+            return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period), float(steps[0])
+    return rounding_of(values), None
 
 
 def _data_rows(text, most=None, skip=0):
@@ -280,7 +259,7 @@ def _careful_columns(path, rows, cells, number, width, columns):
     return [np.array(d) for d in data]
 
 
-def read_sample_table(path: str, *, degrees: bool = False, b_sd: float | None = None) -> dict:
+def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     """Samples from a CSV as people write them: angles, values, their half-widths and line numbers.
 
     The delimiter is a comma, a semicolon, a tab or white space (decimal commas are read with a
@@ -300,7 +279,8 @@ def read_sample_table(path: str, *, degrees: bool = False, b_sd: float | None = 
         ``theta`` (radians), ``b``, ``theta_rounding`` (radians) and ``b_rounding``: half a unit of the
         last digit written (or the file's half-width columns, whichever is larger; angles on a designed
         uniform grid are exact when the values agree), ``b_sd`` and ``theta_sd`` (radians; None without such a
-        column), ``notes`` (what was decided about a grid) and ``labels`` (``"line N"`` of each sample).
+        column), ``grid`` (the step of a uniform grid of angles, radians, or None) and ``labels``
+        (``"line N"`` of each sample).
     """
     import numpy as np
 
@@ -374,10 +354,11 @@ def read_sample_table(path: str, *, degrees: bool = False, b_sd: float | None = 
             raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a {what} is negative")
     period = 360.0 if in_degrees else 2 * np.pi
     b_rounding = np.maximum(rounding_of(b), sigma.get("halfwidth_value", 0.0))
-    theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding, _largest(sigma.get("sd_value"), b_sd))
+    theta_rounding, grid = _angle_rounding(theta, period)
     theta_rounding = np.maximum(theta_rounding, sigma.get("halfwidth_angle", 0.0))
     if in_degrees:
         theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
+        grid = None if grid is None else math.radians(grid)
         if "sd_angle" in sigma:
             sigma["sd_angle"] = np.radians(sigma["sd_angle"])
     elif theta.size and np.ptp(theta) > 2 * np.pi * (1 + 1e-9) + 2 * float(np.max(theta_rounding)):
@@ -385,7 +366,7 @@ def read_sample_table(path: str, *, degrees: bool = False, b_sd: float | None = 
         raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: are they "
                           "degrees? Name the column theta_deg, or pass --degrees")
     return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
-            "b_sd": sigma.get("sd_value"), "theta_sd": sigma.get("sd_angle"), "notes": notes,
+            "b_sd": sigma.get("sd_value"), "theta_sd": sigma.get("sd_angle"), "grid": grid,
             "labels": lines, "degrees": in_degrees}
 
 
@@ -425,14 +406,14 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
 
     if path.lower().endswith(".csv"):
         # numbers written as text carry their rounding in their digits
-        table = read_sample_table(path, degrees=degrees, b_sd=b_sd)
+        table = read_sample_table(path, degrees=degrees)
         angle = math.radians if table.get("degrees") else float
         sd, theta_sd_ = _largest(table["b_sd"], b_sd), _largest(table["theta_sd"], None if theta_sd is None else
                                                                   angle(theta_sd))
         return Wall.from_samples(table["theta"], table["b"], rounding=np.maximum(table["b_rounding"], b_halfwidth),
                                  theta_rounding=np.maximum(table["theta_rounding"], angle(theta_halfwidth)),
                                  labels=table["labels"], merge="mean" if noisy else "intersect", sd=sd,
-                                 theta_sd=theta_sd_, notes=table["notes"])
+                                 theta_sd=theta_sd_, grid=table["grid"])
     from .inputfile import read_json
 
     doc = read_json(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
@@ -460,7 +441,7 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
             in_degrees = doc.get("degrees", False) is True or degrees
             period = 360.0 if in_degrees else 2 * np.pi
             b_rounding = np.maximum(rounding_of(b), given["b_halfwidth"])
-            theta_rounding, notes = _angle_rounding(theta, period, b, b_rounding, given["b_sd"])
+            theta_rounding, grid = _angle_rounding(theta, period)
             theta_rounding = np.maximum(theta_rounding, given["theta_halfwidth"])
             angle = math.radians if in_degrees else float
             if in_degrees:
@@ -473,7 +454,7 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
                                      labels=[f"`theta`[{k}]" for k in range(len(theta))],
                                      merge="mean" if noisy else "intersect", sd=given["b_sd"],
                                      theta_sd=None if given["theta_sd"] is None else angle(given["theta_sd"]),
-                                     notes=notes)
+                                     grid=None if grid is None else angle(grid))
         unknown = set(doc) - set(FOURIER_KEYS)
         if unknown:
             raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected "
