@@ -35,8 +35,7 @@ import numpy as np
 from .angles import TWO_PI
 from .errors import InvalidWall
 
-__all__ = ["SampleData", "sample_intervals", "exact_grid", "grid_scatter", "curvature_coefficients", "discrete_rho",
-           "thin"]
+__all__ = ["SampleData", "sample_intervals", "grid_scatter", "curvature_coefficients", "discrete_rho", "thin"]
 
 _EPS = float(np.finfo(float).eps)
 #: angles closer than this (rad, after reduction mod 2π) are one angle: a duplicate sample
@@ -97,21 +96,6 @@ class SampleData:
     def __repr__(self) -> str:
         return (f"SampleData({self.theta.size} angles, {self.merged} merged duplicates, "
                 f"largest half-width {float(np.max(self.halfwidth)):.3g})")
-
-
-def exact_grid(values, period: float) -> bool:
-    """Whether angles as written lie on a uniform grid that divides the period (0°, 1°, …, 359° or
-    0, 0.5, … in degrees): then the grid is the design of the data, not a rounding, and the angles are
-    exact.  Needs at least 8 distinct values."""
-    v = np.unique(np.mod(np.asarray(values, dtype=float), period))
-    if v.size < 8:
-        return False
-    count = round(period / float(np.min(np.diff(v)))) if np.min(np.diff(v)) > 0 else 0
-    if count <= 0 or count > 10**7:
-        return False
-    step = period / count
-    k = np.round(v / step)
-    return bool(np.all(np.abs(v - k * step) <= 8 * _EPS * period))
 
 
 def _neighbours_at_least(theta, span):

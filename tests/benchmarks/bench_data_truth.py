@@ -110,17 +110,19 @@ def cases(folder, smoke):
     # Reuleaux pentagon and a cam from walldata (their own closed forms)
     if not smoke:
         for name, ref, digits in (("Reuleaux pentagon, 720 angles, 6 digits", W.reuleaux(5, 720), 6),
-                                  ("cycloidal cam, 360 angles, 6 digits", W.cam("cycloidal", 360), 6)):
+                                  ("cycloidal cam at b0 = b_c + 0.5, 360 angles, 6 digits", W.cam("cycloidal", 360),
+                                   6)):
             written = W.write_rounded(ref, digits, theta_digits=digits)
             path = os.path.join(folder, "ref.csv")
             with open(path, "w") as stream:
                 stream.write(written.text)
-            body, seconds = _solve(path, 0.0)
+            b0 = 0.0 if ref.b_c <= 0 else ref.b_c + 0.5  # a cam's b_c is positive: solved where it is convex
+            body, seconds = _solve(path, b0)
             truth = T.Truth(name, ref.b_of, ref.b_c, ref.vertices if ref.vertices is not None else np.zeros((0, 2)),
                             np.zeros((0, 2)))
             dist = T.distance(body, truth)
             data = body.wall.sample_data
-            spread = _outer_spread(body, data.theta, data.b + data.halfwidth)
+            spread = _outer_spread(body, data.theta, b0 + data.b + data.halfwidth)
             rows.append((name, body.b_c_lower, ref.b_c, body.b_c_upper, len(body.corners), ref.corners or 0, None,
                          0.0, dist, body.outline_tolerance, seconds, "/".join(body.regimes), spread))
     print("| case | b_c lower ≤ truth ≤ upper | holds | regime | corners found / true (≥2 samples) | "
