@@ -225,11 +225,12 @@ def outline_support(nodes, controls, theta, per_segment=16):
     return out
 
 
-def distance(body, truth, count=50_000):
+def distance(body, truth, count=None):
     """The Hausdorff distance between a coinwall body's outline and the true body: the largest difference of
-    their support functions over ``count`` directions (plus the truth's ``b0`` offset of the body).  A polygon
-    (the half-plane bodies) is seen from its vertices, exactly; a curved outline from 16 points a segment."""
-    theta = np.linspace(0, TWO_PI, count, endpoint=False)
+    their support functions over ``count`` directions (default 50,000 for a polygon, seen from its vertices,
+    exactly; 20,000 for a curved outline, seen from 16 points a segment), plus the body's ``b0``."""
     per_segment = 1 if body.method == "halfplanes" else 16
+    count = count or (50_000 if per_segment == 1 else 20_000)
+    theta = np.linspace(0, TWO_PI, count, endpoint=False)
     return float(np.max(np.abs(outline_support(body.outline.nodes, body.outline.controls, theta, per_segment)
                                - (body.b0 + truth.h(theta)))))
