@@ -318,8 +318,11 @@ def solve_samples(wall, b0: float, *, method: str, points: int, cross_check: boo
         outline = Outline.from_polygon(points_)
         body = _polygon_body(wall, b0, certificate, outline, corners, cross, started)
         body_wall = outline_support(body.outline, theta, convex=body.convex and body.valid)
-        notes.append("the samples are not smooth or force corners: the body is built from the sampled support lines "
-                     "(exact for them); `points` does not apply")
+        if certificate.corners:
+            notes.append("the samples force corners: the body was built from the sampled support lines")
+        elif not consistent:
+            notes.append("below b_c the body is built from the sampled support lines")
+        notes.append("`points` does not apply to a body built from the sampled lines")
         if method == "polar":
             notes.append("the polar equation needs a smooth wall: these data were solved by the half-plane construction")
 
@@ -379,6 +382,9 @@ def _smooth_body(wall, data, bound, used, b0, method, points, cross_check, start
         used = np.arange(0, n, int(divisors[np.argmin(np.abs(divisors - n / used.size))]))
     geo = wall if used.size == n else Wall.from_samples(theta[used], b[used], rounding=w[used])
     if not interpolant_agrees(geo, discrete_support(theta[used], b[used], w[used]), bound):
+        notes.append("the samples' trigonometric interpolant does not read them faithfully (its b + b'' strays from "
+                     "their discrete curvature by more than their rounding and spacing allow, or its b_c leaves their "
+                     "interval: kinks, flat points or rounding): the body was built from the sampled lines")
         return None
     from .critical import CriticalOffset
 
