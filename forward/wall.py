@@ -279,7 +279,8 @@ class Wall:
 
     @classmethod
     def from_samples(cls, theta: Sequence[float], b: Sequence[float], *, max_harmonics: int | None = None,
-                     rounding=None, theta_rounding=None, labels=None, merge: str = "intersect") -> Wall:
+                     rounding=None, theta_rounding=None, labels=None, merge: str = "intersect", sd=None,
+                     theta_sd=None, grid=None) -> Wall:
         """Wall from periodic samples ``(θ_i, b_i)``, uniform or not.
 
         Each sample is an interval (:mod:`coinwall.forward.sampledata`): ``b_i`` is known to ``±rounding``
@@ -288,7 +289,10 @@ class Wall:
         two that cannot both hold are an error naming them (``labels``, e.g. the file's line numbers);
         ``merge="mean"`` averages them instead (noisy measurements, :func:`coinwall.inverse.fit.fit_convex`).
         The intervals are kept as :attr:`sample_data`; :attr:`samples` holds the distinct angles and the
-        middle of each interval, :attr:`sample_rounding` its half-width.
+        middle of each interval, :attr:`sample_rounding` its half-width.  ``sd`` and ``theta_sd`` are standard
+        deviations of the values and angles (statistics, not bounds: the solvers then estimate, with confidence
+        intervals); samples at one angle are then averaged.  ``grid``: the step (radians) of a uniform grid the
+        angles were written on, taken as exact only where the samples agree (:func:`~.sampledata.sample_intervals`).
 
         The samples are replaced by a trigonometric polynomial: the interpolant
         (FFT) for uniform samples, a least-squares fit with at most a third as
@@ -314,7 +318,8 @@ class Wall:
             raise InvalidWall(f"samples: {theta.size} samples, at most {4 * MAX_SAMPLES}; thin the samples")
         if theta.size < _MIN_SAMPLES:
             raise InvalidWall(f"samples: too short: {theta.size} samples, need at least {_MIN_SAMPLES}")
-        data = sample_intervals(theta, b, rounding, theta_rounding, labels, merge=merge)
+        data = sample_intervals(theta, b, rounding, theta_rounding, labels, merge=merge, sd=sd, theta_sd=theta_sd,
+                                grid=grid)
         reduced, values = data.theta, data.b
         scale = max(1.0, float(np.max(np.abs(values))))
         n = reduced.size

@@ -81,6 +81,17 @@ class Body:
     regimes : tuple of str
         Every regime the data allow at ``b0`` (``("corner", "critical", "convex")`` where they cannot
         decide; :attr:`regime` is then ``"critical"``); for a formula wall, ``(regime,)``.
+    outline_tolerance : float or None
+        For a wall given as data (at an offset where some convex body is inside every sample's interval):
+        certified bound on the Hausdorff distance between this outline and every convex body whose support
+        function lies in the samples' intervals (the true body among them).  None otherwise.
+    possible_corners : tuple of coinwall.inverse.certify.DataCorner
+        For data: windows where the samples allow a corner that they do not force.
+    band : coinwall.inverse.band.Band or None
+        For data: the envelopes of every consistent body (what the figures draw).
+    statistics : coinwall.inverse.noise.NoisyCritical or None
+        For samples given with standard deviations: ``b_c`` as an estimate with a confidence interval (then
+        :attr:`b_c_lower` and :attr:`b_c_upper`, which are certified bounds, are None).
     """
 
     wall: object
@@ -112,6 +123,10 @@ class Body:
     b_c_upper: float | None = None
     regimes: tuple = field(default=())
     critical_angle_errors: tuple = field(default=())
+    outline_tolerance: float | None = None
+    possible_corners: tuple = field(default=())
+    band: object = field(default=None, repr=False, compare=False)
+    statistics: object = field(default=None, repr=False, compare=False)
 
     @property
     def regime_decided(self) -> bool:
@@ -190,6 +205,9 @@ class Body:
             "regime_decided": self.regime_decided,
             "b_c_lower": json_number(self.b_c_lower),
             "b_c_upper": json_number(self.b_c_upper),
+            "outline_tolerance": json_number(self.outline_tolerance),
+            "possible_corners": [c.to_dict() for c in self.possible_corners],
+            "b_c_confidence": self.statistics.to_dict() if self.statistics is not None else None,
             "points": int(self.x.size),
             "max_wall_error": json_number(self.max_wall_error),
             "cross_check": json_number(self.cross_check),

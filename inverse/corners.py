@@ -53,6 +53,9 @@ class Corner:
         Where the deficit is largest.
     exact : bool
         True when the corner was polished to rounding by Newton's method.
+    length : float or None
+        For a corner that data force: every body consistent with the samples turns through the whole
+        window along a piece of boundary at most this long (certified); None for a formula wall's corner.
     """
 
     direction: float
@@ -62,11 +65,15 @@ class Corner:
     window: tuple[float, float]
     deficit_angle: float
     exact: bool = True
+    length: float | None = None
 
     def to_dict(self) -> dict:
-        return {"direction": self.direction, "half_width": self.half_width, "distance": self.distance,
-                "max_deficit": self.max_deficit, "window": list(self.window),
-                "deficit_angle": self.deficit_angle, "exact": self.exact}
+        out = {"direction": self.direction, "half_width": self.half_width, "distance": self.distance,
+               "max_deficit": self.max_deficit, "window": list(self.window),
+               "deficit_angle": self.deficit_angle, "exact": self.exact}
+        if self.length is not None:
+            out["length"] = self.length
+        return out
 
 
 @dataclass(frozen=True)

@@ -19,11 +19,9 @@ from coinwall.forward.angles import TWO_PI
 from coinwall.forward.display import format_number, safe_repr
 
 from .criticalcells import CELLS
-from .discrete import DiscreteSupport, _gaps, discrete_support, machine_rounding
 from .tolerances import ANGLE_TOLERANCE, OFFSET_TOLERANCE
 
-__all__ = ["CriticalOffset", "critical_offset", "data_critical_offset", "format_critical_angles", "regime_of",
-           "sampled_critical_offset"]
+__all__ = ["CriticalOffset", "critical_offset", "format_critical_angles", "regime_of"]
 
 
 @dataclass(frozen=True)
@@ -52,8 +50,9 @@ class CriticalOffset:
         from :attr:`b_c` to an end of the certified interval.
     lower, upper : float or None
         For data: every wall consistent with the samples' intervals has ``b_c ≥ lower`` (certified by a
-        linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).
-        None for a formula wall (exact to :attr:`b_c_tolerance`).
+        linear programme); ``b_c ≤ upper`` under :attr:`assumption` (:mod:`coinwall.inverse.certify`).  For
+        samples with standard deviations, a confidence interval (:mod:`coinwall.inverse.noise`; the
+        assumption says so).  None for a formula wall (exact to :attr:`b_c_tolerance`).
     assumption : str
         What :attr:`upper` rests on (empty for a formula wall).
     samples_used : int
@@ -151,7 +150,7 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     where ``b + b''`` is minimal on a whole arc: the stick); an angle is reported only where ``b + b''``
     comes within that tolerance of its minimum, so a second dip above it is left out.  Intervals are split
     at the kinks, where ``b''`` has a point mass.  A concave kink (``b'`` jumps down) gives ``b_c = inf``.
-    A wall of samples gets the data's certified interval (:func:`data_critical_offset`).
+    A wall of samples gets the data's certified interval (:func:`coinwall.inverse.certify.data_critical_offset`).
 
     Parameters
     ----------
@@ -183,7 +182,9 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
 
     from .criticalcells import INTERVAL_WIDTH, certified_minimum
 
-    if wall.samples is not None:  # data: the exact discrete geometry of the lines, never the interpolant
+    if wall.samples is not None:  # data: the certified interval of their lines, never the interpolant
+        from .certify import data_critical_offset
+
         return data_critical_offset(wall)
     concave = [k for k in wall.kinks if k.jump < 0]
     if concave:
@@ -219,18 +220,6 @@ def critical_offset(wall, *, cells: int = CELLS) -> CriticalOffset:
     return result
 
 
-def _cyclic_runs(mask):
-    """(start, length) of runs of True in a cyclic boolean array."""
-    n = mask.size
-    if mask.all():
-        return [(0, n)]
-    shift = int(np.argmin(mask))  # a False entry: no run wraps past it
-    rolled = np.roll(mask, -shift).astype(np.int8)
-    edges = np.diff(np.concatenate([[0], rolled, [0]]))
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    return [(int((i + shift) % n), int(j - i)) for i, j in zip(starts, stops)]
-
-
 def regime_of(b0: float, b_c: float, scale: float = 1.0, tolerance: float = 0.0) -> str:
     """``"convex"`` (Case I, b0 > b_c), ``"critical"`` (Case II) or ``"corner"`` (Case III, b0 < b_c).
 
@@ -243,73 +232,3 @@ def regime_of(b0: float, b_c: float, scale: float = 1.0, tolerance: float = 0.0)
     if abs(b0 - b_c) <= tol:
         return "critical"
     return "convex"
-
-
-def sampled_critical_offset(support: DiscreteSupport):
-    """The critical offset of sampled data, with the tolerance the data allow.
-
-    ``b_c = −min ρ_i`` is exact for the lines.  At the sample where ρ is smallest (and best
-    determined), the leading error of the discrete formula against a smooth wall through the samples,
-    ``Δ²ρ''/12``, is estimated from the second difference of ρ and removed; the tolerance is the
-    rounding of ρ there plus the size of that correction, so the band holds both the value exact for
-    the lines and the value of a smooth wall.  Inside a vertex window (a polygon's data) ρ is 0 and
-    the correction vanishes: the tolerance is the rounding alone.  Where the minimum falls between
-    samples, the parabola through the three values around it gives its value.  Runs of samples at the minimum
-    (vertex windows) are reported as intervals, an isolated minimum as an angle refined by a parabola.
-    """
-    rho, theta = support.rho, support.theta
-    n = rho.size
-    i = support.critical_index
-    left, mid, right = rho[(i - 1) % n], rho[i], rho[(i + 1) % n]
-    correction = (left - 2.0 * mid + right) / 12.0
-    # the smallest value of the parabola through the three (the minimum falls between samples)
-    between = (left - right) ** 2 / (8.0 * (left - 2.0 * mid + right)) if left - 2.0 * mid + right > 0 else 0.0
-    value = float(mid - correction - min(between, abs(left - mid) + abs(right - mid)))
-    tolerance = float(support.rho_tolerance[i] + abs(correction) + between)
-    low = float(np.min(rho))
-    at_minimum = rho <= low + 2.0 * support.rho_tolerance + 1e-300
-    angles, intervals = [], []
-    before, after = _gaps(theta)
-    for start, length in _cyclic_runs(at_minimum):
-        if length >= 3:
-            lo = theta[start]
-            hi = lo + np.mod(theta[(start + length - 1) % n] - lo, TWO_PI)
-            intervals.append((float(lo), float(hi)))
-            angles.append(float(np.mod(0.5 * (lo + hi), TWO_PI)))
-            continue
-        k = start + int(np.argmin(rho[[(start + j) % n for j in range(length)]]))
-        k %= n
-        # a parabola through the three values around the smallest ρ (uniform-step formula)
-        left, mid, right = rho[(k - 1) % n], rho[k], rho[(k + 1) % n]
-        curvature = left - 2.0 * mid + right
-        shift = 0.5 * (left - right) / curvature if curvature > 0 else 0.0
-        step = 0.5 * (before[k] + after[k])
-        angles.append(float(np.mod(theta[k] + np.clip(shift, -0.5, 0.5) * step, TWO_PI)))
-    order = np.argsort(angles)
-    angle_tolerance = float(np.max(np.maximum(before, after)))
-    return CriticalOffset(-value + 0.0, tuple(angles[j] for j in order), tuple(sorted(intervals)), angle_tolerance,
-                          tolerance)
-
-
-def data_critical_offset(wall, bound=None):
-    """The critical offset of a sampled wall: the certified interval of :mod:`coinwall.inverse.certify` (over
-    every wall consistent with the samples' intervals), its best estimate, and where the minimum lies (from
-    the samples the geometry used: dense data are thinned).  ``bound``: a
-    :class:`~coinwall.inverse.certify.CriticalBound` already computed for this wall."""
-    import dataclasses
-
-    from .certify import certified_critical
-
-    theta, b = wall.samples
-    w = wall.sample_rounding if wall.sample_rounding is not None else machine_rounding(b)
-    if bound is None:
-        # a wall is immutable: its data's bound is computed once (solve_body asks for it twice)
-        bound = wall.__dict__.get("_certified_bound")
-    if bound is None:
-        bound = certified_critical(theta, b, w)
-        object.__setattr__(wall, "_certified_bound", bound)
-    idx = bound.used
-    base = sampled_critical_offset(discrete_support(theta[idx], b[idx], w[idx]))
-    tolerance = max(bound.estimate - bound.lower, bound.upper - bound.estimate)
-    return dataclasses.replace(base, b_c=bound.estimate, b_c_tolerance=tolerance, lower=bound.lower,
-                               upper=bound.upper, assumption=bound.assumption, samples_used=int(idx.size))

@@ -109,26 +109,6 @@ class DiscreteSupport:
     rho_tolerance: np.ndarray
     spacing_error: np.ndarray
 
-    @property
-    def critical_index(self) -> int:
-        """The sample where ρ is smallest; among samples tied within rounding, the one where ρ is
-        best determined (smallest spacing error: inside a vertex window rather than at its end)."""
-        low = float(np.min(self.rho))
-        tied = np.flatnonzero(self.rho <= low + 2 * self.rho_tolerance)
-        return int(tied[np.argmin(self.spacing_error[tied] + self.rho[tied] - low)])
-
-    @property
-    def b_c(self) -> float:
-        """The data's critical offset ``−min ρ_i`` (exact for the lines)."""
-        return -float(np.min(self.rho))
-
-    @property
-    def tolerance(self) -> float:
-        """How well the data fix ``b_c``: rounding plus the spacing error where ρ is smallest."""
-        i = self.critical_index
-        return float(self.rho_tolerance[i] + self.spacing_error[i])
-
-
 
 def discrete_support(theta, b, rounding=None) -> DiscreteSupport:
     """:class:`DiscreteSupport` of samples (sorted, distinct, angles in [0, 2π)); ``rounding``: how far
@@ -350,54 +330,54 @@ def support_polygon(theta, h, rounding, rho, centre=None) -> SampledBody:
         return _parallelogram(theta[active[j]], mid[active[j]], merge_tol[active[j]],
                               theta[nxt[j]], mid[nxt[j]], merge_tol[nxt[j]])
 
-    groups, current = [], [first]
-    region = start_region(first)
-    for k in range(1, m):
-        j = (first + k) % m
-        if same_as_next[(j - 1) % m] and len(current) < m - 1:
-            line = nxt[j]
-            if region is not None:
-                grown = _clip_strip(region, theta[line], mid[line], merge_tol[line])
-                joins = bool(grown)
-            else:  # the run's first two lines are parallel: decide from all its lines (rare)
-                lines = np.append(active[current], line)
-                grown, joins = None, _concurrent(theta[lines], mid[lines], rounding[lines], scale)
-            if joins:
-                current.append(j)
-                region = grown
-                continue
+    # only runs of close vertices need the region test; every other vertex is a group of its own
+    order = (first + np.arange(m)) % m
+    starts = np.flatnonzero(~same_as_next[(order - 1) % m])
+    groups = []
+    for seg in np.split(order, starts[1:]):
+        if seg.size == 1:
+            groups.append([int(seg[0])])
+            continue
+        current = [int(seg[0])]
+        region = start_region(current[0])
+        for j in seg[1:].tolist():
+            if len(current) < m - 1:
+                line = nxt[j]
+                if region is not None:
+                    grown = _clip_strip(region, theta[line], mid[line], merge_tol[line])
+                    joins = bool(grown)
+                else:  # the run's first two lines are parallel: decide from all its lines (rare)
+                    lines = np.append(active[current], line)
+                    grown, joins = None, _concurrent(theta[lines], mid[lines], rounding[lines], scale)
+                if joins:
+                    current.append(j)
+                    region = grown
+                    continue
+            groups.append(current)
+            current = [j]
+            region = start_region(j)
         groups.append(current)
-        current = [j]
-        region = start_region(j)
-    groups.append(current)
 
-    vertices, cone_start, cone_end, first_line, last_line = [], [], [], [], []
-    for group in groups:
-        lo = start[group[0]]
-        hi = lo + np.mod(end[group[-1]] - lo, TWO_PI)
-        if hi <= lo:
-            hi += TWO_PI
-        vertices.append(points[group[0]] if len(group) == 1 else points[group].mean(axis=0))
-        cone_start.append(lo)
-        cone_end.append(hi)
-        first_line.append(active[group[0]])
-        last_line.append(nxt[group[-1]])
-    vertices = np.array(vertices)
-    cone_start, cone_end = np.array(cone_start), np.array(cone_end)
+    group_first = np.array([g[0] for g in groups])
+    group_last = np.array([g[-1] for g in groups])
+    cone_start = start[group_first]
+    cone_end = cone_start + np.mod(end[group_last] - cone_start, TWO_PI)
+    cone_end = np.where(cone_end <= cone_start, cone_end + TWO_PI, cone_end)
+    vertices = points[group_first].copy()
+    for k in np.flatnonzero(group_last != group_first):
+        vertices[k] = points[groups[k]].mean(axis=0)
+    first_line, last_line = active[group_first], nxt[group_last]
 
     # the samples in each window: deficits, lines through the vertex, the fitted point
     count = len(vertices)
     corner = np.zeros(count, bool)
     deficit = np.zeros(count)
     deficit_angle = np.mod(cone_start, TWO_PI)
-    rho_at = np.zeros(count)
-    for k in range(count):
+    rho_at = 0.5 * (rho[first_line] + rho[last_line])
+    for k in np.flatnonzero(np.mod(last_line - first_line, n) > 1).tolist():
         i, j = first_line[k], last_line[k]
         idx = np.arange(i, j + (n if j <= i else 0) + 1) % n  # the lines from one active line to the next
-        inside = idx[1:-1]
-        if inside.size == 0:
-            rho_at[k] = 0.5 * (rho[i] + rho[j])
-            continue
+        rho_at[k] = 0.0
         corner[k] = True
         # a line passes through the vertex if the vertex lies within the line's interval h ± rounding
         through_tol = rounding[idx] + 16.0 * _EPS * scale
@@ -442,7 +422,8 @@ def support_polygon(theta, h, rounding, rho, centre=None) -> SampledBody:
     # neighbouring corner the window up to the edge's normal
     keep = np.ones(count, bool)
     if count > 3:
-        for k in range(count):
+        exact = corner & (deficit == 0.0)
+        for k in np.flatnonzero(~corner & np.roll(exact, 1) & np.roll(exact, -1)).tolist():
             before, after = (k - 1) % count, (k + 1) % count
             if not corner[k] and corner[before] and corner[after] and deficit[before] == 0.0 \
                     and deficit[after] == 0.0 and keep[before] and keep[after]:
@@ -499,3 +480,91 @@ def halfspace_polygon(theta, h) -> np.ndarray:
     points = HalfspaceIntersection(normals, inside).intersections
     hull = ConvexHull(points)
     return points[hull.vertices]
+
+
+def simplest_inside(vertices, theta, lower, normals=None) -> tuple[np.ndarray, np.ndarray]:
+    """The convex polygon ``vertices`` (counter-clockwise) with every vertex dropped whose removal keeps the
+    support at each ``theta`` at least ``lower`` there — the fewest vertices, within rounding, that stay inside
+    the intervals the polygon met (vertices are only removed, so the result lies inside the polygon).
+
+    Each pass looks at vertices no two of them neighbours: first those standing out farthest from their
+    neighbours' chord (taller than both), then, when none of those can go, the even and the odd ones in turn;
+    removing vertex ``j`` replaces its support over its normal window by the larger of its neighbours', so a
+    pass is one vectorised look at the samples in each candidate's window.  ``normals``: the normal angle of
+    each edge ``j → j + 1`` where known exactly (the outer body's edges lie on sample lines); a new edge's
+    normal is kept between those of the two it replaces, so tiny edges never disorder the windows.
+
+    Examples
+    --------
+    The outer body of a pentagon's exact support at every 10° (its vertices and a roof over each edge) comes
+    back as the pentagon:
+
+    >>> theta = np.radians(np.arange(0, 360, 10.0))
+    >>> corners = np.exp(1j * (0.3 + 2 * np.pi * np.arange(5) / 5))
+    >>> h = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
+    >>> outer = halfspace_polygon(theta, h)
+    >>> len(outer), len(simplest_inside(outer, theta, h - 1e-12)[0])
+    (10, 5)
+    """
+    v = np.asarray(vertices, float)
+    theta = np.asarray(theta, float)
+    lower = np.asarray(lower, float)
+    if normals is None:
+        edges = np.roll(v, -1, axis=0) - v
+        normals = np.mod(np.arctan2(-edges[:, 0], edges[:, 1]), TWO_PI)
+    normal = np.asarray(normals, float).copy()
+    direction = np.column_stack([np.cos(theta), np.sin(theta)])
+    stalled = parity = 0
+    tallest = True
+    while v.shape[0] > 3 and stalled < 3:
+        m = v.shape[0]
+        # the vertex whose normal window (from its incoming edge's normal to its outgoing one's) holds a sample
+        owner = vertex_owner(normal, theta)
+        if tallest:
+            # the vertices standing farthest out from their neighbours' chord first (a roof over a flat edge
+            # goes before the vertices on the curves beside it): those taller than both neighbours
+            before, after = np.roll(v, 1, axis=0), np.roll(v, -1, axis=0)
+            chord = after - before
+            height = (chord[:, 1] * (v - before)[:, 0] - chord[:, 0] * (v - before)[:, 1]) / np.maximum(
+                np.hypot(*chord.T), 1e-300)  # outward: to the right of the chord of a counter-clockwise polygon
+            candidate = (height > np.roll(height, 1)) & (height >= np.roll(height, -1))
+        else:
+            candidate = (np.arange(m) % 2) == parity
+            if m % 2:
+                candidate[m - 1] = False  # it neighbours vertex 0
+        pick = np.flatnonzero(candidate[owner])
+        own = owner[pick]
+        chord = np.maximum(np.einsum("ij,ij->i", v[(own - 1) % m], direction[pick]),
+                           np.einsum("ij,ij->i", v[(own + 1) % m], direction[pick]))
+        fails = np.zeros(m, bool)
+        fails[own[chord < lower[pick]]] = True
+        drop = candidate & ~fails
+        excess = int(drop.sum()) - (m - 3)
+        if excess > 0:
+            drop[np.flatnonzero(drop)[-excess:]] = False
+        if not tallest:
+            parity ^= 1
+        if not drop.any():
+            stalled += 1
+            tallest = False  # then every other vertex, both ways
+            continue
+        stalled = 0
+        # the edge j − 1 → j + 1 replaces j − 1 → j and j → j + 1: its normal, kept between theirs
+        j = np.flatnonzero(drop)
+        before, after = v[(j - 1) % m], v[(j + 1) % m]
+        chord_normal = np.arctan2(-(after - before)[:, 0], (after - before)[:, 1])
+        low, span = normal[(j - 1) % m], np.mod(normal[j] - normal[(j - 1) % m], TWO_PI)
+        offset = np.mod(chord_normal - low, TWO_PI)
+        offset = np.where(offset <= span, offset, np.where(offset - span < TWO_PI - offset, span, 0.0))
+        normal[(j - 1) % m] = np.mod(low + offset, TWO_PI)
+        v, normal = v[~drop], normal[~drop]
+    return v, normal
+
+
+def vertex_owner(normals, theta) -> np.ndarray:
+    """Index of the vertex of a convex polygon whose normal window holds each angle, from the normal angles
+    of its edges (``normals[j]``: edge ``j → j + 1``; vertex ``j``'s window runs from ``normals[j − 1]`` to
+    ``normals[j]``)."""
+    m = normals.size
+    order = np.argsort(normals, kind="stable")
+    return (order[(np.searchsorted(normals[order], np.mod(theta, TWO_PI), side="left") - 1) % m] + 1) % m

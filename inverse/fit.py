@@ -65,6 +65,7 @@ as ``possible`` or not at all.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -73,6 +74,8 @@ import numpy as np
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.display import safe_repr
 from coinwall.forward.errors import InvalidArgument, InvalidWall
+
+from .fitcorners import Cluster, Structure, cluster_runs
 
 __all__ = ["MAX_DIRECTIONS", "CornerTest", "FitResult", "fit_convex"]
 
@@ -151,15 +154,19 @@ class FitResult:
         ``Σ (residual/σ)²`` of the fitted wall over every sample, and ``N + 3√(2N)``: what N samples of
         noise σ stay below except with probability ~0.2 %.  The fitted wall keeps to it when it can.
     regime : str
-        What the data say: ``"critical"`` (a corner is supported: rounding it off costs more than the
-        noise allows), ``"convex"`` (no corner is supported and no candidate comes close) or
-        ``"undecided"`` (no corner, but a candidate the data neither confirm nor rule out).
+        What the data say, the same as :attr:`body`'s: ``"corner"`` (``b0`` below the confidence interval of
+        ``b_c``), ``"critical"`` (a corner is supported: rounding it off costs more than the noise allows),
+        ``"convex"`` (``b0`` above the interval, no corner supported and no candidate close) or
+        ``"undecided"`` (``b0`` inside the interval with no corner supported, or a candidate the data neither
+        confirm nor rule out; the body's :attr:`~coinwall.inverse.Body.regimes` lists what they allow).
     threshold : float
         The χ² growth above which a candidate is a corner (Bonferroni over the candidates).
     tests : tuple of CornerTest
         Every candidate corner and its test.
     notes : tuple of str
         What the fit had to give up, if anything.
+    critical : coinwall.inverse.noise.NoisyCritical
+        ``b_c`` as an estimate with a confidence interval (from the samples and their noise).
     """
 
     theta: np.ndarray
@@ -180,6 +187,7 @@ class FitResult:
     threshold: float = math.nan
     tests: tuple = ()
     notes: tuple = ()
+    critical: object = None
 
     @property
     def corners(self) -> int:
@@ -191,7 +199,9 @@ class FitResult:
                 "rms_residual": self.rms_residual, "max_residual": self.max_residual,
                 "sigma": self.sigma, "sigma_source": "given" if self.sigma_given else "estimated",
                 "chi2": self.chi2, "chi2_bound": self.chi2_bound, "regime": self.regime,
-                "body_regime": self.body.regime,
+                "body_regime": self.regime, "regimes": list(self.body.regimes),
+                "regime_decided": self.regime != "undecided",
+                "b_c_confidence": self.critical.to_dict() if self.critical is not None else None,
                 "b_c": self.body.b_c if math.isfinite(self.body.b_c) else None,
                 "corners": [c.to_dict() for c in self.body.corners], "threshold": self.threshold,
                 "candidates": [t.to_dict() for t in self.tests], "notes": list(self.notes),
@@ -260,303 +270,6 @@ def _polish(curvature, weights, target, support, active):
     return support
 
 
-# ---------------------------------------------------------------------------------------------------- the pieces
-def _stencil(theta):
-    """The three diagonals of ρ = A p (coefficients of p_{j−1}, p_j, p_{j+1}) and ``tan(Δ₋/2) + tan(Δ₊/2)``
-    (the length of the piece of line j is ``ρ_j`` times it)."""
-    after = np.diff(np.append(theta, theta[0] + TWO_PI))
-    before = np.roll(after, 1)
-    norm = np.tan(before / 2) + np.tan(after / 2)
-    return (1 / np.sin(before) / norm, -(np.cos(before) / np.sin(before) + np.cos(after) / np.sin(after)) / norm,
-            1 / np.sin(after) / norm, norm)
-
-
-def _lsi(E, f, G, h):
-    """``min ‖E x − f‖`` subject to ``G x ≥ h`` (E of full column rank, or a 1-d array: a diagonal), by
-    Lawson & Hanson's reduction to a least-distance programme whose dual is one non-negative least squares
-    problem (Solving Least Squares Problems, 1974, ch. 23).  Returns x, or None when no x meets the
-    constraints."""
-    from scipy.linalg import cholesky, solve_triangular
-    from scipy.optimize import nnls
-
-    if E.ndim == 1:  # z = E x − f
-        g = G / E[None, :]
-        base = f
-    else:  # z = R x − R⁻ᵀEᵀf with RᵀR = EᵀE
-        r = cholesky(E.T @ E)
-        base = solve_triangular(r, E.T @ f, trans="T")
-        g = solve_triangular(r, G.T, trans="T").T
-    hh = h - g @ base
-    m = g.shape[1]
-    matrix = np.vstack([g.T, hh[None, :]])
-    rhs = np.zeros(m + 1)
-    rhs[-1] = 1.0
-    u, _ = nnls(matrix, rhs, maxiter=50 * max(10, matrix.shape[1]))
-    residual = matrix @ u - rhs
-    if abs(residual[-1]) < 1e-12:  # pragma: no cover - the constraints here always have a solution
-        return None
-    z = -residual[:m] / residual[-1] + base
-    return z / E if E.ndim == 1 else solve_triangular(r, z)
-
-
-def _runs(mask):
-    """Cyclic runs of True: (start, length) pairs, the start in [0, n)."""
-    n = mask.size
-    if mask.all():
-        return [(0, n)]
-    if not mask.any():
-        return []
-    shift = int(np.flatnonzero(~mask)[0])
-    rolled = np.roll(mask, -shift)
-    edges = np.diff(np.concatenate([[0], rolled.astype(int), [0]]))
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    return [(int((s + shift) % n), int(e - s)) for s, e in zip(starts, stops)]
-
-
-@dataclass
-class _Cluster:
-    """Lines ``first .. last`` (unwrapped indices) through one candidate vertex; the lines strictly
-    between them are its window's interior."""
-
-    first: int
-    last: int
-    radius: float = 0.0
-    statistic: float = 0.0
-    corner: bool = False
-
-
-def _margin(span):
-    """Lines either side of a window that a local fit moves: its own width, at least 8, at most 40."""
-    return int(min(max(8, span), 40))
-
-
-class _Structure:
-    """The least-squares projection's vertex windows, merged and tested (see the module docstring)."""
-
-    def __init__(self, theta, weights, target, support, sigma):
-        self.theta, self.weights, self.target, self.support, self.sigma = theta, weights, target, support, sigma
-        self.n = theta.size
-        self.lo, self.mid, self.hi, self.norm = _stencil(theta)
-        self.rho = self.curvature(support)
-        self.length = np.maximum(self.rho, 0.0) * self.norm  # the edges of the projection
-        self.normals = np.column_stack([np.cos(theta), np.sin(theta)])
-
-    def curvature(self, p):
-        return self.lo * np.roll(p, 1) + self.mid * p + self.hi * np.roll(p, -1)
-
-    def angle(self, k):
-        """Unwrapped angle of line index k (any integer)."""
-        k = np.asarray(k)
-        return self.theta[k % self.n] + TWO_PI * (k // self.n)
-
-    def lines(self, first, last):
-        return np.arange(first, last + 1) % self.n
-
-    def width(self, cluster):
-        return float(self.angle(cluster.last) - self.angle(cluster.first))
-
-    # ------------------------------------------------------------------------------------------ merging
-    def merge_cost(self, left, right):
-        """χ² increase when the two candidate vertices are made one: ρ = 0 on every line between them."""
-        last = right.last if right.first >= left.last else right.last + self.n
-        if self.angle(last) - self.angle(left.first) >= 0.9 * math.pi:
-            return math.inf
-        first = left.first
-        if self.resolved(left, right, last):
-            return math.inf
-
-        def bounds(j):
-            k = first + ((j - first) % self.n)
-            return 0.0, first < k < last
-
-        change, _, _ = self.local_fit(first, last, bounds, _margin(last - first))
-        return max(change, 0.0) / self.sigma**2
-
-    def resolved(self, left, right, last):
-        """Whether the two vertices are plainly apart: the edges between them longer than 6 standard
-        deviations of the difference of their positions (each fitted to its own lines, noise σ)."""
-        stop = right.first if right.first >= left.last else right.first + self.n
-        idx = self.lines(left.last, stop)
-        d = self.length[idx] @ np.column_stack([-np.sin(self.theta[idx]), np.cos(self.theta[idx])])
-        size = float(np.hypot(*d))
-        if size == 0.0:
-            return False
-        spread = 0.0
-        for first, end in ((left.first, left.last), (stop, last)):
-            idx = self.lines(first, end)
-            moment = (self.normals[idx] * self.weights[idx, None]).T @ self.normals[idx]
-            if abs(np.linalg.det(moment)) < 1e-12 * np.trace(moment) ** 2:
-                return False
-            spread += float(d @ np.linalg.solve(moment, d)) / size**2
-        return size > 6.0 * self.sigma * math.sqrt(spread)
-
-    def merge(self, clusters, threshold):
-        """Join neighbouring candidate vertices while the cheapest join costs at most ``threshold`` in χ²
-        (the edge between them is not supported by the data); costs are counted from the projection, so a
-        chain of cheap joins cannot add up to an expensive one."""
-        clusters = list(clusters)
-        m = len(clusters)
-        costs = [self.merge_cost(clusters[k], clusters[(k + 1) % m]) if m > 1 else math.inf for k in range(m)]
-        while len(clusters) > 1:
-            k = int(np.argmin(costs))
-            if costs[k] > threshold:
-                break
-            j = (k + 1) % len(clusters)
-            if j == 0:  # the last joins the first across 2π: indices stay unwrapped from the last
-                clusters[k] = _Cluster(clusters[k].first, clusters[0].last + self.n)
-                del clusters[0], costs[0]
-                k -= 1
-            else:
-                clusters[k] = _Cluster(clusters[k].first, clusters[j].last)
-                del clusters[j], costs[j]
-            m = len(clusters)
-            for i in ((k - 1) % m, k % m):
-                costs[i] = self.merge_cost(clusters[i], clusters[(i + 1) % m]) if m > 1 else math.inf
-        return clusters
-
-    # ------------------------------------------------------------------------------------------ testing
-    def neighbourhood_radius(self, cluster, length):
-        """Radius of curvature of the projection next to the window: its boundary length within one
-        window-width of either side (the bounding edges included), divided by that width, on the less
-        curved side."""
-        w = self.width(cluster)
-        if w >= math.pi:
-            return float(length.sum() / TWO_PI)
-        ks = np.arange(cluster.first - self.n, cluster.last + self.n + 1)
-        angles = self.angle(ks)
-        slack = 1e-12 * TWO_PI
-        a, b = self.angle(cluster.first), self.angle(cluster.last)
-        left = (angles >= a - w - slack) & (ks <= cluster.first)
-        right = (ks >= cluster.last) & (angles <= b + w + slack)
-        return float(min(length[ks[left] % self.n].sum(), length[ks[right] % self.n].sum()) / w)
-
-    def local_fit(self, first, last, bounds, margin):
-        """Least squares over the lines near first..last, the rest held at the projection, subject to
-        ``ρ_j ≥ lower`` (``= 0`` where equality) for ``lower, equality = bounds(j)``; returns (the change
-        of the weighted residual sum, indices, new values)."""
-        n = self.n
-        span = last - first + 1 + 2 * margin
-        if span >= n - 2:
-            region = np.arange(n)
-            rows = region
-        else:
-            region = np.arange(first - margin, last + margin + 1) % n
-            rows = np.arange(first - margin - 1, last + margin + 2) % n
-        position = np.full(n, -1)
-        position[region] = np.arange(region.size)
-        G = np.zeros((rows.size, region.size))
-        spec = [bounds(j) for j in rows]
-        h = np.array([s[0] for s in spec], dtype=float)
-        for offset, coef in ((-1, self.lo), (0, self.mid), (1, self.hi)):
-            cols = (rows + offset) % n
-            at = position[cols]
-            free = at >= 0
-            G[np.flatnonzero(free), at[free]] += coef[rows[free]]
-            h[~free] -= coef[rows[~free]] * self.support[cols[~free]]
-        equal = np.array([s[1] for s in spec], bool)
-        if equal.any():  # ρ_j ≤ 0 as well: −ρ_j ≥ 0
-            G = np.vstack([G, -G[equal]])
-            h = np.concatenate([h, -h[equal]])
-        sw = np.sqrt(self.weights[region])
-        x = _lsi(sw, sw * self.target[region], G, h)
-        if x is None:  # pragma: no cover
-            return math.inf, region, self.support[region]
-        before = float(np.sum(self.weights[region] * (self.support[region] - self.target[region]) ** 2))
-        after = float(np.sum(self.weights[region] * (x - self.target[region]) ** 2))
-        return after - before, region, x
-
-    def rounding_test(self, cluster, fraction):
-        """The likelihood ratio of the window rounded off against the corner: the change of χ² from the fit
-        with ρ = 0 over the window (the corner, its lines through one point) to the fit with ρ ≥ ``fraction``
-        × the radius of curvature next to it (measured on the corner's fit, where the edges that noise split
-        across nearby directions are whole again), everything nearby free to follow."""
-        first, last = cluster.first, cluster.last
-        margin = _margin(last - first)
-
-        def inside(j):
-            k = first + ((j - first) % self.n)
-            return first < k < last
-
-        corner, region, values = self.local_fit(first, last, lambda j: (0.0, inside(j)), margin)
-        support = self.support.copy()
-        support[region] = values
-        length = np.maximum(self.curvature(support), 0.0) * self.norm
-        radius = fraction * self.neighbourhood_radius(cluster, length)
-        rounded, _, _ = self.local_fit(first, last, lambda j: ((radius if inside(j) else 0.0), False), margin)
-        return radius, max(rounded - corner, 0.0) / self.sigma**2
-
-    # ------------------------------------------------------------------------------------------ the body
-    def floors(self, clusters):
-        """Smallest ρ_j of the simplest body: 0 on the lines of a corner, elsewhere the radius its
-        (rejected) candidate was tested with, or that of the neighbouring candidates."""
-        n = self.n
-        floor = np.full(n, np.nan)
-        owner = np.full(n, -1)
-        for k, c in enumerate(clusters):
-            inner = self.lines(c.first + 1, c.last - 1)
-            floor[inner] = 0.0 if c.corner else c.radius
-            owner[inner] = k
-        for k, c in enumerate(clusters):
-            if c.corner:
-                floor[c.first % n] = 0.0
-                floor[c.last % n] = 0.0
-        m = len(clusters)
-        for k in range(m):
-            left, right = clusters[k], clusters[(k + 1) % m]
-            stop = right.first if right.first >= left.last else right.first + n
-            idx = [j % n for j in range(left.last, stop + 1) if np.isnan(floor[j % n])]
-            if not idx:
-                continue
-            radii = [c.radius for c in (left, right) if not c.corner]
-            if radii:
-                value = min(radii)
-            else:
-                span = max(float(self.angle(stop) - self.angle(left.last)), float(np.max(self.norm)))
-                value = float(self.length[self.lines(left.last, stop)].sum()) / span
-            floor[idx] = value
-        return floor
-
-    def body_fit(self, clusters, factor):
-        """Least squares with ρ = 0 exactly inside each corner window (its lines through one point: the
-        support values there follow from the two bounding lines) and ρ ≥ the floors elsewhere."""
-        from scipy import sparse
-
-        n = self.n
-        floor = self.floors(clusters)
-        forced = np.zeros(n, bool)
-        rows, cols, vals = [], [], []
-        for c in clusters:
-            if not c.corner:
-                continue
-            a, b = self.angle(c.first), self.angle(c.last)
-            for j in range(c.first + 1, c.last):
-                t = self.angle(j)
-                forced[j % n] = True
-                s = math.sin(b - a)
-                rows += [j % n, j % n]
-                cols += [c.first % n, c.last % n]
-                vals += [math.sin(b - t) / s, math.sin(t - a) / s]
-        free = np.flatnonzero(~forced)
-        index = np.full(n, -1)
-        index[free] = np.arange(free.size)
-        rows += free.tolist()
-        cols += free.tolist()
-        vals += [1.0] * free.size
-        B = sparse.csr_matrix((vals, (rows, index[np.array(cols)])), shape=(n, free.size))
-        A = sparse.diags([self.lo[1:], self.mid, self.hi[:-1]], [-1, 0, 1], shape=(n, n)).tolil()
-        A[0, n - 1] = self.lo[0]
-        A[n - 1, 0] = self.hi[n - 1]
-        constrained = free  # the forced lines meet their constraint exactly
-        G = (A.tocsr()[constrained] @ B).toarray()
-        h = factor * floor[constrained]
-        sw = np.sqrt(self.weights)
-        E = (sparse.diags(sw) @ B).toarray()
-        x = _lsi(E, sw * self.target, G, h)
-        if x is None:  # pragma: no cover
-            return None
-        return B @ x
-
-
 def _threshold(candidates: int, level: float) -> float:
     """χ² (one degree of freedom) exceeded by chance with probability ``level`` over ``candidates`` tests."""
     from statistics import NormalDist
@@ -564,7 +277,8 @@ def _threshold(candidates: int, level: float) -> float:
     return NormalDist().inv_cdf(1.0 - 0.5 * level / max(candidates, 1)) ** 2
 
 
-def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitResult:
+def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None, sd=None,
+               tail: float | None = None) -> FitResult:
     """The simplest convex body whose wall is as close to the samples ``(θ_i, b_i)`` as their noise allows.
 
     Parameters
@@ -577,6 +291,10 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
     sigma : float, optional
         The noise of one sample (standard deviation, units of the wall).  Default: estimated from the
         residuals of the least-squares projection.
+    sd : float or array_like, optional
+        The standard deviation of each sample (instead of ``sigma``); the tests use their root mean square.
+    tail : float, optional
+        The tail bound of the confidence interval of ``b_c`` (:func:`coinwall.inverse.noise.noisy_critical`).
 
     Returns
     -------
@@ -590,7 +308,16 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
         Samples that are not finite, too few directions, a gap of π or more, more than
         :data:`MAX_DIRECTIONS` directions, or an offset that puts the centre of mass outside.
     InvalidArgument
-        A ``sigma`` that is not a positive finite number.
+        A ``sigma`` that is not a positive finite number, or one below the precision of the values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> theta = np.radians(np.arange(360.0))
+    >>> wall = np.sqrt((1 + np.cos(theta) ** 2) / 2) + 1e-3 * np.random.default_rng(0).standard_normal(360)
+    >>> fit = fit_convex(theta, wall, sigma=1e-3)
+    >>> fit.regime, fit.corners, bool(fit.critical.lower <= -0.5 <= fit.critical.upper)
+    ('convex', 0, True)
     """
     from scipy.optimize import nnls
 
@@ -603,11 +330,19 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
         raise InvalidWall(f"samples: {theta.size} angles but {b.size} wall values")
     if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(b))):
         raise InvalidWall("samples: every angle and wall value must be finite")
+    if sd is not None:
+        sd = np.broadcast_to(np.asarray(sd, float), b.shape)
+        if not (np.all(np.isfinite(sd)) and np.all(sd > 0)):
+            raise InvalidArgument("`b_sd`: every standard deviation must be a positive finite number")
+        sigma = float(np.sqrt(np.mean(sd**2)))
     if sigma is not None:
         if isinstance(sigma, bool) or not isinstance(sigma, (int, float, np.floating, np.integer)) \
                 or not math.isfinite(sigma) or sigma <= 0:
             raise InvalidArgument(f"`sigma`: the noise must be a positive finite number, got {sigma!r}")
         sigma = float(sigma)
+        if b.size and sigma < 1e-13 * float(np.max(np.abs(b))):
+            raise InvalidArgument(f"`sigma` {sigma:.3g}: a noise below the precision of the values themselves "
+                                  f"(~1e-13 of {float(np.max(np.abs(b))):.3g}) is none: fit exact samples without it")
     b0 = check_offset(b0, float(np.max(np.abs(b))) if b.size else 1.0)
     reduced = np.mod(theta, TWO_PI)
     reduced[reduced >= TWO_PI] = 0.0
@@ -634,7 +369,7 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
     scale = max(1.0, float(np.max(np.abs(projection))))
 
     # the noise: given, or from the projection's residuals with its degrees of freedom (its edges)
-    structure = _Structure(directions, counts.astype(float), target, projection, 1.0)
+    structure = Structure(directions, counts.astype(float), target, projection, 1.0)
     rho_tol = 1e-9 * scale / np.minimum(gaps, np.roll(gaps, 1)) ** 2
     zero = structure.rho <= rho_tol
     total = int(counts.sum())
@@ -647,7 +382,7 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
         sigma_used = sigma
     structure.sigma = sigma_used
 
-    clusters = sorted((_Cluster(s - 1, s + length) for s, length in _runs(zero)), key=lambda c: c.first)
+    clusters = sorted((Cluster(s - 1, s + length) for s, length in cluster_runs(zero)), key=lambda c: c.first)
     threshold = _threshold(len(clusters), CORNER_LEVEL)
     clusters = structure.merge(clusters, threshold)
     threshold = _threshold(len(clusters), CORNER_LEVEL)
@@ -675,13 +410,27 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
     if chi2 > bound:
         notes.append(f"the residuals exceed the noise: χ² = {chi2:.4g} > {bound:.4g} for σ = {sigma_used:.3g}"
                      + (" (given)" if sigma is not None else ""))
+    # b_c with its confidence interval, and the regime from both: below the interval a corner is certain (at the
+    # confidence level), a supported corner makes it critical, above the interval it is convex unless a candidate
+    # is marginal; inside it the data do not decide (unless the interval is as narrow as the solvers' accuracy)
+    from .noise import noisy_critical
+    from .tolerances import OFFSET_TOLERANCE, WALL_ACCURACY
+
+    spread = np.sqrt(np.bincount(index, sd**2) / counts**2) if sd is not None else sigma_used / np.sqrt(counts)
+    found = noisy_critical(directions, mean, np.maximum(spread, 1e-13 * scale), tail=tail)
+    tol = OFFSET_TOLERANCE * scale
     corners = sum(c.corner for c in clusters)
-    if corners:
-        regime = "critical"
-    elif any(c.statistic > marginal for c in clusters):
-        regime = "undecided"
+    if b0 < found.lower - tol:
+        regimes = ("corner",)
+    elif corners:
+        regimes = ("critical",)
+    elif b0 > found.upper + tol:
+        regimes = ("critical", "convex") if any(c.statistic > marginal for c in clusters) else ("convex",)
+    elif found.upper - found.lower <= 2.0 * WALL_ACCURACY * scale:  # b_c fixed to the solvers' own accuracy
+        regimes = ("critical",)
     else:
-        regime = "convex"
+        regimes = ("corner", "critical", "convex")
+    regime = regimes[0] if len(regimes) == 1 else "undecided"
     fitted = support - b0
     residual = b - fitted[index]
     from coinwall.forward.wall import Wall
@@ -691,10 +440,12 @@ def fit_convex(theta, b, b0: float = 0.0, *, sigma: float | None = None) -> FitR
     accuracy = 1e-9 * max(1.0, float(np.max(np.abs(support))))
     wall = Wall.from_samples(directions, fitted, rounding=accuracy)
     body = solve_body(wall, b0)
+    # one answer: the body says what the fit says
+    body = dataclasses.replace(body, regime=regimes[0] if len(regimes) == 1 else "critical", regimes=regimes)
     tests = tuple(CornerTest((float(structure.angle(c.first)), float(structure.angle(c.last))),
                              int(c.last - c.first + 1), c.radius, c.statistic,
                              "corner" if c.corner else ("possible" if c.statistic > marginal else "round"))
                   for c in clusters)
     return FitResult(directions, mean, counts, fitted, b0, float(np.sqrt(np.mean(residual**2))),
                      float(np.max(np.abs(residual))), wall, body, projection - b0, sigma_used, sigma is not None,
-                     chi2, bound, regime, threshold, tests, tuple(notes))
+                     chi2, bound, regime, threshold, tests, tuple(notes), found)

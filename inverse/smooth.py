@@ -55,11 +55,14 @@ def _check_grid(n_nodes, windows, offset):
 
 
 def solve_smooth(wall, b0: float, *, method: str, points: int, cross_check: bool, started: float,
-                 accuracy: float | None = None) -> Body:
+                 accuracy: float | None = None, critical=None) -> Body:
     """The body of a wall known everywhere (a formula, or data shown to be smooth): the envelope or
-    polar construction on a grid of ``points`` normal angles, checked against the wall on a second grid."""
+    polar construction on a grid of ``points`` normal angles, checked against the wall on a second grid.
+    ``critical``: the wall's :class:`~.critical.CriticalOffset`, when the caller has it (data: their certified one)."""
+    # the envelope grid doubles as the bracketing grid of the critical offset
     samples = sample_support(wall, b0, points) if (method == "envelope" or cross_check) else None
-    critical = critical_offset(wall)
+    if critical is None:
+        critical = critical_offset(wall)
     regime = regime_of(b0, critical.b_c, wall.scale, critical.b_c_tolerance)
     geometry = regime
     if wall.samples is not None and samples is not None and regime != "corner" \

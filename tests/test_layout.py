@@ -73,7 +73,7 @@ def test_the_import_graph_is_read():
     """The reader finds the edges that are there (a check of the check)."""
     graph = import_graph()
     assert "coinwall.inverse.smooth" in graph["coinwall.inverse.solve"]
-    assert "coinwall.inverse.discrete" in graph["coinwall.inverse.critical"]
+    assert "coinwall.inverse.certify" in graph["coinwall.inverse.sampled"]
     assert "coinwall.forward.errors" in graph["coinwall.forward.validation"]
     # an import inside a function is not an edge (critical.py imports certify.py when data need it)
     assert "coinwall.inverse.certify" not in graph["coinwall.inverse.critical"]

@@ -155,23 +155,41 @@ def check_body_finite(body, what="the body") -> None:
 
 def wall_arguments(parser, optional=False, intervals=True):
     """Add the positional WALL argument, ``--param`` and ``--degrees`` to a subcommand parser, and with
-    ``intervals`` the half-widths of a sample file (``--sigma-b``, ``--sigma-theta``: only the commands that
-    treat samples as intervals, the solver's and the critical offset's, use them)."""
+    ``intervals`` the errors of a sample file (:func:`sample_arguments`: only the commands that treat samples as
+    intervals or estimates, the solver's and the critical offset's, use them)."""
     parser.add_argument("wall", nargs="?" if optional else None,
                         help="wall b(θ): an expression in t (alias theta), e.g. \"sqrt((1+eps*cos(t)**2)/(1+eps))\", "
                              "or a file: .csv (theta,b samples; header theta_deg for degrees) or .json (Fourier: "
                              "{\"a0\", \"cos\", \"sin\"}, or samples {\"theta\", \"b\"})")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="value of a parameter of the expression (repeatable)")
+    if intervals:
+        sample_arguments(parser)
+    else:
+        parser.add_argument("--degrees", action="store_true", help="the angles of a sample file are in degrees")
+
+
+def sample_arguments(parser, halfwidths=True):
+    """Add ``--degrees`` and the two kinds of error of a sample file: half-widths (bounds: certified intervals)
+    and standard deviations (statistics: estimates with confidence intervals), named so that one is never taken
+    for the other; the old ambiguous ``--sigma-b``/``--sigma-theta`` are refused by :func:`wall_options`."""
+    import argparse
+
     parser.add_argument("--degrees", action="store_true", help="the angles of a sample file are in degrees")
-    if not intervals:
-        return
-    parser.add_argument("--sigma-b", type=number, default=0.0, metavar="S",
-                        help="half-width of a sample file's wall values where larger than half their last digit "
-                             "(a measurement's accuracy; a column sigma_b does the same per sample)")
-    parser.add_argument("--sigma-theta", type=number, default=0.0, metavar="S",
-                        help="half-width of a sample file's angles, in the file's angle unit, where larger than "
-                             "half their last digit (a column sigma_theta does the same per sample)")
+    if halfwidths:
+        parser.add_argument("--b-halfwidth", type=number, default=0.0, metavar="W",
+                            help="a bound: every wall value of a sample file is within ±W of the truth, where larger "
+                                 "than half its last digit (a column b_halfwidth does the same per sample)")
+        parser.add_argument("--theta-halfwidth", type=number, default=0.0, metavar="W",
+                            help="a bound on the angles' error, in the file's angle unit, where larger than half their "
+                                 "last digit (a column theta_halfwidth does the same per sample)")
+    parser.add_argument("--b-sd", type=number, default=None, metavar="S",
+                        help="a statistic: the standard deviation of a sample file's wall values (noise; a column b_sd "
+                             "does the same per sample); b_c becomes an estimate with a confidence interval")
+    parser.add_argument("--theta-sd", type=number, default=None, metavar="S",
+                        help="the standard deviation of the angles, in the file's angle unit (a column theta_sd)")
+    for old in ("--sigma-b", "--sigma-theta"):
+        parser.add_argument(old, default=None, help=argparse.SUPPRESS)
 
 
 def table_arguments(parser):
@@ -206,12 +224,21 @@ def load_table(args):
 
 
 def wall_options(args) -> dict:
-    """The sample-file options of ``wall_arguments`` (degrees, half-widths) as keywords of :func:`load_wall`."""
-    return {"degrees": getattr(args, "degrees", False), "sigma_b": getattr(args, "sigma_b", 0.0),
-            "sigma_theta": getattr(args, "sigma_theta", 0.0)}
+    """The sample-file options of :func:`sample_arguments` (degrees, half-widths, standard deviations) as keywords
+    of :func:`load_wall`; the ambiguous ``--sigma-b``/``--sigma-theta`` are refused with a line naming both kinds."""
+    from coinwall.forward.errors import InvalidArgument
+
+    for old, what in (("sigma_b", "b"), ("sigma_theta", "theta")):
+        if getattr(args, old, None) is not None:
+            raise InvalidArgument(f"--{old.replace('_', '-')} is ambiguous: give --{what}-halfwidth for a bound (every "
+                                  f"error within it: certified intervals) or --{what}-sd for a standard deviation "
+                                  "(statistics: estimates with confidence intervals)")
+    return {"degrees": getattr(args, "degrees", False), "b_halfwidth": getattr(args, "b_halfwidth", 0.0),
+            "theta_halfwidth": getattr(args, "theta_halfwidth", 0.0), "b_sd": getattr(args, "b_sd", None),
+            "theta_sd": getattr(args, "theta_sd", None)}
 
 
-def load_wall(text, params, degrees=False, sigma_b=0.0, sigma_theta=0.0):
+def load_wall(text, params, degrees=False, b_halfwidth=0.0, theta_halfwidth=0.0, b_sd=None, theta_sd=None):
     """The :class:`forward.Wall` named on the command line: ``case:NAME``, or what
     :func:`coinwall.forward.formats.load_wall` reads (expression, .csv samples, .json Fourier)."""
     from coinwall.forward.errors import InvalidWall
@@ -223,10 +250,11 @@ def load_wall(text, params, degrees=False, sigma_b=0.0, sigma_theta=0.0):
 
         if values:
             raise InvalidWall(f"--param does not apply to {text!r}: a case fixes its own parameters")
-        if sigma_b or sigma_theta:
-            raise InvalidWall(f"--sigma-b and --sigma-theta apply to sample files, not to {text!r}")
+        if b_halfwidth or theta_halfwidth or b_sd is not None or theta_sd is not None:
+            raise InvalidWall(f"half-widths and standard deviations apply to sample files, not to {text!r}")
         return get_case(text).wall()
-    return load_wall_text(text, values, degrees=degrees, sigma_b=sigma_b, sigma_theta=sigma_theta)
+    return load_wall_text(text, values, degrees=degrees, b_halfwidth=b_halfwidth, theta_halfwidth=theta_halfwidth,
+                          b_sd=b_sd, theta_sd=theta_sd)
 
 
 def progress_bar(args, total, unit):

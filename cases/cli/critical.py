@@ -52,7 +52,10 @@ def run(args):
                "b_c_tolerance": result.b_c_tolerance,
                "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
         if result.lower is not None:
+            statistical = wall.sample_data.sd is not None
             doc.update({"b_c_lower": result.lower, "b_c_upper": result.upper, "assumption": result.assumption,
+                        "interval": "confidence" if statistical else "certified",
+                        "angle_tolerance": result.angle_tolerance,
                         "samples": int(wall.samples[0].size), "samples_used": result.samples_used})
         if result.angle_errors:
             doc.update({"angle_errors": list(result.angle_errors), "spread": result.spread})
@@ -67,12 +70,16 @@ def run(args):
         if result.angle_errors:
             outside = " outside the angles noted below" if result.uncertified else ""
             line += f" (certified to ±{result.b_c_tolerance:.1g}{outside})"
+        statistical = result.lower is not None and wall.sample_data.sd is not None
         if result.lower is not None:
             fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
-            line = (f"b_c        {format_number(result.b_c, fine, 6)} (best estimate), certified in "
+            kind = "confidence interval" if statistical else "certified in"
+            line = (f"b_c        {format_number(result.b_c, fine, 6)} (best estimate), {kind} "
                     f"[{format_number(result.lower, fine, 6)}, {format_number(result.upper, fine, 6)}]")
         print(line)
-        if result.lower is not None:
+        if statistical:
+            print(f"assuming   {result.assumption}")
+        elif result.lower is not None:
             used = "" if result.samples_used == wall.samples[0].size else \
                 f" (computed on {result.samples_used} of the {wall.samples[0].size} samples, spaced where the " \
                 "interval is narrowest)"
@@ -81,9 +88,14 @@ def run(args):
             print(f"assuming   upper end: {result.assumption}")
     else:
         print("b_c        inf (a concave kink: no convex body for any b0)")
-    angles, spread = format_critical_angles(result.angles, result.angle_errors)
-    every = f"; every minimiser within {spread} of one" if spread else ""
-    print(f"angles     {angles} (rad, where b + b'' is smallest{every})")
+    if result.lower is not None:  # data: every angle where the least b + b'' may lie, to the data's resolution
+        angles, _ = format_critical_angles(result.angles)
+        print(f"angles     {angles} (rad, every angle where b + b'' may be smallest, "
+              f"each to ±{result.angle_tolerance:.2g})")
+    else:
+        angles, spread = format_critical_angles(result.angles, result.angle_errors)
+        every = f"; every minimiser within {spread} of one" if spread else ""
+        print(f"angles     {angles} (rad, where b + b'' is smallest{every})")
     for lo, hi in result.intervals:
         print(f"interval   b + b'' is minimal on [{format_number(lo)}, {format_number(hi)}]")
     if result.uncertified:

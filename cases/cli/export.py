@@ -17,8 +17,9 @@ _REEXPORT = (".svg", ".dxf")
 class _StoredBody:
     """The parts of a solved body that the drawing exporters use, read back from ``solve``'s JSON."""
 
-    def __init__(self, outline, b0, regime):
+    def __init__(self, outline, b0, regime, outline_tolerance=None):
         self.outline, self.b0, self.regime = outline, b0, regime
+        self.outline_tolerance = outline_tolerance  # a body from samples: how well they fix its outline
 
 
 def _stored_body(path):
@@ -35,7 +36,10 @@ def _stored_body(path):
     b0 = doc.get("b0", 0.0)
     if not isinstance(b0, (int, float)) or not math.isfinite(b0):
         raise InvalidOutline(f"body file {path!r}: 'b0' must be a finite number, got {b0!r}")
-    return _StoredBody(outline, float(b0), str(doc.get("regime", "unknown")))
+    band = doc.get("outline_tolerance")
+    if band is not None and not (isinstance(band, (int, float)) and math.isfinite(band) and band >= 0):
+        raise InvalidOutline(f"body file {path!r}: 'outline_tolerance' must be a number ≥ 0 or null, got {band!r}")
+    return _StoredBody(outline, float(b0), str(doc.get("regime", "unknown")), band)
 
 
 def _check_drawing_outputs(paths):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from .common import add_command, number
+from .common import add_command, number, sample_arguments
 
 __all__ = ["register"]
 
@@ -14,19 +14,22 @@ Fit a convex body to measured wall samples (noisy, rounded, from a scan).  First
 projection: among convex polygons whose edges have the measured directions as normals, the one whose
 wall b0 + b is nearest to the samples, subject to b0 + b + b'' >= 0 as a measure (Prince & Willsky's
 estimator; Gardner, Kiderlen & Milanfar, Ann. Statist. 34, 2006).  It has a vertex window wherever the
-noise dips, so the corners are then tested: with the noise sigma (--sigma-b, or estimated from the
-residuals), neighbouring vertex windows are merged while the edge between them is not supported, and a
+noise dips, so the corners are then tested: with the noise sigma (--b-sd or a column b_sd, or estimated from
+the residuals), neighbouring vertex windows are merged while the edge between them is not supported, and a
 window is a corner only when rounding it off (radius of curvature half that next to it) raises chi^2
 by more than chance allows (Bonferroni over the candidates).  The body returned has exactly those
 corners and a positive radius of curvature elsewhere, within chi^2 <= N + 3 sqrt(2N) of the samples.
-The regime is what the data say: critical (a corner is supported), convex (none is, none comes close)
-or undecided.  -o body.json/.svg/.dxf/... writes the body as `coinwall solve` does; -o wall.csv or
+b_c is an estimate with a 95 % confidence interval, assuming b + b'' differs from the harmonics the data
+resolve by at most a tail bound (--tail-bound, default from the decay of the resolved harmonics).  The regime
+is what the data say: corner (b0 below the interval), critical (a corner is supported), convex (b0 above the
+interval, none supported or close) or undecided.  -o body.json/.svg/.dxf/... writes the body as
+`coinwall solve` does; -o wall.csv or
 wall.json (with "wall" in its name) writes the fitted wall, reusable as a WALL.  At most 2,000
 distinct directions."""
 
 _EXAMPLE = """\
 coinwall fit scan.csv --b0 0 -o body.json -o fitted-wall.csv --json
-coinwall fit scan.csv --sigma-b 0.002"""
+coinwall fit scan.csv --b-sd 0.002"""
 
 
 def register(subparsers):
@@ -35,11 +38,10 @@ def register(subparsers):
                          description=_DESCRIPTION, example=_EXAMPLE)
     parser.add_argument("samples", help="wall samples: .csv (theta,b; theta_deg for degrees) or .json {theta, b}")
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the samples (default 0)")
-    parser.add_argument("--sigma-b", type=number, default=None, metavar="SIGMA",
-                        help="the noise of one sample (standard deviation, units of the wall; default: estimated "
-                             "from the residuals)")
-    parser.flags["sigma"] = "--sigma-b"  # fit_convex's name of it, in its messages
-    parser.add_argument("--degrees", action="store_true", help="the angles of the sample file are in degrees")
+    sample_arguments(parser, halfwidths=False)
+    parser.add_argument("--tail-bound", type=number, default=None, metavar="T",
+                        help="the smoothness b_c's confidence interval assumes: b + b'' differs from the harmonics the "
+                             "data resolve by at most T (default: from the decay of the resolved harmonics)")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="the body (.json .svg .dxf .csv .png .pdf, as solve) or, for a file whose name "
                              "contains 'wall', the fitted wall (.csv theta,b or .json {theta, b}) (repeatable)")
@@ -48,10 +50,11 @@ def register(subparsers):
 
 
 _REGIMES = {
+    "corner": "b0 is below the confidence interval of b_c: no convex body has this wall (the body is the nearest one)",
     "critical": "the data demand a corner (rounding it off costs more than the noise allows)",
     "convex": "no corner is supported and no candidate comes close: the data allow a strictly convex body",
-    "undecided": "no corner is supported, but a candidate is neither confirmed nor ruled out: the data allow "
-                 "both a strictly convex body and one with a corner",
+    "undecided": "no corner is supported, but b0 lies within the confidence interval of b_c or a candidate is "
+                 "neither confirmed nor ruled out: the data allow both a strictly convex body and one with a corner",
 }
 
 
@@ -80,13 +83,13 @@ def run(args):
     """Fit, write, print."""
     import sys
 
-    from coinwall.forward.errors import OutputError
+    from coinwall.forward.errors import InvalidArgument, OutputError
     from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
     from coinwall.inverse.export import check_outputs, export_body
     from coinwall.inverse.fit import fit_convex
 
-    from .common import check_body_finite, describe_written, written_lines
+    from .common import check_body_finite, describe_written, wall_options, written_lines
 
     wall_outputs = [p for p in args.output if "wall" in p.rsplit("/", 1)[-1].lower()]
     body_outputs = [p for p in args.output if p not in wall_outputs]
@@ -97,11 +100,16 @@ def run(args):
     check_outputs(body_outputs)
     if not args.samples.lower().endswith((".csv", ".json")):
         raise OutputError(f"samples {args.samples!r}: give a .csv (theta,b) or .json ({{theta, b}}) file")
-    wall = load_wall_file(args.samples, degrees=args.degrees, noisy=True)
+    options = wall_options(args)
+    if args.b_sd is not None and not (math.isfinite(args.b_sd) and args.b_sd > 0):
+        raise InvalidArgument(f"--b-sd must be a positive finite number, got {args.b_sd:g}")
+    wall = load_wall_file(args.samples, degrees=options["degrees"], b_sd=options["b_sd"], theta_sd=options["theta_sd"],
+                          noisy=True)
     if wall.samples is None:
         raise OutputError(f"samples {args.samples!r}: a Fourier wall file has no samples to fit")
     theta, values = wall.samples
-    fit = fit_convex(theta, values, args.b0, sigma=args.sigma_b)
+    sd = wall.sample_data.sd
+    fit = fit_convex(theta, values, args.b0, sd=sd, tail=args.tail_bound)
     body = fit.body
     if args.output:
         refuse_non_finite("the fitted wall", b=fit.fitted)
@@ -122,6 +130,9 @@ def run(args):
         print(f"fit        rms residual {fit.rms_residual:.4g}, largest {fit.max_residual:.4g} (units of the wall); "
               f"chi^2 {fit.chi2:.5g} (bound {fit.chi2_bound:.5g}); least squares alone: "
               f"{_vertex_windows(fit)} vertex windows")
+        found = fit.critical
+        print(f"b_c        {found.estimate:.6g} (estimate), {found.level:.0%} confidence interval [{found.lower:.6g}, "
+              f"{found.upper:.6g}], assuming {found.assumption} (--tail-bound)")
         print(f"regime     {fit.regime}: {_REGIMES[fit.regime]}")
         print(f"corners    {fit.corners} supported of {len(fit.tests)} candidates "
               f"(chi^2 growth when rounded off > {fit.threshold:.3g})")
@@ -129,9 +140,7 @@ def run(args):
             if test.verdict != "round":
                 print(f"           {test.verdict:9s} window {math.degrees(test.window[0]) % 360:7.2f} deg + "
                       f"{math.degrees(test.window[1] - test.window[0]):6.2f} deg, chi^2 growth {test.statistic:.4g}")
-        b_c = f"{body.b_c:.6g}" if math.isfinite(body.b_c) else "inf"
-        print(f"body       regime {body.regime} (fitted b_c = {b_c}), {len(body.corners)} corners, "
-              f"area {body.area:.6g}, perimeter {body.perimeter:.6g}")
+        print(f"body       {len(body.corners)} corners, area {body.area:.6g}, perimeter {body.perimeter:.6g}")
         for note in fit.notes:
             print(f"note       {note}")
         print(f"outline    convex: {'yes' if body.convex else 'NO'}, simple (valid): {'yes' if body.valid else 'NO'}")

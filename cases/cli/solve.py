@@ -155,22 +155,31 @@ def run(args):
     if math.isinf(body.b_c):
         b_c = "inf (a concave kink: no offset gives a convex body)"
     else:
-        b_c = format_number(body.b_c, OFFSET_TOLERANCE * scale, 12)
+        # data: to the digits their interval allows (0 within it)
+        known = OFFSET_TOLERANCE * scale if body.wall.samples is None else max(OFFSET_TOLERANCE * scale,
+                                                                                body.b_c_tolerance)
+        b_c = format_number(body.b_c, known, 12 if body.wall.samples is None else 6)
     import numpy as np
 
     radius = np.hypot(*body.outline.polygon(16).T)  # between nodes too: a polygon's edge comes nearer
     size = max(1.0, float(body.R.max()))
     print(f"wall       {body.wall!r}")
     print(f"offset     b0 = {body.b0:g}")
-    interval = ""
+    interval = located = ""
+    tolerance = OFFSET_TOLERANCE * scale
     if body.b_c_lower is not None and math.isfinite(body.b_c):
-        tolerance = OFFSET_TOLERANCE * scale
-        interval = (f", certified in [{format_number(body.b_c_lower, tolerance, 6)}, "
+        interval = (f" (estimate), certified in [{format_number(body.b_c_lower, tolerance, 6)}, "
                     f"{format_number(body.b_c_upper, tolerance, 6)}] by the samples' intervals")
+        located = " (every angle where the least b + b'' may be)"
+    elif body.statistics is not None:
+        found = body.statistics
+        interval = (f" (estimate), {found.level:.0%} confidence interval [{format_number(found.lower, tolerance, 6)}, "
+                    f"{format_number(found.upper, tolerance, 6)}] assuming {found.assumption}")
+        located = " (where the least b + b'' may be)"
     from coinwall.inverse.critical import format_critical_angles
 
     angles, spread = format_critical_angles(body.critical_angles, body.critical_angle_errors)
-    print(f"critical   b_c = {b_c}{interval} at θ = {angles}" + (f" (each {spread})" if spread else ""))
+    print(f"critical   b_c = {b_c}{interval} at θ = {angles}" + (f" (each {spread})" if spread else "") + located)
     if body.regime_decided:
         regime = f"{body.regime} ({_CASES[body.regime]})"
     else:
@@ -181,12 +190,20 @@ def run(args):
           f"perimeter {format_number(body.perimeter)}, R from {format_number(radius.min(), 1e-12 * size)} to "
           f"{format_number(radius.max())} (units of κ, along the whole outline)")
     for c in body.corners:
+        forced = "" if c.length is None else \
+            f"; every body within the samples' intervals turns through it within {c.length:.2g} of boundary"
         print(f"corner     at direction {format_angles([c.direction], DIRECTION_TOLERANCE)} rad, "
               f"distance {format_number(c.distance)}, window ±{format_number(c.half_width)} rad, "
-              f"largest wall deficit {format_number(c.max_deficit, DEFICIT_TOLERANCE * wall.scale, 3)}")
+              f"largest wall deficit {format_number(c.max_deficit, DEFICIT_TOLERANCE * wall.scale, 3)}{forced}")
+    if body.possible_corners:
+        shown = ", ".join(f"{0.5 * (p.window[0] + p.window[1]) % (2 * math.pi):.4g}" for p in body.possible_corners[:8])
+        more = f" and {len(body.possible_corners) - 8} more" if len(body.possible_corners) > 8 else ""
+        print(f"possible   {len(body.possible_corners)} corner(s) the data allow but do not force, at θ ≈ {shown}"
+              f"{more} rad")
     cut = [c.max_deficit for c in body.corners if c.max_deficit > 0]
     where = " outside the corner windows" if cut else ""
-    check = f"max |wall(body) − wall|{where} = {body.max_wall_error:.2e} ({body.method})"
+    at = " at the samples" if body.wall.samples is not None else ""
+    check = f"max |wall(body) − wall|{at}{where} = {body.max_wall_error:.2e} ({body.method})"
     if body.cross_check is not None:
         other = {"envelope": "polar solver", "polar": "envelope solver",
                  "halfplanes": "scipy's HalfspaceIntersection (at the samples)"}.get(body.method, "other solver")
@@ -195,6 +212,9 @@ def run(args):
         check += f"; inside them the body's wall is lower, by up to {max(cut):.3g} (the corners' deficits)"
     print(f"check      {check}")
     print(f"outline    convex: {'yes' if body.convex else 'NO'}, simple (valid): {'yes' if body.valid else 'NO'}")
+    if body.outline_tolerance is not None:
+        print(f"band       the outline is within {body.outline_tolerance:.3g} κ (Hausdorff distance) of every body whose "
+              "wall lies in the samples' intervals, the true one among them (outline_tolerance, certified)")
     if fit is not None:
         print(f"fit        nearest convex body in least squares: rms residual {fit.rms_residual:.3g}, "
               f"max {fit.max_residual:.3g}")

@@ -100,7 +100,7 @@ def _load(args):
 
 def _table_bytes(path, theta, lower, upper, H, note, accuracy=0.0):
     """The samples as a wall file (.csv ``theta,b[,t]``) or a JSON document, full precision; ``accuracy`` > 0
-    (a drawing's flattened curves) is written as the column ``sigma_b``, so that the wall read back is an
+    (a drawing's flattened curves) is written as the column ``b_halfwidth``, so that the wall read back is an
     interval that holds the drawing's own wall."""
     import io
 
@@ -109,13 +109,13 @@ def _table_bytes(path, theta, lower, upper, H, note, accuracy=0.0):
     if path.lower().endswith(".csv"):
         text = io.StringIO()
         sigma = [np.full(theta.size, accuracy)] if accuracy > 0 else []
-        text.write("theta,b" + (",t" if upper is not None else "") + (",sigma_b" if sigma else "") + "\n")
+        text.write("theta,b" + (",t" if upper is not None else "") + (",b_halfwidth" if sigma else "") + "\n")
         np.savetxt(text, np.column_stack([theta, lower] + ([upper] if upper is not None else []) + sigma),
                    delimiter=",", fmt="%.17g")
         return text.getvalue().encode()
     doc = {"theta": theta.tolist(), "b": lower.tolist(), "note": note}
     if accuracy > 0:
-        doc["sigma_b"] = accuracy
+        doc["b_halfwidth"] = accuracy
     if upper is not None:
         doc.update(H=H, t=upper.tolist())
     return json.dumps(doc, allow_nan=False).encode()

@@ -255,8 +255,9 @@ def _bc_text(wall, result) -> str:
     if not math.isfinite(result.b_c):
         return "inf"
     fine = OFFSET_TOLERANCE * max(1.0, wall.scale)
-    if result.lower is not None:  # data: the certified interval, as `coinwall critical` prints it
-        return (f"{format_number(result.b_c, fine, 6)}, certified in [{format_number(result.lower, fine, 6)}, "
+    if result.lower is not None:  # data: the certified (or confidence) interval, as `coinwall critical` prints it
+        kind = "95% confidence interval" if wall.sample_data.sd is not None else "certified in"
+        return (f"{format_number(result.b_c, fine, 6)}, {kind} [{format_number(result.lower, fine, 6)}, "
                 f"{format_number(result.upper, fine, 6)}]")
     return format_within(result.b_c, result.b_c_tolerance)
 
@@ -395,7 +396,14 @@ def body(spec: dict) -> dict:
         corners.append({"x": x, "y": y, "direction": c.direction, "half_width": c.half_width,
                         "distance": c.distance, "max_deficit": c.max_deficit, "window": list(c.window)})
     extent = float(np.max(np.hypot(solved.x, solved.y)))
-    return {"b0": solved.b0, "b_c": json_number(solved.b_c, 12), "regime": solved.regime, "points": int(solved.x.size),
+    # a wall given as data: every regime the data allow, every critical angle, the certified band of the outline
+    # (what `coinwall solve` reports for the same data)
+    data = {"regimes": list(solved.regimes or (solved.regime,)), "regime_decided": solved.regime_decided,
+            "critical_angles": _list(solved.critical_angles),
+            "outline_tolerance": json_number(solved.outline_tolerance, 12),
+            "possible_corners": len(solved.possible_corners)}
+    return {**data, "b0": solved.b0, "b_c": json_number(solved.b_c, 12), "regime": solved.regime,
+            "points": int(solved.x.size),
             "path": _path(solved.outline), "extent": extent, "corners": corners,
             "area": solved.area, "perimeter": solved.perimeter,
             "max_wall_error": json_number(solved.max_wall_error, 12),

@@ -26,6 +26,8 @@ __all__ = [
 ]
 
 WALL_FORMATS = (".csv", ".json")
+#: the optional columns of a sample file, in the order they are read
+_EXTRA = ("halfwidth_angle", "halfwidth_value", "sd_angle", "sd_value")
 DRAWING_FORMATS = (".svg", ".dxf")
 #: keys of a sample wall file (JSON): the angles (radians) and the wall values
 SAMPLE_KEYS = ("theta", "b")
@@ -38,7 +40,8 @@ MAX_SAMPLES = 1_000_000
 FOURIER_KEYS = ("a0", "cos", "sin")
 
 
-def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0):
+def load_wall(text: str, params=None, *, degrees: bool = False, b_halfwidth: float = 0.0, theta_halfwidth: float = 0.0,
+              b_sd: float | None = None, theta_sd: float | None = None):
     """A wall from an expression in ``t`` or from a wall file (``.csv`` samples, ``.json`` Fourier or samples).
 
     Parameters
@@ -49,9 +52,11 @@ def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float =
         Values of the expression's parameters; a file takes none.
     degrees : bool
         The angles of a sample file are in degrees (a header ``theta_deg`` or ``Theta (deg)`` says so too).
-    sigma_b, sigma_theta : float
-        Half-widths of a sample file's values and angles (in the file's angle unit), where they exceed
+    b_halfwidth, theta_halfwidth : float
+        Half-widths (bounds) of a sample file's values and angles (in the file's angle unit), where they exceed
         half a unit of the last digit written.
+    b_sd, theta_sd : float, optional
+        Standard deviations (statistics) of a sample file's values and angles (in the file's angle unit).
 
     Returns
     -------
@@ -74,7 +79,8 @@ def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float =
     if lower.endswith(WALL_FORMATS):
         if params:
             raise InvalidWall(f"`params` apply to wall expressions, not to the wall file {text!r}")
-        return load_wall_file(text.strip(), degrees=degrees, sigma_b=sigma_b, sigma_theta=sigma_theta)
+        return load_wall_file(text.strip(), degrees=degrees, b_halfwidth=b_halfwidth, theta_halfwidth=theta_halfwidth,
+                              b_sd=b_sd, theta_sd=theta_sd)
     stripped = text.strip()
     if os.sep not in stripped and "." in stripped and os.path.isfile(stripped) or _looks_like_file(stripped):
         # `wall.txt`, `data.xlsx`: a file name, not an expression (the parser would say "attribute access")
@@ -87,8 +93,8 @@ def load_wall(text: str, params=None, *, degrees: bool = False, sigma_b: float =
                           f"{' and '.join(WALL_FORMATS)} files (or give an expression in t)")
     if degrees:
         raise InvalidArgument("`degrees` applies to sample files, not to expressions (write the angle in radians)")
-    if sigma_b or sigma_theta:
-        raise InvalidArgument("`sigma_b` and `sigma_theta` apply to sample files, not to expressions")
+    if b_halfwidth or theta_halfwidth or b_sd is not None or theta_sd is not None:
+        raise InvalidArgument("half-widths and standard deviations apply to sample files, not to expressions")
     return Wall.from_expression(text, params)
 
 
@@ -98,33 +104,59 @@ def _read_text(path: str) -> str:
     return read_text(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
 
 
-def _column_kind(name: str):
-    """('angle', in_degrees), ('value', None), ('sigma_angle', in_degrees), ('sigma_value', None) or
-    (None, None) for a header cell.  Half-widths: ``sigma_b``/``db``/``b_err``, ``sigma_theta``/``dtheta``."""
+#: words that say "error" without saying which kind: a bound or a standard deviation
+_AMBIGUOUS = ("sigma", "err", "error", "uncertainty", "unc", "tol", "tolerance", "eps")
+#: prefixes and suffixes of a half-width column (a bound: certified) and of a standard-deviation one (statistics)
+_HALFWIDTH = ("halfwidth", "half_width", "hw", "delta", "d", "δ", "±")
+_SD = ("sd", "std", "stdev", "stddev")
+
+
+def _column_kind(name: str, path: str = "?"):
+    """``(kind, in_degrees)`` of a header cell: ``angle`` or ``value``; ``halfwidth_angle``/``halfwidth_value``
+    (bounds: ``b_halfwidth``, ``halfwidth_b``, ``db``, ``delta_b``); ``sd_angle``/``sd_value`` (standard
+    deviations: ``b_sd``, ``sd_b``, ``b_std``); or ``(None, None)``.  A column named with a word that does not
+    say which (``sigma_b``, ``b_err``) is refused: the two meanings give different answers."""
     key = name.strip().lower()
     degrees = any(mark in key for mark in ("deg", "°"))
-    for prefix in ("sigma_", "sigma", "delta_", "δ", "d"):
-        if key.startswith(prefix) and len(key) > len(prefix):
-            kind, deg = _column_kind(key[len(prefix):])
-            if kind in ("angle", "value"):
-                return "sigma_" + kind, (deg or degrees) if kind == "angle" else None
-    for suffix in ("_err", "_error", "_sigma"):
-        if key.endswith(suffix) and len(key) > len(suffix):
-            kind, deg = _column_kind(key[: -len(suffix)])
-            if kind in ("angle", "value"):
-                return "sigma_" + kind, (deg or degrees) if kind == "angle" else None
-    bare = "".join(ch for ch in key if ch.isalnum() or ch in "θ_").replace("_deg", "").replace("deg", "")
-    bare = bare.replace("rad", "").rstrip("_")
-    if bare in ("theta", "θ", "angle", "t", "phi", "φ"):
-        return "angle", degrees
-    if bare in ("b", "h", "wall", "btheta", "bθ", "support", "value"):
-        return "value", None
+    parts = [p for p in key.replace("-", "_").replace(" ", "_").split("_") if p]
+    base = _base_kind(key)
+    if base is not None:
+        return base, degrees if base == "angle" else None
+    for words, kind in ((_HALFWIDTH, "halfwidth"), (_SD, "sd")):
+        for word in words:
+            for rest in (key[len(word):] if key.startswith(word) else None,
+                         key[:-len(word)] if key.endswith(word) and len(key) > len(word) else None):
+                if rest is None:
+                    continue
+                inner = _base_kind(rest.strip("_ ") or "?")
+                if inner is not None:
+                    return f"{kind}_{inner}", degrees if inner == "angle" else None
+    if any(word in parts or (key.startswith(word) and _base_kind(key[len(word):].strip("_ ") or "?"))
+           for word in _AMBIGUOUS):
+        inner = next((_base_kind(p) for p in parts if _base_kind(p)), "value") or "value"
+        what = "b" if inner == "value" else "theta"
+        raise InvalidWall(f"wall file {path!r}: the column {name.strip()!r} does not say whether it is a bound or a "
+                          f"standard deviation: name it {what}_halfwidth for a half-width (a bound: certified "
+                          f"intervals) or {what}_sd for a standard deviation (statistics: estimates with confidence "
+                          "intervals)")
     return None, None
 
 
+def _base_kind(key):
+    bare = "".join(ch for ch in key if ch.isalnum() or ch in "θ_").replace("_deg", "").replace("deg", "")
+    bare = bare.replace("rad", "").strip("_")
+    if bare in ("theta", "θ", "angle", "t", "phi", "φ"):
+        return "angle"
+    if bare in ("b", "h", "wall", "btheta", "bθ", "support", "value"):
+        return "value"
+    return None
+
+
 def _angle_rounding(values, period):
-    """Half a unit of the last digit of each angle as written (in the file's unit), or a few ulps where
-    the angles are a designed uniform grid (0°, 1°, …; distinct, every step equal): a grid is exact."""
+    """``(rounding, grid)`` of angles as written (in the file's unit): half a unit of the last digit of each,
+    or, where the angles are a uniform grid (0°, 1°, …; distinct, every step equal), a few ulps and the grid's
+    step: the grid may be the design of the data, exact — which the samples' own scatter decides
+    (:func:`coinwall.forward.sampledata.sample_intervals`)."""
     import numpy as np
 
     values = np.asarray(values, dtype=float)
@@ -132,8 +164,8 @@ def _angle_rounding(values, period):
     if distinct.size == values.size and distinct.size >= 8:
         steps = np.diff(distinct)
         if np.all(np.abs(steps - steps[0]) <= 64 * np.finfo(float).eps * max(period, float(np.max(np.abs(values))))):
-            return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period)
-    return rounding_of(values)
+            return 4 * np.finfo(float).eps * np.maximum(np.abs(values), period), float(steps[0])
+    return rounding_of(values), None
 
 
 def _data_rows(text, most=None, skip=0):
@@ -228,8 +260,10 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     The delimiter is a comma, a semicolon, a tab or white space (decimal commas are read with a
     semicolon or tab delimiter).  A header row names the columns: ``theta``/``θ``/``angle`` for the
     angle (``theta_deg``, ``Theta (deg)``, ``angle [°]`` in degrees), ``b``/``h``/``wall`` for the
-    wall, and optionally the half-widths ``sigma_b`` (or ``db``, ``b_err``) and ``sigma_theta`` (or
-    ``dtheta``, ``theta_err``; in the angle column's unit).  Without a header there must be exactly two
+    wall, and optionally half-widths — bounds — ``b_halfwidth`` (or ``db``, ``delta_b``) and
+    ``theta_halfwidth`` (``dtheta``; in the angle column's unit), and standard deviations — statistics —
+    ``b_sd`` (``b_std``) and ``theta_sd``.  A column whose name does not say which (``sigma_b``, ``b_err``) is
+    refused with a line naming both.  Without a header there must be exactly two
     columns, θ in radians (or ``degrees=True``) and b.  Radian angles spanning more than 2π are refused
     (they look like degrees).  Every row must be complete and numeric: a bad row is an error naming its
     line, never silently dropped.
@@ -239,7 +273,9 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
     dict
         ``theta`` (radians), ``b``, ``theta_rounding`` (radians) and ``b_rounding``: half a unit of the
         last digit written (or the file's half-width columns, whichever is larger; angles on a designed
-        uniform grid are exact), and ``labels`` (``"line N"`` of each sample).
+        uniform grid are exact when the values agree), ``b_sd`` and ``theta_sd`` (radians; None without such a
+        column), ``grid`` (the step of a uniform grid of angles, radians, or None) and ``labels``
+        (``"line N"`` of each sample).
     """
     import numpy as np
 
@@ -276,13 +312,13 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
         angle_col, value_col, width = 0, 1, None
         in_degrees = degrees
     else:
-        kinds = [_column_kind(c) for c in header]
+        kinds = [_column_kind(c, path) for c in header]
         angles = [i for i, (k, _) in enumerate(kinds) if k == "angle"]
         values = [i for i, (k, _) in enumerate(kinds) if k == "value"]
         if len(angles) != 1 or len(values) != 1:
             raise InvalidWall(f"wall file {path!r}: columns {header}: name one angle column (theta, θ, angle; "
                               "theta_deg for degrees) and one wall column (b, h, wall)")
-        for kind in ("sigma_angle", "sigma_value"):
+        for kind in _EXTRA:
             found = [i for i, (k, _) in enumerate(kinds) if k == kind]
             if len(found) > 1:
                 raise InvalidWall(f"wall file {path!r}: columns {header}: more than one {kind.replace('_', ' ')} "
@@ -291,11 +327,11 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
                 sigma_cols[kind] = found[0]
         angle_col, value_col, width = angles[0], values[0], len(header)
         in_degrees = degrees or bool(kinds[angle_col][1])
-        if "sigma_angle" in sigma_cols and bool(kinds[sigma_cols["sigma_angle"]][1]) != in_degrees \
-                and kinds[sigma_cols["sigma_angle"]][1]:
-            raise InvalidWall(f"wall file {path!r}: the angle half-width column is in degrees but the angles "
-                              "are not; give both in one unit")
-    columns = [angle_col, value_col] + [sigma_cols[k] for k in ("sigma_angle", "sigma_value") if k in sigma_cols]
+        for kind in ("halfwidth_angle", "sd_angle"):
+            if kind in sigma_cols and kinds[sigma_cols[kind]][1] and not in_degrees:
+                raise InvalidWall(f"wall file {path!r}: the column {header[sigma_cols[kind]]!r} is in degrees but "
+                                  "the angles are not; give both in one unit")
+    columns = [angle_col, value_col] + [sigma_cols[k] for k in _EXTRA if k in sigma_cols]
     arrays = _fast_columns(text, head[0][0] if header is not None else 0, delimiter, decimal_comma, width or 2,
                            columns)
     if arrays is None:  # the careful reader names the first bad row
@@ -309,21 +345,27 @@ def read_sample_table(path: str, *, degrees: bool = False) -> dict:
         if not np.all(np.isfinite(arr)):
             bad = int(np.flatnonzero(~np.isfinite(arr))[0])
             raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a value is not finite")
-    sigma = dict(zip([k for k in ("sigma_angle", "sigma_value") if k in sigma_cols], arrays[2:]))
+    sigma = dict(zip([k for k in _EXTRA if k in sigma_cols], arrays[2:]))
     for kind, arr in sigma.items():
         if np.any(arr < 0):
             bad = int(np.flatnonzero(arr < 0)[0])
-            raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a half-width is negative")
+            what = "half-width" if kind.startswith("halfwidth") else "standard deviation"
+            raise InvalidWall(f"wall file {path!r}, {lines[bad]}: a {what} is negative")
     period = 360.0 if in_degrees else 2 * np.pi
-    theta_rounding = np.maximum(_angle_rounding(theta, period), sigma.get("sigma_angle", 0.0))
-    b_rounding = np.maximum(rounding_of(b), sigma.get("sigma_value", 0.0))
+    b_rounding = np.maximum(rounding_of(b), sigma.get("halfwidth_value", 0.0))
+    theta_rounding, grid = _angle_rounding(theta, period)
+    theta_rounding = np.maximum(theta_rounding, sigma.get("halfwidth_angle", 0.0))
     if in_degrees:
         theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
+        grid = None if grid is None else math.radians(grid)
+        if "sd_angle" in sigma:
+            sigma["sd_angle"] = np.radians(sigma["sd_angle"])
     elif theta.size and np.ptp(theta) > 2 * np.pi * (1 + 1e-9) + 2 * float(np.max(theta_rounding)):
         # (an angle just below 2π written to 4 decimals is 6.2832: its rounding is allowed for)
         raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: are they "
                           "degrees? Name the column theta_deg, or pass --degrees")
     return {"theta": theta, "b": b, "theta_rounding": theta_rounding, "b_rounding": b_rounding,
+            "b_sd": sigma.get("sd_value"), "theta_sd": sigma.get("sd_angle"), "grid": grid,
             "labels": lines, "degrees": in_degrees}
 
 
@@ -337,30 +379,40 @@ def _looks_like_file(text: str) -> bool:
     return text.split(".", 1)[0].lower() not in ("t", "theta", "pi", "e")  # `t.real`: an attribute, not a file
 
 
-def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, sigma_theta: float = 0.0,
-                   noisy: bool = False):
-    """A wall from a file: ``.csv`` samples (:func:`read_sample_table`) or ``.json``: Fourier coefficients
-    ``{"a0", "cos", "sin"}`` or samples ``{"theta": […], "b": […]}`` (``"degrees": true`` allowed).
+#: keys of a sample wall file (JSON) besides the samples: one number for every sample
+SAMPLE_OPTIONS = ("b_halfwidth", "theta_halfwidth", "b_sd", "theta_sd")
 
-    Samples are intervals: half a unit of the last digit of each number, or ``sigma_b`` and ``sigma_theta``
-    (the angle's half-width in the file's angle unit) where those are larger.  ``noisy``: measurements that
-    scatter beyond their digits (``coinwall fit``): samples at one angle are averaged, not intersected."""
+
+def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0, theta_halfwidth: float = 0.0,
+                   b_sd: float | None = None, theta_sd: float | None = None, noisy: bool = False):
+    """A wall from a file: ``.csv`` samples (:func:`read_sample_table`) or ``.json``: Fourier coefficients
+    ``{"a0", "cos", "sin"}`` or samples ``{"theta": […], "b": […]}`` (``"degrees": true`` allowed, and one
+    number for every sample under :data:`SAMPLE_OPTIONS`).
+
+    Samples are intervals: half a unit of the last digit of each number, or ``b_halfwidth`` and
+    ``theta_halfwidth`` (bounds; the angle's in the file's angle unit) where those are larger.  ``b_sd`` and
+    ``theta_sd`` (or columns ``b_sd``, ``theta_sd``) are standard deviations: statistics, which the solvers
+    turn into estimates with confidence intervals.  ``noisy``: measurements that scatter beyond their digits
+    (``coinwall fit``): samples at one angle are averaged, not intersected."""
     import numpy as np
 
     from ..wall import Wall
 
-    for name, value in (("sigma_b", sigma_b), ("sigma_theta", sigma_theta)):
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+    given = {"b_halfwidth": b_halfwidth, "theta_halfwidth": theta_halfwidth, "b_sd": b_sd, "theta_sd": theta_sd}
+    for name, value in given.items():
+        if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
             raise InvalidArgument(f"`{name}` must be a finite number ≥ 0, got {value!r}")
 
     if path.lower().endswith(".csv"):
         # numbers written as text carry their rounding in their digits
         table = read_sample_table(path, degrees=degrees)
-        if degrees or table.get("degrees"):
-            sigma_theta = math.radians(sigma_theta)
-        return Wall.from_samples(table["theta"], table["b"], rounding=np.maximum(table["b_rounding"], sigma_b),
-                                 theta_rounding=np.maximum(table["theta_rounding"], sigma_theta),
-                                 labels=table["labels"], merge="mean" if noisy else "intersect")
+        angle = math.radians if table.get("degrees") else float
+        sd, theta_sd_ = _largest(table["b_sd"], b_sd), _largest(table["theta_sd"], None if theta_sd is None else
+                                                                  angle(theta_sd))
+        return Wall.from_samples(table["theta"], table["b"], rounding=np.maximum(table["b_rounding"], b_halfwidth),
+                                 theta_rounding=np.maximum(table["theta_rounding"], angle(theta_halfwidth)),
+                                 labels=table["labels"], merge="mean" if noisy else "intersect", sd=sd,
+                                 theta_sd=theta_sd_, grid=table["grid"])
     from .inputfile import read_json
 
     doc = read_json(path, what="wall file", error=InvalidWall, max_bytes=MAX_WALL_FILE_BYTES)
@@ -372,33 +424,39 @@ def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, si
                           f"or with {', '.join(SAMPLE_KEYS)}")
     try:
         if set(doc) & set(SAMPLE_KEYS):
-            unknown = set(doc) - set(SAMPLE_KEYS) - {"degrees", "note", "sigma_b", "sigma_theta"}
+            for key in doc:
+                if key not in SAMPLE_KEYS and key not in SAMPLE_OPTIONS and key not in ("degrees", "note"):
+                    _column_kind(key, path)  # an ambiguous name ("sigma_b") is refused by name
+            unknown = set(doc) - set(SAMPLE_KEYS) - set(SAMPLE_OPTIONS) - {"degrees", "note"}
             if unknown:
                 raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; "
                                   f"expected {', '.join(SAMPLE_KEYS)}")
             theta, b = (_numbers(doc.get(k), path, k) for k in SAMPLE_KEYS)
             if not isinstance(doc.get("degrees", False), bool):
                 raise InvalidWall(f"wall file {path!r}: `degrees` must be true or false, got {doc['degrees']!r}")
-            for key in ("sigma_b", "sigma_theta"):  # one half-width for every sample (the file's own)
+            for key in SAMPLE_OPTIONS:  # one number for every sample (the file's own)
                 if key in doc:
                     value = _numbers(doc[key], path, key)
                     if isinstance(value, list) or value < 0:
                         raise InvalidWall(f"wall file {path!r}: `{key}` must be one number ≥ 0")
-            sigma_b = max(sigma_b, doc.get("sigma_b", 0.0))
-            sigma_theta = max(sigma_theta, doc.get("sigma_theta", 0.0))
+                    given[key] = max(given[key] or 0.0, value)
             in_degrees = doc.get("degrees", False) is True or degrees
             period = 360.0 if in_degrees else 2 * np.pi
-            theta_rounding = np.maximum(_angle_rounding(theta, period), sigma_theta)
+            b_rounding = np.maximum(rounding_of(b), given["b_halfwidth"])
+            theta_rounding, grid = _angle_rounding(theta, period)
+            theta_rounding = np.maximum(theta_rounding, given["theta_halfwidth"])
+            angle = math.radians if in_degrees else float
             if in_degrees:
                 theta, theta_rounding = np.radians(theta), np.radians(theta_rounding)
             elif len(theta) and np.ptp(theta) > 2 * np.pi * (1 + 1e-9) + 2 * float(np.max(theta_rounding)):
                 # the same check as for a CSV file: radians spanning more than 2π are degrees
                 raise InvalidWall(f"wall file {path!r}: the angles span {np.ptp(theta):.6g}, more than 2π radians: "
                                   "are they degrees? Add \"degrees\": true, or pass --degrees")
-            return Wall.from_samples(theta, b, rounding=np.maximum(rounding_of(b), sigma_b),
-                                     theta_rounding=theta_rounding,
+            return Wall.from_samples(theta, b, rounding=b_rounding, theta_rounding=theta_rounding,
                                      labels=[f"`theta`[{k}]" for k in range(len(theta))],
-                                     merge="mean" if noisy else "intersect")
+                                     merge="mean" if noisy else "intersect", sd=given["b_sd"],
+                                     theta_sd=None if given["theta_sd"] is None else angle(given["theta_sd"]),
+                                     grid=None if grid is None else angle(grid))
         unknown = set(doc) - set(FOURIER_KEYS)
         if unknown:
             raise InvalidWall(f"wall file {path!r}: unknown keys {sorted(unknown)}; expected "
@@ -410,6 +468,15 @@ def load_wall_file(path: str, *, degrees: bool = False, sigma_b: float = 0.0, si
         if isinstance(exc, InvalidWall):
             raise
         raise InvalidWall(f"wall file {path!r} is not readable: {exc}") from None
+
+
+def _largest(column, given):
+    """A column of a file, or one number given for every sample, or the larger of the two; None if neither."""
+    import numpy as np
+
+    if column is None:
+        return given
+    return column if given is None else np.maximum(column, given)
 
 
 def _numbers(value, path, key):

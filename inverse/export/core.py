@@ -148,7 +148,9 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
     Raises
     ------
     OutputError
-        Unknown extension, unwritable place, or a tolerance that cannot be reached.
+        Unknown extension, unwritable place, or a tolerance that cannot be reached — by the drawing, or
+        by the outline itself: a body from samples whose outline tolerance (in output units) exceeds
+        ``tolerance`` is refused, since the samples do not fix the part that well.
     InvalidArgument
         Bad scale or tolerance.
     """
@@ -159,6 +161,14 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
         from .flatten import largest_diameter
 
         options.tolerance_for(largest_diameter(body.outline)[0] * options.scale)
+        band = getattr(body, "outline_tolerance", None)
+        if band is not None and band * options.scale > options.tolerance:
+            # refused, not warned: a file made to a tolerance promises the part to it, and data that fix the
+            # outline only to their band cannot keep that promise
+            raise OutputError(f"`tolerance` {options.tolerance:.3g} {options.unit_name}: the samples fix the outline "
+                              f"only to {band * options.scale:.3g} {options.unit_name} (its outline tolerance: every "
+                              "body within their intervals is that close to it, the true one too); give a tolerance "
+                              "at least that large, or samples that are denser or have more digits")
     reports, files = {}, {}
     path = None
     try:

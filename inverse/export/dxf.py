@@ -88,6 +88,9 @@ def _annotate(msp, body, options, diameter, tolerance, poly_dev, spline_dev):
     unit_text = f"kappa = {options.kappa:g} {options.units}" if options.kappa else "units of kappa (unscaled)"
     note = (f"coinwall body: b0={body.b0:g}, regime {body.regime}; {unit_text}; "
             f"polyline deviation {poly_dev:.3g} (tolerance {tolerance:.3g}); spline exact ({spline_dev:.1e})")
+    band = getattr(body, "outline_tolerance", None)
+    if band is not None:
+        note += f"; from samples: outline within {band * options.scale:.3g} of every body they allow"
     msp.add_text(note, height=0.02 * diameter, dxfattribs={"layer": LAYERS["notes"]}).set_placement(
         (-0.5 * diameter, -0.65 * diameter))
 

@@ -4,6 +4,10 @@ Written as PNG (``png.py``) or PDF (``pdf.py``) through :func:`coinwall.forward.
 the house style (:mod:`coinwall.forward.formats.style`).  A body's ``.svg`` is the exact drawing (``svg.py``),
 not this figure.
 
+For a wall given as data the outline panel shades the certified band (every body whose wall lies in the
+samples' intervals lies in it) and the middle panel shows that band, and the samples' intervals, as distances
+from the body's own wall (the outline tolerance is its widest point).
+
 The ρ panel shows what decided the regime: for a formula wall ``ρ = b0 + b + b''`` from the exact derivatives;
 for a sampled wall the discrete radius of curvature of the samples themselves
 (:func:`coinwall.inverse.discrete.discrete_support`, ``ρ_i + b0``) with the band their rounding allows — never the
@@ -19,7 +23,7 @@ import numpy as np
 from coinwall.forward.angles import TWO_PI
 from coinwall.forward.formats.style import PALETTE, shade_angle_window, styled, wall_label
 
-__all__ = ["figure", "sampled_curvature", "write_figure"]
+__all__ = ["band_curves", "figure", "sampled_curvature", "write_figure"]
 
 _WINDOW = dict(color=PALETTE[4], alpha=0.18, lw=0)
 
@@ -64,11 +68,54 @@ def _mark_minima(ax, body):
                 label=f"min ρ: {angles.size} critical angle{'s' if angles.size > 1 else ''}")
 
 
+def band_curves(body, count: int = 4000):
+    """``(theta, inner, outer)``: the envelopes of every body consistent with a sampled wall's intervals, as
+    differences from the body's own wall at ``count`` angles (``L − h`` ≤ 0 ≤ ``U − h``, up to the body's own
+    excess); None for a body with no band (a formula wall, Case III, samples with standard deviations)."""
+    band = body.band
+    if band is None:
+        return None
+    theta = np.sort(np.concatenate([np.linspace(0.0, TWO_PI, count, endpoint=False), band.theta]))
+    own = body.outline.support(theta)
+    return theta, band.inner_support(theta) - own, band.outer_support(theta) - own
+
+
+def _band_outline(ax, body):
+    """Shade, at true scale, the band around the outline: each support point moved along its normal out to the
+    outer envelope and in to the inner one."""
+    curves = band_curves(body, 2000)
+    if curves is None:
+        return
+    theta, inner, outer = curves
+    normal = np.column_stack([np.cos(theta), np.sin(theta)])
+    points = body.outline.polygon(8)
+    touch = points[np.argmax(normal @ points.T, axis=1)]
+    ring = np.vstack([touch + outer[:, None] * normal, (touch + inner[:, None] * normal)[::-1]])
+    ax.fill(ring[:, 0], ring[:, 1], color=PALETTE[5], alpha=0.45, lw=0,
+            label=f"band: every body within the samples (±{body.outline_tolerance:.2g})")
+
+
+def _band_panel(ax, body):
+    """The band and the samples' intervals as distances from the body's wall, against θ."""
+    theta, inner, outer = band_curves(body)
+    ax.fill_between(theta, inner, outer, color=PALETTE[5], alpha=0.45, lw=0, label="band of every consistent body")
+    ts, lo, hi = body.band.theta, body.band.lower, body.band.upper
+    own = body.outline.support(ts)
+    step = max(1, ts.size // 2000)
+    ax.vlines(ts[::step], (lo - own)[::step], (hi - own)[::step], color="0.3", lw=0.6,
+              label=f"samples' intervals ({ts.size})")
+    ax.axhline(0.0, color="k", lw=0.8, label="wall of the body")
+    ax.set_ylabel("distance from the body's wall (κ)")
+    ax.set_title(f"the outline is within {body.outline_tolerance:.2g} κ of every body the samples allow")
+
+
 def _rho_panel(ax, body):
     data = sampled_curvature(body)
     ax.axhline(0, color="0.3", lw=0.8)
     _mark_minima(ax, body)
     _shade_windows(ax, body, label=False)
+    for k, angle in enumerate(body.critical_angles):  # the one set solve, critical and the JSON list
+        ax.axvline(angle, color=PALETTE[1], lw=0.7, ls=":", label="critical angles" if k == 0 else None)
     if data is None:
         theta = np.linspace(0, TWO_PI, 1200)
         b, _, d2 = body.wall.derivatives(theta)
@@ -108,19 +155,23 @@ def figure(body, name=None):
     from coinwall.forward.formats.figure import new_figure
 
     fig, (ax0, ax1, ax2) = new_figure(1, 3, figsize=(14, 4.8), layout="constrained")
+    _band_outline(ax0, body)
     body.plot(ax0)
     ax0.set_title(f"outline: area {body.area:.4g} κ², {len(body.corners)} corners")
     _legend_below(ax0)
     theta = np.linspace(0, TWO_PI, 1200)
-    ax1.plot(theta, body.b0 + body.wall(theta), "k-", label="prescribed b0 + b(θ)")
-    ax1.plot(theta, body.outline.support(theta), "--", color=PALETTE[1], label="wall of the body")
-    if body.wall.samples is not None:
-        ts, bs = body.wall.samples
-        ax1.plot(ts, body.b0 + bs, ".", color="0.35", ms=2, label=f"{ts.size} samples")
+    if body.band is not None:
+        _band_panel(ax1, body)
+    else:
+        ax1.plot(theta, body.b0 + body.wall(theta), "k-", label="prescribed b0 + b(θ)")
+        ax1.plot(theta, body.outline.support(theta), "--", color=PALETTE[1], label="wall of the body")
+        if body.wall.samples is not None:
+            ts, bs = body.wall.samples
+            ax1.plot(ts, body.b0 + bs, ".", color="0.35", ms=2, label=f"{ts.size} samples")
+        ax1.set_ylabel("distance from centre of mass to wall (κ)")
+        ax1.set_title(f"wall; max |wall error| = {body.max_wall_error:.1e} κ")
     _shade_windows(ax1, body)
     _angle_axis(ax1)
-    ax1.set_ylabel("distance from centre of mass to wall (κ)")
-    ax1.set_title(f"wall; max |wall error| = {body.max_wall_error:.1e} κ")
     _legend_below(ax1, ncol=2)
     _rho_panel(ax2, body)
     _angle_axis(ax2)

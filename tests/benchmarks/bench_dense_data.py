@@ -46,6 +46,11 @@ def _run(argv):
     return code, out.getvalue()
 
 
+def _tolerance(doc):
+    band = doc.get("outline_tolerance")
+    return "—" if band is None else f"{band:.2g}"
+
+
 def _timed(func):
     start = time.perf_counter()
     result = func()
@@ -68,8 +73,9 @@ def main():
         "irregular 9-gon, 8 decimals": (W.polygon(None, theta), 8),
     }
     print(f"{args.count:,} samples per file; medians of {args.repeats}, interleaved with the baseline")
-    print("| input | loadtxt (baseline) | critical | ratio | solve | ratio | b_c interval (truth) | regime, corners |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| input | loadtxt (baseline) | critical | ratio | solve | ratio | b_c interval (truth) | regime, corners "
+          "| outline tolerance |")
+    print("|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for name, (ref, decimals) in inputs.items():
             path = str(Path(tmp) / "wall.csv")
@@ -88,7 +94,7 @@ def main():
             print(f"| {name} | {b:.2f} s | {c:.2f} s | {c / b:.1f} | {s:.2f} s | {s / b:.1f} | "
                   f"[{doc['b_c_lower']:.6g}, {doc['b_c_upper']:.6g}] ({ref.b_c:.6g}) | "
                   f"{doc['regime']}{'' if doc['regime_decided'] else ' (undecided)'}, {len(doc['corners'])} "
-                  f"(exit {code}) |")
+                  f"(exit {code}) | {_tolerance(doc)} |")
             sys.stdout.flush()
 
 

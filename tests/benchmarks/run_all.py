@@ -33,6 +33,7 @@ RUNS = [
     ("data", "bench_data.py", [], False),
     ("critical", "bench_critical.py", [], False),
     ("dense_data", "bench_dense_data.py", [], True),
+    ("data_truth", "bench_data_truth.py", [], False),
     ("billiard", "bench_billiard.py", ["--collisions", "1000000", "--count"], False),
     ("toss", "bench_toss.py", [], False),
     ("correlation", "bench_correlation.py", [], False),

@@ -137,7 +137,7 @@ def test_corner_windows_match_the_polygon():
 
 
 def test_given_noise_and_exact_data():
-    """A noise given (--sigma-b) is used as is; exact polygon data keep every vertex as a corner."""
+    """A noise given (--b-sd) is used as is; exact polygon data keep every vertex as a corner."""
     theta = np.linspace(0, TWO_PI, 360, endpoint=False)
     wall = ellipse_wall(theta)
     fit = fit_convex(theta, wall + 0.008 * np.random.default_rng(4).standard_normal(360), sigma=0.008)
@@ -150,10 +150,10 @@ def test_given_noise_and_exact_data():
 
 def test_fit_cli_json(tmp_path, capsys):
     """`coinwall fit scan.csv --json` on a noisy Reuleaux pentagon: 5 corners, critical; on an ellipse with
-    the noise given: no corner, convex; a bad --sigma-b is one line and status 2."""
+    the noise given: no corner, convex; a bad --b-sd, and the ambiguous --sigma-b, are one line and status 2."""
     theta = np.linspace(0, TWO_PI, 720, endpoint=False)
     rng = np.random.default_rng(7)
-    for name, extra in (("reuleaux", []), ("ellipse", ["--sigma-b", "0.005"])):
+    for name, extra in (("reuleaux", []), ("ellipse", ["--b-sd", "0.005"])):
         values = truth(name, theta) + 0.005 * rng.standard_normal(theta.size)
         path = tmp_path / f"{name}.csv"
         path.write_text("theta,b\n" + "".join(f"{t!r},{v!r}\n" for t, v in zip(theta.tolist(), values.tolist())))
@@ -163,9 +163,16 @@ def test_fit_cli_json(tmp_path, capsys):
         assert sum(c["verdict"] == "corner" for c in doc["candidates"]) == CORNERS[name]
         assert doc["chi2"] <= doc["chi2_bound"] and doc["rms_residual"] == pytest.approx(0.005, rel=0.15)
         assert doc["sigma_source"] == ("given" if extra else "estimated")
-    assert main(["fit", str(tmp_path / "ellipse.csv"), "--sigma-b", "0"]) == 2
+    assert main(["fit", str(tmp_path / "ellipse.csv"), "--b-sd", "0"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--sigma-b" in err
+    assert err.count("\n") == 1 and "--b-sd" in err
+    for tiny in ("1e-300", "5e-324"):  # below what the values' own precision can tell from 0: one line
+        assert main(["fit", str(tmp_path / "ellipse.csv"), "--b-sd", tiny]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--b-sd" in err
+    assert main(["fit", str(tmp_path / "ellipse.csv"), "--sigma-b", "0.005"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--b-sd" in err
     assert main(["fit", str(tmp_path / "reuleaux.csv")]) == 0
     out = capsys.readouterr().out
     assert "regime     critical" in out and "corners    5 supported" in out

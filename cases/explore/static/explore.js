@@ -353,8 +353,11 @@ function drawBody(data) {
   $("realizable").className = "";
   $("body-outline").setAttribute("d", data.path);
   $("lab-outline").setAttribute("d", data.path);
-  $("regime").textContent = data.regime;
+  $("regime").textContent = data.regime_decided ? data.regime : `undecided (${data.regimes.join(" / ")})`;
   $("regime").className = `regime-${data.regime}`;
+  $("outline-tolerance").textContent = data.outline_tolerance === null ? "exact (a formula wall, or no band)" :
+    `within ${fmt(data.outline_tolerance, 2)} κ of every body the samples allow` +
+    (data.possible_corners ? `; ${data.possible_corners} possible corner(s)` : "");
   $("body-info").textContent = `${data.points} nodes, area ${fmt(data.area, 4)}, wall error ${fmt(data.max_wall_error, 2)}`;
   drawBodyView(data);
   drawCurves(data);
