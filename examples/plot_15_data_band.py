@@ -32,6 +32,7 @@ import numpy as np
 
 from coinwall import solve_body
 from coinwall.forward.formats import load_wall
+from coinwall.forward.formats.style import legend_below
 
 rng = np.random.default_rng(12)
 corners = np.array([[1.0, 0.1], [-0.45, 0.85], [-0.55, -0.75]])
@@ -96,7 +97,7 @@ span = 0.03
 zoom.set(xlim=(centre[0] - span, centre[0] + span), ylim=(centre[1] - span, centre[1] + span), xticks=[], yticks=[])
 zoom.set_aspect("equal")
 ax_shape.indicate_inset_zoom(zoom, edgecolor="0.4")
-ax_shape.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, frameon=False)
+legend_below(ax_shape, fontsize=8, ncol=2)
 
 ax_band.fill_between(grid, inner, outer, color="tab:cyan", alpha=0.5, lw=0, label="band of every consistent body")
 ax_band.plot(grid, truth(grid) - own, "-", color="tab:green", lw=0.9, label="the true part")
@@ -107,6 +108,6 @@ ax_band.set_yscale("symlog", linthresh=1e-4)
 ax_band.set_xticks(np.arange(5) * np.pi / 2, ["0", "π/2", "π", "3π/2", "2π"])
 ax_band.set(xlabel="wall angle θ (rad)", ylabel="distance from the returned wall (κ)",
             title=f"outline tolerance {body.outline_tolerance:.3g} κ; true part {true_distance:.2g} κ away")
-ax_band.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=3, frameon=False)
+legend_below(ax_band, fontsize=8, ncol=3)
 fig.tight_layout()
 plt.show()

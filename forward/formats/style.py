@@ -202,8 +202,10 @@ def _texts_of(fig):
         found += [(f"{name}: x label", ax.xaxis.label), (f"{name}: y label", ax.yaxis.label)]
         found += [(f"{name}: title", t) for t in (ax.title, ax._left_title, ax._right_title)]
         for axis, which in ((ax.xaxis, "x"), (ax.yaxis, "y")):
+            low, high = sorted(axis.get_view_interval())
             for tick in axis.get_major_ticks() + axis.get_minor_ticks():
-                if tick.get_visible():
+                # a tick outside the view is kept by matplotlib but not drawn, its label left where it was
+                if tick.get_visible() and tick.get_loc() is not None and low <= tick.get_loc() <= high:
                     found += [(f"{name}: {which} tick label {t.get_text()!r}", t) for t in (tick.label1, tick.label2)]
     return [(what, t) for what, t in found if t.get_visible() and t.get_text().strip()]
 
