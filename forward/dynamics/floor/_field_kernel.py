@@ -430,6 +430,11 @@ def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter,
                     # the bounces died out above the barrier: the body stays on the floor (contact phases)
                     mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells,
                                                                         lookup)
+            elif mu > 0.0 and g > 0.0 and g1_leave < chatter:
+                # no valleys to settle in (an orbit followed for its own sake), but the bounces died out all the same
+                f = (ve - s * vt) / (1.0 + s * s)
+                vt = vt + f * s
+                mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells, lookup)
     summary[0] = th
     summary[1] = wraps
     summary[2] = eta

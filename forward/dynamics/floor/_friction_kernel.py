@@ -114,11 +114,11 @@ C_ROLLS = 4         # rolling without slipping for ever (a period completed with
 C_PAINLEVE = 5      # sliding has no consistent motion (D ≤ 0)
 C_BUDGET = 6        # the phase's step budget is spent
 C_NOTFINITE = 7     # the wall is not finite where the body is
-CONTACT_STEPS = 131072      # Runge–Kutta steps of the contact phases of one toss at most
+CONTACT_STEPS = 262144      # Runge–Kutta steps of the contact phases of one toss at most
 CORNER_IMPACTS = 64         # impacts at one corner at most
 STEP_ANGLE = 0.25           # largest turn of θ per step (rad)
 STEP_TIME = 0.5             # largest step in units of √(L/g)
-STEP_TOL = 1e-12            # the Runge–Kutta step's local error at most (relative to the state's scale)
+STEP_TOL = 1e-10            # the Runge–Kutta step's local error at most (relative to the state's scale)
 EVENT_TOL = 1e-11           # an event function below EVENT_TOL times its scale is zero
 KINK_NEAR = 1e-12           # an angle this close (rad) to a kink edge is on it
 

@@ -98,7 +98,8 @@ FIELD_NOTES = {
     11: "the body rolls without slipping for ever with its energy above the valley's barrier: a whole period of "
         "rolling passed without an event, so it repeats (Coulomb friction has no rolling resistance)",
     12: "the body on the floor can neither roll nor slip consistently here (Painlevé's indeterminacy at a stick)",
-    13: "a contact phase took more than 2^20 steps without reaching an event",
+    13: "the contact phases of the toss took 2^18 integration steps without deciding it (a body that slides and "
+        "rolls on and on: give a rolling resistance)",
 }
 #: the events recorded in :attr:`Flight.side`: impacts, and with friction the contact events
 EVENTS = {0: "floor impact", 1: "ceiling impact", 3: "lift-off", 4: "rolling", 5: "slipping",

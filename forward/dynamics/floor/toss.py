@@ -264,7 +264,7 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
 
     ``impacts`` bounds the impacts per toss (an undecided toss after that many is marked −1); ``progress`` is
     called with the number of tosses done after each chunk.  ``slide=True`` follows tosses that come to slide
-    on a smooth floor above their barrier until they lift off (:func:`.field.settle_many`; slow, ~50 ms each).
+    on a smooth floor above their barrier until they lift off (:func:`.slide.settle_many`; slow, ~50 ms each).
     """
     if not isinstance(table, FieldTable):
         raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
