@@ -141,6 +141,17 @@ class RigidBody:
         Stronge's energetic coefficient).
     mu : float
         Coulomb's coefficient of friction of the floor (≥ 0; the ceiling is frictionless).
+
+    Raises
+    ------
+    InvalidArgument
+        For a shape that is not one, a length or mass that is not positive, a field, restitution or friction out
+        of range, or a floor that nothing brings the body back to.
+
+    Examples
+    --------
+    >>> RigidBody(EllipseShape(1.0, 0.1), H=None, g=9.8, e=0.6, mu=0.3)
+    RigidBody(EllipseShape(a=1, b=0.1, centre=(0, 0)), floor only, kappa=1, mass=1, g=9.8, e=0.6, mu=0.3)
     """
 
     shape: object
@@ -445,6 +456,18 @@ def simulate_rigid_body(body: RigidBody, state, collisions: int) -> RigidBodyTra
     Returns
     -------
     RigidBodyTrajectory
+
+    Raises
+    ------
+    InvalidArgument
+        For a state that is not 4 or 5 finite numbers, puts the body through a wall, or never reaches one.
+
+    Examples
+    --------
+    >>> body = RigidBody(PolygonShape.stick(1.0), H=None, kappa=0.6, g=9.8, e=0.5, mu=0.4)
+    >>> traj = simulate_rigid_body(body, [2.0, 0.3, 0.0, 5.0, 0.0], 3)
+    >>> len(traj), bool(traj.friction[0] != 0.0), bool(traj.energy[-1] < body.energy(0.0, 5.0, 2.0))
+    (3, True, True)
     """
     if not isinstance(body, RigidBody):
         raise InvalidArgument(f"`body` must be a RigidBody, got {type(body).__name__}")

@@ -1,10 +1,37 @@
 """The contact phase, compiled by numba: a body sliding or rolling on the floor, integrated to its next event.
 
-Source as people and tools read it, never imported by coinwall: :mod:`.field` joins the text after the marker
-line to the friction kernel's (:mod:`._friction_kernel`, whose docstring derives the equations, the events
-and why none is passed) and the field kernel's.  :func:`_contact` follows one phase: the events at the
-current state first (the level below its valley's barrier, Painlevé, lift-off, sliding stopping, rolling
-slipping, a kink reached), then one Runge–Kutta step as long as the bounds allow.
+Source as people and tools read it, never imported by coinwall: :mod:`.fieldkernel` joins the text after the
+marker line to the friction kernel's (:mod:`._friction_kernel`, whose docstring has the equations of motion)
+and the field kernel's.  :func:`_contact` follows one phase: the events at the current state first (the level
+below its valley's barrier, rolling against its resistance come to a stop, Painlevé, lift-off, sliding
+stopping, rolling slipping, a kink reached), then one step of the integration as long as the bounds allow.
+
+The events and why none is passed
+---------------------------------
+The events are the zeros of functions of the state: D (sliding's determinant: Painlevé's paradox, resolved by
+the tangential impact), N = g + B''θ̇² (lift-off while sliding), σu_t (sliding stops), μF_n ∓ F_t (rolling needs
+more friction than there is), θ̇ (with a rolling resistance: its couple turns round), and the distances to the
+kinks at the ends of the piece.  Every step is at most as long as the events allow, by bounds on their rates
+over the step (conservative advancement, as the flight's search): over the step ``|θ̇| ≤ W``; the wall's
+derivatives are bounded from their values at θ and the cell's bound of |b'''| (the cell table's, sampled with
+a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of each event
+function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero.  θ̇ and the distances to the
+kinks are met by second-order steps (their second derivatives are bounded by J and A), so a corner is reached in
+a few steps.  An event whose function has just been zero (the slip that just started) is looked for again once
+its function has left a band of 10 tolerances.  The declared approximations are the flight's (cell bounds from
+dense sampling, the contact tolerance) and the integration's: Dormand–Prince 5(4) steps whose local error is at
+most ``STEP_TOL`` (1e-10 of the state's scale; the rolling disc and Housner's block in the tests are within
+1e-10 of their closed forms), the step shortened and repeated where it is not.  The time at which a toss's level
+falls below its barrier is known to within a step (the level is checked at each step; it only falls).
+
+Lift-off.  The free flight from a lift-off opens its gap only cubically; it is sampled until the gap is 1000
+contact tolerances, each sample close enough to the last that the gap cannot dip more than one tolerance below
+them between (f'' ≥ −(g + θ̇² max b''): :func:`._friction_kernel._liftoff`), and handed to the flight search from
+there; a gap that comes back below the floor first is a re-contact (a floor impact).
+
+Never an endless loop: a toss's phases take at most ``CONTACT_STEPS`` steps together, each event a row of the
+caller's bounded record; rolling without resistance that completes a period (three turning points, or a whole
+turn) without an event would repeat for ever and stops at once ("rolls"); a corner's impacts are capped.
 """
 
 # Everything above the marker line only makes this file importable and lintable on its own.
@@ -23,7 +50,6 @@ from ._friction_kernel import (
     C_REST,
     C_ROLLS,
     C_SETTLED,
-    CONTACT_STEPS,
     EV_CORNER,
     EV_JAM,
     EV_LIFTOFF,
@@ -325,7 +351,7 @@ def _dp_step(x, w, vx, a1, f1, h, j, c, cells, b0, sig, g, mu, rr, sw, wtol, vto
     # θ̇: wtol, ξ̇: vtol)
     x2 = x + h * (w / 5.0)
     w2 = w + h * (a1 / 5.0)
-    a2, f2 = _dp_rate(x2, w2, h, j, c, cells, b0, sig, g, mu, rr, sw)
+    a2, _f2 = _dp_rate(x2, w2, h, j, c, cells, b0, sig, g, mu, rr, sw)  # (ξ̈'s weight there is 0)
     x3 = x + h * (3.0 / 40.0 * w + 9.0 / 40.0 * w2)
     w3 = w + h * (3.0 / 40.0 * a1 + 9.0 / 40.0 * a2)
     a3, f3 = _dp_rate(x3, w3, h, j, c, cells, b0, sig, g, mu, rr, sw)

@@ -1,8 +1,9 @@
 """The field kernel, compiled by numba: flights in a constant field, restitution, and settling.
 
 Like :mod:`._kernel` this file is the kernel's source as people and tools read it; it is never imported
-by coinwall.  :mod:`.field` reads the text after the marker line, joins it after a wall's generated code
-(:mod:`.wallcode`) and loads the whole as one module named after its hash (numba's ``cache=True`` then
+by coinwall.  :mod:`.fieldkernel` reads the text after the marker line, joins it after a wall's generated code
+(:mod:`.wallcode`), the shared search and the friction kernel's texts (:mod:`._friction_kernel`,
+:mod:`._contact_kernel`) and loads the whole as one module named after its hash (numba's ``cache=True`` then
 finds the machine code again in the next process).
 
 The flight
@@ -56,6 +57,9 @@ Newton's law on the normal velocity in the billiard metric: with the slope ``s``
 contact (``s = b'`` on the floor, ``−b'(θ+π)`` on the ceiling) and ``n ∝ (−s, 1)``,
 ``f = (1 + e)(v − s ω)/(1 + s²)``, ``ω += f s``, ``v −= f`` (e = 1: the specular reflection of the
 billiard).  This is the rigid body's frictionless impulse at the contact point: :mod:`.field` derives it.
+With friction (μ > 0) a floor impact is :func:`._friction_kernel._friction_impact` instead (Stronge's
+energetic restitution, Routh's integration; it also changes ξ̇, the horizontal velocity); the ceiling stays
+frictionless.  With μ = 0 the code path is the one above, unchanged (the same results to the bit).
 
 Settling (floor present, g > 0)
 -------------------------------
@@ -68,8 +72,12 @@ decided (status 1).  The chattering limit (ever smaller bounces in finite time):
 gap opens just after a floor impact, ``ḟ = v − s ω``, is below ``chatter = √(2 g δ)`` (a free bounce on a
 flat floor would rise less than δ), the normal velocity is set to zero and the body is at rest on the floor
 (status 3 when then below its valley's barrier, 4 when not: it slides on with energy above the barrier,
-which the impact model cannot follow; the valley reported is the one it is in).  The number of impacts is
-bounded by the caller (status 0 when it is reached: "not settled").
+which the impact model cannot follow; the valley reported is the one it is in).  With friction (μ > 0) the level
+counts the horizontal motion too (friction can turn it into rotation), and a body at rest above its barrier
+stays on the floor: the contact phases (:mod:`._contact_kernel`) follow it, each event a record, until it lifts
+off (back to the flight search), settles, comes to rest, or is undecided with a reason (rolling for ever,
+Painlevé, the steps' budget).  The number of records is bounded by the caller (status 0 when it is reached:
+"not settled").
 """
 
 # Everything above the marker line only makes this file importable and lintable on its own; none of it
@@ -299,7 +307,7 @@ def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter,
                 mode = 0
                 if nmode == 3:  # back on the floor just after lifting off: a floor impact there
                     th, wraps = _reduce(th, wraps)
-                    b, s = wall_b1(th, c)
+                    _b, s = wall_b1(th, c)
                     vt, ve, vx, _p = _friction_impact(vt, ve, vx, s, eta, e, mu)
                     floor_hits += 1
                     mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells,
@@ -453,7 +461,6 @@ def _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells, lookup):
     # mode 1 on the piece of the cell, 2 standing on a kink (at the right edge of the cell returned)
     th, wraps = _reduce(th, wraps)
     j = _cell_of(th, cells, lookup)
-    m = cells.shape[0]
     lo = cells[j, LEFT]
     hi = cells[j, RIGHT]
     if _is_kink(j, True, cells) and th <= lo + KINK_NEAR:

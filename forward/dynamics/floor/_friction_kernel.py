@@ -1,11 +1,10 @@
-"""The friction kernel, compiled by numba: impacts with Coulomb friction and the contact phases on the floor.
+"""The friction kernel, compiled by numba: impacts with Coulomb friction and what the contact phases share.
 
 Like :mod:`._field_kernel` this file is source as people and tools read it; it is never imported by coinwall.
-:mod:`.field` joins the text after the marker line below to the field kernel's own text (the flight loop,
-:mod:`._field_kernel`), after the wall's generated code and the shared search, and compiles the whole as one
-module.  Everything here is plain numba: scalars, loops, preallocated arrays, no objects, no recursion, no
-exceptions.  The physics is derived in ``docs/toss.md`` ("Friction"); the notes below say what each function
-computes and why it cannot loop for ever.
+:mod:`.fieldkernel` joins the text after the marker line below to the contact phase's (:mod:`._contact_kernel`)
+and the flight loop's (:mod:`._field_kernel`), after the wall's generated code and the shared search, and
+compiles the whole as one module.  Everything here is plain numba: scalars, loops, preallocated arrays, no
+objects, no recursion, no exceptions.  The physics is derived in ``docs/toss.md`` ("Friction").
 
 Units and state
 ---------------
@@ -27,44 +26,31 @@ of the normal impulse in restitution is ``e²`` times minus its work in compress
 coefficient).  Both works are integrals of a piecewise linear function: closed forms, no iteration.  The
 energy change is the friction work ``∫ u_t dP_t ≤ 0`` plus ``(1 − e²)`` times the compression work ``≤ 0``:
 no impact creates energy, for any μ ≥ 0 and e in [0, 1].  With μ = 0 it is Newton's law ``u_n⁺ = −e u_n⁻``
-(the field kernel then calls its own frictionless ``_impact``, unchanged).
+(the field kernel then calls its own frictionless ``_impact``, unchanged).  The same function is the
+*tangential impact* of Painlevé's paradox: a contact at rest in the normal direction whose slip would press it
+into the floor (the rate of u_n per unit P_n, ``W_nn − μσW_tn``, is the sliding phase's D, negative).
 
-Contact phases (:func:`_contact`)
----------------------------------
-When the bounces die out (the gap opens slower than ``chatter`` after an impact) the body stays on the floor:
-η = B(θ) = b0 + b(θ) on the smooth piece of the wall under it (a cell of the cell table, between kinks).  It
-then either *slides* (u_t ≠ 0, friction −μσF_n) or *rolls* (u_t = 0, rolling without slipping; on a corner of
-a polygon, where B + B'' = 0, this is rocking about the corner):
+Contact phases (:mod:`._contact_kernel`, with the helpers here)
+---------------------------------------------------------------
+When the bounces die out the body stays on the floor, η = B(θ) = b0 + b(θ) on the smooth piece of the wall under
+it (a cell of the cell table, between kinks), and slides or rolls; on a corner of a polygon (B + B'' = 0)
+rolling is rocking about the corner.  A rolling resistance ``rr`` (a length) adds a couple rr·F_n that opposes
+θ̇ (sign sw), in both phases:
 
-    slide σ:  D = 1 + s² − μσ s B,  F_n = (g + B''θ̇²)/D,  θ̈ = F_n (μσB − s),  ξ̈ = −μσF_n
-    roll:     M = 1 + B² + s²,  θ̈ = −s (g + (B + B'')θ̇²)/M,  F_n = g + sθ̈ + B''θ̇²,  F_t = sθ̇² + Bθ̈
+    q = s + rr·sw
+    slide σ:  D = 1 + s q − μσ s B,  F_n = (g + B''θ̇²)/D,  θ̈ = F_n (μσB − q),  ξ̈ = −μσF_n
+    roll:     θ̈ = (−q (g + B''θ̇²) − B s θ̇²)/(1 + B² + s q),  F_n = g + sθ̈ + B''θ̇²,  F_t = ξ̈ = sθ̇² + Bθ̈
 
-(s = B', all at θ; energy ``½(θ̇² + η̇² + ξ̇²) + gη`` is kept while rolling, it falls at the rate μF_n|u_t| while
-sliding).  The phase is integrated by classical Runge–Kutta steps (rolling: θ̇ put back on its energy
-integral after every step) until an *event*: sliding stops (σu_t → 0: it rolls, or slips the other way),
-rolling needs more friction than μF_n (it slips), the contact force falls to zero while sliding (N = g +
-B''θ̇² → 0: lift-off), D → 0 (Painlevé's paradox: no consistent sliding motion; undecided), or θ reaches a
-kink of b (the next corner meets the floor: impacts there, :func:`_corner`).
+(:func:`_accel`; s = B', all at θ).  Energy ``½(θ̇² + η̇² + ξ̇²) + gη`` falls at the rate μF_n|u_t| while sliding
+and rr F_n |θ̇| always; with rr = 0 rolling keeps it.
 
-Why no event is passed.  Every step is at most as long as the events allow, by bounds on their rates over
-the step (first-order conservative advancement, as the reference stepper of the flight): over the step
-``|θ̇| ≤ W``, the wall's derivatives are bounded from their values at θ and the cell's bound of |b'''|
-(the cell table's, sampled with a checked margin like the search's bounds), which bound |θ̈| (A), the rate of
-each event function (L_k), and D from below; a step τ ≤ h_k/L_k cannot carry h_k through zero.  The kinks are
-met by second-order steps (the distance to the kink has second derivative ±θ̈, |θ̈| ≤ A), so a corner is
-reached in a few steps.  An event whose function has just been zero (the slip that just started) is looked
-for again once its function has left a band of 10 tolerances.  The declared approximations are the flight's
-(cell bounds from dense sampling) and the Runge–Kutta solution in place of the exact one (steps of at most
-0.004 rad and 0.004 √(L/g)).
-
-Never an endless loop: a toss's phases take a bounded number of steps together (``CONTACT_STEPS``), each event a row of
-the caller's bounded record, rolling that completes a period (three turning points, or a whole turn) without
-an event would repeat for ever and stops at once ("rolls"), and the sequence of impacts at a corner is capped.
-
-Rest on a face.  At a kink where b has a valley bottom (slopes s₋ < 0 < s₊: a flat face of the body) the body
-can stand on both corners: θ̇ = 0 and the face slides with ξ̈ = −μσg to rest in the time |u_t|/(μg), as
-long as the friction's torque is carried by the two corners (s₋ ≤ μσB ≤ s₊, from the balance of the two
-normal forces); otherwise it tips onto the corner the torque turns it to.
+Rest on a face (:func:`_face`).  At a kink where b has a valley bottom (slopes s₋ < 0 < s₊: a flat face of the
+body) the body can stand on both corners: θ̇ = 0 and the face slides with ξ̈ = −μσg to rest in the time
+|u_t|/(μg), as long as the friction's torque is carried by the two corners (s₋ ≤ μσB ≤ s₊, from the balance of
+the two normal forces); otherwise it tips onto the corner the torque turns it to.  A corner reached while
+rolling or sliding (:func:`_corner`) is a sequence of impacts at the two corners of the kink, at most
+``CORNER_IMPACTS``, until neither approaches the floor; when both normal velocities are below ``chatter`` the
+body has landed on the face.
 """
 
 # Everything above the marker line only makes this file importable and lintable on its own; none of it
@@ -77,7 +63,6 @@ from numba import njit
 
 from ..billiard._search import (
     CMAX,
-    D3MAX,
     INF,
     LEFT,
     RIGHT,
@@ -194,13 +179,13 @@ def _piece(x, j, c, cells):
     hi = cells[j, RIGHT]
     sl = cells[j, SLOPE_FWD]
     if x < lo + KINK_NEAR and not math.isnan(sl):
-        b, d1, d2 = wall_b2(lo, c)
+        b, _, _ = wall_b2(lo, c)
         _, _, d2 = wall_b2(lo + 1e-9 * (hi - lo), c)
         d = x - lo
         return b + sl * d + 0.5 * d2 * d * d, sl + d2 * d, d2
     sr = cells[j, SLOPE_BWD]
     if x > hi - KINK_NEAR and not math.isnan(sr):
-        b, d1, d2 = wall_b2(hi, c)
+        b, _, _ = wall_b2(hi, c)
         _, _, d2 = wall_b2(hi - 1e-9 * (hi - lo), c)
         d = x - hi
         return b + sr * d + 0.5 * d2 * d * d, sr + d2 * d, d2
@@ -291,11 +276,11 @@ def _spin_sign(sig, B, s, w, mu, rr):
 def _roll_or_slip(B, s, B2, w, g, mu, rr):
     # the phase at u_t = 0: 0 (rolling) if rolling needs at most μF_n, else the direction σ of the slip that
     # starts (friction then pushes with −σμF_n, opposing the force rolling would need); 2 if neither is consistent
-    a, ft, fn = _accel(B, s, B2, w, 0, g, mu, rr, _spin_sign(0, B, s, w, mu, rr))
+    _a, ft, fn = _accel(B, s, B2, w, 0, g, mu, rr, _spin_sign(0, B, s, w, mu, rr))
     if abs(ft) <= mu * fn:
         return 0
     sig = -1 if ft > 0.0 else 1
-    a2, f2, fn2 = _accel(B, s, B2, w, sig, g, mu, rr, _spin_sign(sig, B, s, w, mu, rr))
+    a2, f2, _fn2 = _accel(B, s, B2, w, sig, g, mu, rr, _spin_sign(sig, B, s, w, mu, rr))
     udot = f2 - s * w * w - B * a2      # d(u_t)/dt under that slip
     if sig * udot > 0.0:
         return sig

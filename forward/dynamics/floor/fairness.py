@@ -233,7 +233,7 @@ def plot_fairness(results, tolerance: float = 1e-3, title: str = ""):
     ``tolerance`` against e (open markers: not shown within the bounces computed).  Returns the first axes."""
     from ...formats.figure import new_figure
 
-    fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
+    _fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
     for r in results:
         line, = ax.plot(r.bounces, np.abs(r.bias), "o-", ms=3, lw=1, label=f"e = {r.e:g}")
         ax.fill_between(r.bounces, np.maximum(np.abs(r.bias) - 2 * r.stderr, 1e-5), np.abs(r.bias) + 2 * r.stderr,

@@ -63,19 +63,13 @@ from ...display import safe_repr
 from ...errors import InvalidArgument, InvalidWall
 from ...validation import check_count, check_memory, is_integer
 from ...wall import Wall
-from ..billiard.kernel import source_after_marker
 from ..billiard.table import HEIGHT_MAX, HIT_TOL, Billiard
+from .fieldkernel import _kernel
 from .landscape import Landscape, landscape
 
-__all__ = ["CHATTER_HEIGHT", "EVENTS", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "UNDECIDED_STATUSES", "FieldTable",
-           "Flight", "compile_field_kernel", "field_run", "field_run_many"]
+__all__ = ["CHATTER_HEIGHT", "EVENTS", "FIELD_NOTES", "STATUS", "UNDECIDED_STATUSES", "FieldTable", "Flight",
+           "compile_field_kernel", "field_run", "field_run_many"]
 
-_MARKER = ("# ---- field kernel: the text from the line after this one to the end of the file is joined to the "
-           "wall code ----\n")
-_FRICTION_MARKER = ("# ---- friction kernel: the text from the line after this one to the end of the file is joined "
-                    "to the field kernel ----\n")
-_CONTACT_MARKER = ("# ---- contact kernel: the text from the line after this one to the end of the file is joined "
-                   "to the field kernel ----\n")
 #: a floor impact after which the gap opens slower than √(2 g δ), δ = CHATTER_HEIGHT·max(1, scale) κ, is rest
 CHATTER_HEIGHT = 1e-9
 METHODS = ("kernel", "reference")
@@ -104,11 +98,6 @@ FIELD_NOTES = {
 #: the events recorded in :attr:`Flight.side`: impacts, and with friction the contact events
 EVENTS = {0: "floor impact", 1: "ceiling impact", 3: "lift-off", 4: "rolling", 5: "slipping",
           6: "corner", 7: "face", 8: "end", 9: "jam"}
-
-FIELD_SOURCE = (source_after_marker(__package__, "_friction_kernel.py", _FRICTION_MARKER)
-                + source_after_marker(__package__, "_contact_kernel.py", _CONTACT_MARKER)
-                + source_after_marker(__package__, "_field_kernel.py", _MARKER))
-
 
 def _number(name, value):
     try:
@@ -167,7 +156,8 @@ class FieldTable:
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> table = FieldTable(Wall.from_expression("sqrt((1+99*cos(t)**2)/100)"), g=1.0, e=0.6, mu=0.3)
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
     >>> table.landscape.names
     ['tails', 'heads']
     """
@@ -337,58 +327,6 @@ class Flight:
                 f"outcome {self.outcome})")
 
 
-# ---------------------------------------------------------------------------------------------------- kernel
-class _FieldKernel:
-    def __init__(self, wall: Wall):
-        from ..billiard.kernel import compiled, kernel_module
-
-        base = compiled(_WallHolder(wall))  # the billiard's constants and cell bounds of this wall (kept per wall)
-        # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
-        self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
-        self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
-        self.sealed = set()
-
-    def call(self, name, *args):
-        result = getattr(self.module, name)(*args)
-        if name not in self.sealed:
-            from ..billiard.wallcode import seal
-
-            self.sealed.add(name)
-            seal(self.module)
-        return result
-
-    def args(self, table: FieldTable):
-        H = float(table.H) if table.H is not None else 0.0
-        return (H, float(table.b0), float(table.g), float(table.e), float(table.mu), float(table.rolling),
-                table.H is not None)
-
-    def wall_args(self, table: FieldTable):
-        bd = self.bounds
-        return (self.constants, self.cells, bd["lookup"], bd["wmin"], bd["wmax"], float(table.tol),
-                table.landscape.table, max(1.0, float(table.wall.scale)))
-
-
-class _WallHolder:
-    # kernel.compiled() keys its cache on ``table.wall``
-    def __init__(self, wall):
-        self.wall = wall
-
-
-_FIELD_KERNELS: dict = {}
-
-
-def _kernel(table: FieldTable) -> _FieldKernel:
-    import weakref
-
-    global _FIELD_KERNELS
-    if not isinstance(_FIELD_KERNELS, weakref.WeakKeyDictionary):
-        _FIELD_KERNELS = weakref.WeakKeyDictionary()
-    comp = _FIELD_KERNELS.get(table.wall)
-    if comp is None:
-        comp = _FIELD_KERNELS[table.wall] = _FieldKernel(table.wall)
-    return comp
-
-
 def compile_field_kernel(table: FieldTable) -> float:
     """Compile (or load from numba's cache) the field kernels of ``table``'s wall.
 
@@ -410,7 +348,7 @@ def compile_field_kernel(table: FieldTable) -> float:
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> seconds = compile_field_kernel(FieldTable(Wall.from_expression("1 + 0.2*cos(2*t)"), g=1.0, e=0.5))
+    >>> seconds = compile_field_kernel(FieldTable(Wall.from_fourier(1.0, cos=[0.0, 0.2]), g=1.0, e=0.5))
     """
     import time
 
@@ -500,7 +438,7 @@ def field_run(table: FieldTable, state, impacts: int, catch: bool = False, metho
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> coin = Wall.from_expression("sqrt((1+99*cos(t)**2)/100)")
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
     >>> flight = field_run(FieldTable(coin, g=1.0, e=0.6, mu=0.3), [0.3, 1.5, 3.7, 0.2], 1000)
     >>> flight.status, flight.outcome
     ('settled', 'tails')
@@ -573,7 +511,8 @@ def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False,
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> table = FieldTable(Wall.from_expression("sqrt((1+99*cos(t)**2)/100)"), g=1.0, e=0.6, mu=0.3)
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
     >>> out = field_run_many(table, [[0.3, 1.5, 3.7, 0.2], [2.0, 2.5, -4.0, 1.0]], 10_000)
     >>> [STATUS[int(k)] for k in out["status"]]
     ['settled', 'settled']

@@ -76,7 +76,8 @@ class Landscape:
         Examples
         --------
         >>> from coinwall.forward import Wall
-        >>> land = landscape(Wall.from_expression("sqrt((1+99*cos(t)**2)/100)"))
+        >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+        >>> land = landscape(coin)
         >>> [land.names[k] for k in land.valley([1.0, 4.0])]
         ['tails', 'heads']
         """
@@ -151,10 +152,10 @@ def landscape(wall: Wall, points: int = 16384) -> Landscape:
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> landscape(Wall.from_expression("sqrt((1+99*cos(t)**2)/100)")).names
+    >>> landscape(Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})).names
     ['tails', 'heads']
     >>> landscape(Wall.from_expression("1 + 0.06*cos(2*t) + 0.04*sin(3*t) + 0.05*cos(t)")).names
-    ['rest 94.8°', 'rest 262.6°']
+    ['rest 94.8°', 'rest 225°']
     """
     from scipy.optimize import minimize_scalar
 

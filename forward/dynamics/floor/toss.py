@@ -478,7 +478,8 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
     Examples
     --------
     >>> from coinwall.forward import Wall
-    >>> table = FieldTable(Wall.from_expression("sqrt((1+99*cos(t)**2)/100)"), g=1.0, e=0.6, mu=0.3)
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
     >>> v0, omega0 = launch_spread((2.0, 5.0), (0.05, 0.2), 4, seed=1)
     >>> result = toss_outcomes(table, v0, omega0, height=1.2)
     >>> sorted(set(result.name) - {"heads", "tails"})
@@ -502,7 +503,41 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
 def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int = 10_000, theta0=None, seed=None,
                    impacts: int = 10_000, catch: bool = False, workers=None, progress=None,
                    slide: bool = False) -> Spread:
-    """Outcome fractions and their standard errors for launches ``(v0, ω0) ~ N(mean, diag(sigma²))``."""
+    """Outcome fractions and their standard errors for launches ``(v0, ω0) ~ N(mean, diag(sigma²))``.
+
+    Parameters
+    ----------
+    table : FieldTable
+        The body's wall, the field, restitution and friction.
+    mean, sigma : pair of float
+        The hand: the mean launch velocity and spin, and their standard deviations (:func:`launch_spread`).
+    height : float
+        Launch height of the centre of mass (κ).
+    samples : int
+        Launches.
+    theta0, impacts, catch, workers, progress, slide
+        As for :func:`basin_map`.
+    seed : int, optional
+        The seed of the launches.
+
+    Returns
+    -------
+    Spread
+        ``fractions[name] = (p, standard error)``, and the undecided tosses counted by reason.
+
+    Raises
+    ------
+    InvalidArgument
+        For a spread, count or launch that is not one.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> spread = heads_fraction(FieldTable(coin, g=1.0, e=0.6, mu=0.3), (2, 5), (0.05, 0.2), 1.2, samples=50, seed=1)
+    >>> sorted(spread.fractions), spread.undecided
+    (['heads', 'tails'], {})
+    """
     samples = check_count("samples", samples)
     v, w = launch_spread(mean, sigma, samples, seed)
     states = launch_states(table, v, w, height, theta0)

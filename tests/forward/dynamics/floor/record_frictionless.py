@@ -10,7 +10,6 @@ commit would only record that commit's output: the file is the record of the old
 
 from __future__ import annotations
 
-import math
 import pathlib
 import sys
 

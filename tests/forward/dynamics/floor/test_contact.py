@@ -116,7 +116,7 @@ def test_housners_impact_keeps_one_minus_three_halves_sin2_alpha(alpha):
     """The kernel's corner change (``_corner``) on the block rolling without slipping about its corner (w, −h)
     into its face, e = 0, μ = 2: the angular velocity after it is 1 − (3/2) sin²α times the one before, to
     rounding, and the old corner leaves the floor (the body goes on about the new one)."""
-    from coinwall.forward.dynamics.floor.field import _kernel
+    from coinwall.forward.dynamics.floor.fieldkernel import _kernel
 
     table, w, h = _block(alpha, e=0.0, mu=2.0, settle=False)
     comp = _kernel(table)
@@ -124,7 +124,7 @@ def test_housners_impact_keeps_one_minus_three_halves_sin2_alpha(alpha):
     jr = int(np.argmin(np.abs(cells[:, 0] - 1.5 * math.pi)))  # the cell right of the kink θ = 3π/2
     assert cells[jr, 0] == pytest.approx(1.5 * math.pi, abs=1e-12)
     omega = -0.37  # rolling back onto the face: on the corner (w, −h), B' = w at the kink, ξ̇ = B θ̇
-    vt, ve, vx, hits, nxt = comp.module._corner(jr - 1, jr, cells[jr, 0], omega, w * omega, h * omega, 0.0, 0.0,
+    vt, ve, _vx, hits, nxt = comp.module._corner(jr - 1, jr, cells[jr, 0], omega, w * omega, h * omega, 0.0, 0.0,
                                                 2.0, table.chatter, comp.constants, cells)
     assert hits == 1 and nxt == -1
     assert vt == pytest.approx((1 - 1.5 * math.sin(alpha) ** 2) * omega, rel=1e-14)

@@ -27,7 +27,7 @@ from coinwall.forward.dynamics.floor.field import EVENTS, FieldTable, field_run,
 
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from record_frictionless import MAPS, RUNS, launches  # noqa: E402
+from record_frictionless import MAPS, RUNS, launches
 
 RECORD = np.load(HERE / "data" / "frictionless_2385bd1.npz")
 EGG = Wall.from_fourier(1.0, cos=[0.05, 0.06], sin=[0.0, 0.0, 0.04])  # case:egg's wall, as a Fourier series

@@ -40,7 +40,8 @@ import numpy as np
 import pytest
 
 from coinwall.forward import Wall
-from coinwall.forward.dynamics.floor.field import FieldTable, _kernel
+from coinwall.forward.dynamics.floor.field import FieldTable
+from coinwall.forward.dynamics.floor.fieldkernel import _kernel
 
 COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
