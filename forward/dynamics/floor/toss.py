@@ -26,7 +26,7 @@ from ...validation import check_count
 from .field import FIELD_NOTES, STATUS, FieldTable, field_run_many
 
 __all__ = ["BasinMap", "Spread", "Tosses", "basin_map", "heads_fraction", "launch_spread", "launch_states",
-           "reason_lines", "toss_outcomes", "undecided_counts"]
+           "plot_basins", "reason_lines", "toss_outcomes", "undecided_counts"]
 
 _CHUNK = 4096  # orbits per kernel call (the progress bar moves once per chunk)
 UNDECIDED = -1
@@ -249,6 +249,57 @@ class BasinMap:
         shares = ", ".join(f"{k} {v:.3f}" for k, v in self.fractions().items())
         return (f"BasinMap({self.omega0.size}×{self.v0.size}, g={self.table.g:g}, e={self.table.e:g}, "
                 f"mu={self.table.mu:g}, height {self.height:g}: {shares})")
+
+
+def plot_basins(maps, titles=None):
+    """The outcome panels of several :class:`BasinMap` side by side, one colour per rest state's name (the same
+    colour for the same name in every panel, grey: undecided), Keller's hyperbolas on a coin's.  Returns the
+    first axes.
+
+    Parameters
+    ----------
+    maps : sequence of BasinMap
+        Maps of one body (the same names).
+    titles : sequence of str, optional
+        A title per panel (default: e, μ and the rolling resistance, and the share decided).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from matplotlib.patches import Patch
+
+    from ...formats.figure import new_figure
+
+    _fig, axes = new_figure(1, len(maps), figsize=(5.6 * len(maps), 4.8), constrained_layout=True, squeeze=False)
+    names = list(dict.fromkeys(maps[0].names))
+    palette = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]
+    for k, (ax, result) in enumerate(zip(axes[0], maps)):
+        colour = np.zeros(result.outcome.shape + (3,))
+        colour[:] = (0.73, 0.73, 0.73)
+        for i, name in enumerate(result.names):
+            rgb = tuple(int(palette[names.index(name) % len(palette)][j:j + 2], 16) / 255 for j in (1, 3, 5))
+            colour[result.outcome == i] = rgb
+        extent = (result.v0.min(), result.v0.max(), result.omega0.min(), result.omega0.max())
+        ax.imshow(colour, origin="lower", extent=extent, aspect="auto", interpolation="nearest")
+        if result.table.landscape.coin:
+            v = np.linspace(max(result.v0.min(), 1e-9), result.v0.max(), 400)
+            for n in range(400):
+                w = math.pi * (n + np.array([[0.25], [0.75]])) * result.table.g / v
+                if w.min() > result.omega0.max():
+                    break
+                ax.plot(v, w[0], "k--", v, w[1], "k--", lw=0.5, alpha=0.5)
+            ax.set_ylim(result.omega0.min(), result.omega0.max())
+        table = result.table
+        decided = 1.0 - result.fractions()["undecided"]
+        ax.set_title(titles[k] if titles else f"e = {table.e:g}, μ = {table.mu:g}, rolling {table.rolling:g} κ: "
+                     f"{decided:.1%} decided", fontsize=9)
+        ax.set_xlabel("launch velocity v0 (κ/s)")
+        ax.set_ylabel("spin ω0 (rad/s)")
+    handles = [Patch(color=palette[i % len(palette)], label=name) for i, name in enumerate(names)]
+    handles.append(Patch(color="#bbbbbb", label="undecided"))
+    axes[0][-1].legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    return axes[0][0]
 
 
 def _grid(name, values):
