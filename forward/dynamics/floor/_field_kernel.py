@@ -245,10 +245,11 @@ def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter,
          valleys, lscale, record, out_time, out_theta, out_eta, out_vt, out_ve, out_vx, out_side, summary):
     # one orbit; returns (records done, status).  A record is an impact (side 0 floor, 1 ceiling) or, with
     # friction, a contact event (side EV_*).  status: 0 all n records done (not decided), 1 settled (energy below
-    # the valley's barrier), 2 caught (first floor contact, catch mode), 3 at rest (the chattering limit below
-    # the barrier, or on a face), 4 at rest with energy above the barrier (μ = 0: it slides), 6 free flight,
-    # 7 no convergence, 8 wall not finite, 9 angle beyond float64, 10 cell budget, 11 rolls for ever, 12 no
-    # consistent sliding (Painlevé), 13 contact-phase budget.  leaving 2: the state is on the floor, at rest in
+    # the valley's barrier), 2 caught (first floor contact, catch mode), 3 at rest (μ = 0: the chattering limit
+    # below the barrier; μ > 0: on a face, or where the rolling resistance holds it), 4 at rest with energy above
+    # the barrier (μ = 0: it slides), 6 free flight, 7 no convergence, 8 wall not finite, 9 angle beyond
+    # float64, 10 cell budget, 11 rolls for ever, 12 no consistent motion on the floor (Painlevé), 13
+    # contact-phase budget.  leaving 2: the state is on the floor, at rest in
     # the normal direction (μ > 0): the toss starts in contact.
     # summary = [θ mod 2π, turns, η, θ̇, η̇, time, floor impacts, valley, ξ̇]
     theta = state[0]
@@ -429,7 +430,8 @@ def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter,
                 else:
                     level = eta - b0 + 0.5 * (vt * vt + ve * ve) / g
                 if level < valleys[_valley(th, valleys), 1]:
-                    status = 3 if rest else 1
+                    # (with friction the body is not at rest yet: it slides and rolls on in its valley)
+                    status = 3 if rest and mu == 0.0 else 1
                     break
                 if rest:
                     if mu == 0.0:

@@ -72,6 +72,7 @@ def _run_chunks(table, states, impacts, catch, workers, progress, slide=False) -
     n = states.shape[0]
     keys = ("status", "valley", "floor_impacts", "impacts", "time")
     out = {key: np.empty(n, dtype=float if key == "time" else np.int64) for key in keys}
+    out["theta"] = np.empty(n)
     for lo in range(0, n, _CHUNK):
         hi = min(n, lo + _CHUNK)
         if slide:
@@ -80,6 +81,7 @@ def _run_chunks(table, states, impacts, catch, workers, progress, slide=False) -
             part = field_run_many(table, states[lo:hi], impacts, catch=catch, workers=workers)
         for key in keys:
             out[key][lo:hi] = part[key]
+        out["theta"][lo:hi] = part["final"][:, 0]
         if progress is not None:
             progress(hi - lo)
     return out
@@ -430,8 +432,9 @@ class Tosses:
     status : ndarray of int (n,)
         The kernel's status code (:data:`.field.STATUS`): why each toss ended.
     rest_angle : ndarray (n,)
-        The angle θ of the floor's normal in the body frame at rest (the valley's minimum; radians), NaN where
-        undecided or caught.
+        The angle θ of the floor's normal in the body frame at rest (radians, in [0, 2π)): where the toss came to
+        rest (on a face; or where a rolling resistance holds it), else the minimum of the valley it can no
+        longer leave; NaN where undecided.
     time : ndarray (n,)
         When the outcome was decided (s): the impact or contact event after which the toss could not leave its
         valley, or came to rest.
@@ -545,7 +548,10 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
     out = _run_chunks(table, states, impacts, False, workers, progress)
     decided = np.isin(out["status"], (1, 3))
     outcome = np.where(decided, out["valley"], UNDECIDED)
-    rest = np.where(decided, table.landscape.minima[np.clip(out["valley"], 0, None)], np.nan)
+    # at rest with friction: where it rests (on a face, or held by the rolling resistance); else its valley's minimum
+    rest = np.where((out["status"] == 3) & (table.mu > 0), out["theta"],
+                    table.landscape.minima[np.clip(out["valley"], 0, None)])
+    rest = np.where(decided, rest, np.nan)
     return Tosses(states[:, 3].copy(), states[:, 2].copy(), outcome, out["status"], rest, out["time"],
                   out["floor_impacts"], list(table.landscape.names), table, float(height), float(states[0, 0])
                   if states.size else float("nan"))

@@ -194,11 +194,18 @@ def _egg_map(rolling, n):
 
 
 def test_the_egg_with_friction_and_rolling_resistance_is_decided():
-    """case:egg at e = 0.8, μ = 0.3 with a rolling resistance of 0.01 κ: at least 99 % of a 30 × 30 map of the
-    default box (v0 ∈ [0, 3], ω0 ∈ [0, 8], the default launch height) is decided (it was 8.7 % without friction)."""
-    out = _egg_map(0.01, 30)
+    """case:egg at e = 0.8, μ = 0.3 with a rolling resistance of 0.01 κ: at least 99 % of a 20 × 20 map of the
+    default box (v0 ∈ [0, 3], ω0 ∈ [0, 8], the default launch height) is decided (8 % without friction)."""
+    out = _egg_map(0.01, 20)
     decided = np.isin(out["status"], (1, 3))
     assert decided.mean() >= 0.99, np.unique(out["status"], return_counts=True)
+
+
+@pytest.mark.slow
+def test_the_egg_on_the_default_grid_is_decided():
+    """The same on coinwall toss's default grid, 120 × 120 (measured: 14 399 of 14 400 decided; 200 s)."""
+    out = _egg_map(0.01, 120)
+    assert np.isin(out["status"], (1, 3)).mean() >= 0.99
 
 
 def test_the_egg_with_coulomb_friction_alone_rolls_away():
@@ -208,7 +215,7 @@ def test_the_egg_with_coulomb_friction_alone_rolls_away():
     reason)."""
     from coinwall.forward.dynamics.floor.field import STATUS
 
-    out = _egg_map(0.0, 12)
+    out = _egg_map(0.0, 8)
     words = {STATUS[int(k)] for k in out["status"]}
     assert "slides" not in words and "rolls" in words
     assert words <= {"settled", "rest", "rolls", "contact-budget"}, words

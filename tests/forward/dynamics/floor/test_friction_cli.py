@@ -81,7 +81,11 @@ def test_toss_outcomes_are_seeded_vectorised_and_named():
     assert len(result) == 40 and set(result.name) <= set(table.landscape.names) | {"undecided"}
     decided = result.outcome >= 0
     assert decided.mean() > 0.9
-    assert np.allclose(result.rest_angle[decided], table.landscape.minima[result.outcome[decided]])
+    settled = result.status == 1
+    assert np.allclose(result.rest_angle[settled], table.landscape.minima[result.outcome[settled]])
+    held = result.status == 3  # at rest where the rolling resistance holds it: |B'(θ)| ≤ δ, in its valley
+    assert np.all(np.abs(table.wall.derivatives(result.rest_angle[held])[1]) <= table.rolling + 1e-9)
+    assert np.array_equal(table.landscape.valley(result.rest_angle[decided]), result.outcome[decided])
     assert np.all(np.isnan(result.rest_angle[~decided]))
     assert np.all(result.time[decided] > 0) and np.all(result.impacts[decided] >= 1)
     assert all(r == "" for r in result.reason[decided])
