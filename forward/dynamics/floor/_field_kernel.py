@@ -117,6 +117,7 @@ from ._friction_kernel import (
     _face,
     _friction_impact,
     _is_kink,
+    _landing,
     _piece,
     _start_phase,
     _valley,
@@ -398,7 +399,17 @@ def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter,
         ve -= g * t
         time += t
         if side == 0 and mu > 0.0:
-            vt, ve, vx, _p = _friction_impact(vt, ve, vx, s, eta, e, mu)  # Coulomb friction, Stronge's e
+            # Coulomb friction, Stronge's e; on a kink of b, the impacts at both corners of the face
+            kink, thk, vt2, ve2, vx2, hits, sk = _landing(th, vt, ve, vx, b0, e, mu, chatter, c, cells, lookup)
+            if kink:
+                if thk < th - PI:  # the kink at 2π is the one at 0 of the next turn
+                    wraps += 1
+                elif thk > th + PI:
+                    wraps -= 1
+                th, vt, ve, vx, s = thk, vt2, ve2, vx2, sk
+                floor_hits += hits - 1
+            else:
+                vt, ve, vx, _p = _friction_impact(vt, ve, vx, s, eta, e, mu)
         else:
             vt, ve = _impact(vt, ve, s, e)  # Newton's restitution on the normal velocity
         g1_leave = _leaving_rate(side, vt, ve, s)

@@ -333,6 +333,37 @@ def _corner(jl, jr, xk, vt, ve, vx, b0, e, mu, chatter, c, cells):
 
 
 @njit(**OPTIONS)
+def _landing(th, vt, ve, vx, b0, e, mu, chatter, c, cells, lookup):
+    # a floor impact found by the flight search at θ = th: on a kink of b (both corners of a face at the floor) the
+    # impacts at the two corners (_corner), or, when the face lands flat (the two corners approach alike) on a
+    # valley bottom (s₋ ≤ 0 ≤ s₊), one impact through the centre of mass (the two corners' impulses together
+    # carry no torque); elsewhere the caller's single impact.  Returns (kink?, θ, θ̇, η̇, ξ̇, impacts, slope of
+    # the piece the body moves over, for the gap's rate)
+    j = _cell_of(th, cells, lookup)
+    m = cells.shape[0]
+    if _is_kink(j, True, cells) and abs(th - cells[j, LEFT]) <= KINK_NEAR:
+        jl, jr, xk = (j - 1 if j > 0 else m - 1), j, cells[j, LEFT]
+    elif _is_kink(j, False, cells) and abs(th - cells[j, RIGHT]) <= KINK_NEAR:
+        jl, jr, xk = j, (j + 1 if j + 1 < m else 0), cells[j, RIGHT]
+    else:
+        return False, th, vt, ve, vx, 0, 0.0
+    sm = cells[jl, SLOPE_BWD]
+    sp = cells[jr, SLOPE_FWD]
+    if xk >= TWO_PI:
+        xk -= TWO_PI
+    if sm <= 0.0 <= sp and abs(vt) * (sp - sm) <= 1e-9 * abs(ve):
+        b, _, _ = wall_b2(xk, c)
+        vt, ve, vx, _p = _friction_impact(vt, ve, vx, 0.0, b0 + b, e, mu)
+        return True, xk, vt, ve, vx, 1, 0.0
+    vt, ve, vx, hits, _nxt = _corner(jl, jr, xk, vt, ve, vx, b0, e, mu, chatter, c, cells)
+    if vt > 0.0:
+        return True, xk, vt, ve, vx, hits, sp
+    if vt < 0.0:
+        return True, xk, vt, ve, vx, hits, sm
+    return True, xk, vt, ve, vx, hits, 0.0
+
+
+@njit(**OPTIONS)
 def _liftoff(x, w, eta, ve, b0, g, tol, c, cells):
     # the free flight from a lift-off (gap 0, gap rate 0, gap acceleration −N ≥ 0, opening slowly): sampled at
     # times t_k until the gap exceeds 1000 tol, each step short enough that the gap between two samples cannot

@@ -468,7 +468,15 @@ def field_run(table: FieldTable, state, impacts: int, catch: bool = False, metho
     done, status = comp.call("_run", start, int(turns), leaving, impacts, *comp.args(table), bool(catch),
                              table.chatter, *comp.wall_args(table), True, *out, summary)
     cols = [o[:done] for o in out]
-    return _flight(table, arr, cols, int(status), int(summary[7]), int(summary[6]), method)
+    return _flight(table, arr, cols, int(status), _valley_of(table, summary[0], summary[7]), int(summary[6]), method)
+
+
+def _valley_of(table, theta, kernels):
+    """The valley holding θ: the kernel's, or, when it had no valley table (``settle=False``), the landscape's."""
+    if table.settle:
+        return np.asarray(kernels).astype(np.int64) if np.ndim(kernels) else int(kernels)
+    found = table.landscape.valley(theta)
+    return found.astype(np.int64) if np.ndim(theta) else int(found)
 
 
 def _flight(table, start, cols, status, valley, floor_hits, method):
@@ -550,5 +558,6 @@ def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False,
                   *comp.wall_args(table), done, status, summary)
     finally:
         numba.set_num_threads(previous)
-    return {"status": status, "valley": summary[:, 7].astype(np.int64), "floor_impacts": summary[:, 6].astype(np.int64),
+    return {"status": status, "valley": _valley_of(table, summary[:, 0], summary[:, 7]),
+            "floor_impacts": summary[:, 6].astype(np.int64),
             "impacts": done, "time": summary[:, 5], "final": summary[:, [0, 2, 3, 4]], "v_xi": summary[:, 8]}

@@ -84,7 +84,7 @@ class Landscape:
         x = np.mod(np.asarray(theta, dtype=float), TWO_PI)
         if self.maxima.size <= 1:
             return np.zeros(x.shape, dtype=np.int64)
-        k = np.searchsorted(self.table[:, 0], x, side="right") - 1
+        k = np.searchsorted(self.maxima, x, side="right") - 1
         return np.where(k < 0, self.maxima.size - 1, k)
 
     @safe_repr

@@ -171,3 +171,23 @@ def test_housners_rocking_block(alpha, phi0):
     p = math.sqrt(3 * g / (4 * R))
     housner = math.acosh(1 / (1 - phi0 / alpha)) / p
     assert flight.time[corners[0]] == pytest.approx(housner, rel=alpha ** 2)
+
+
+def test_a_block_dropped_flat_on_its_face_bounces_straight_and_rests_on_it():
+    """Dropped without spin exactly onto its face (θ = 3π/2, where b has a kink: both corners land together), the
+    block's two corners push together through its centre of mass: it bounces straight up and down, each impact
+    leaving e times the speed it came with (Stronge's e = Newton's here: no slip), θ̇ = 0 throughout, and it comes
+    to rest on that face.  A free fall from the height d above the floor lands at √(2gd) after √(2d/g); the
+    bounces then last 2e^k √(2gd)/g: the k-th impact comes at √(2d/g)(1 + 2e(1 − e^(k−1))/(1 − e)), to rounding."""
+    table, _w, h = _block(0.4, e=0.5, mu=0.3, settle=False)  # followed past its decision, to rest
+    d = 1.0
+    flight = field_run(table, [1.5 * math.pi, h + d, 0.0, 0.0, 0.0], 100)
+    assert flight.status == "rest" and flight.outcome == "edge"
+    assert np.all(flight.v_theta == 0.0) and np.all(flight.theta == flight.theta[0])
+    assert flight.theta[0] == pytest.approx(1.5 * math.pi, abs=1e-12)
+    impacts = np.flatnonzero(flight.side == EV["floor impact"])
+    assert impacts.size >= 3
+    v, t0 = math.sqrt(2 * table.g * d), math.sqrt(2 * d / table.g)
+    for k, i in enumerate(impacts[:6], start=1):
+        assert flight.v_eta[i] == pytest.approx(0.5 ** k * v, rel=1e-12)
+        assert flight.time[i] == pytest.approx(t0 * (1 + 2 * 0.5 * (1 - 0.5 ** (k - 1)) / 0.5), rel=1e-12)
