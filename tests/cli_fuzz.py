@@ -204,6 +204,8 @@ _NOT_A_NUMBER = ["", "abc", "nan", "NaN", "-nan", "inf", "-inf", "Infinity", "1e
 BAD_NUMBERS = {
     "count": _NOT_A_NUMBER + ["0", "-1", "1.5", "1e30", "-1e30", "99999999999999999999999", "1e19"],
     "positive": _NOT_A_NUMBER + ["0", "-0", "-1", "-1e-300", "1e308", "-1e308"],
+    "restitution": _NOT_A_NUMBER + ["-0.1", "-1e-300", "1.5", "1e308", "-1e308"],
+    "nonnegative": _NOT_A_NUMBER + ["-0.1", "-1e-300", "1e308", "-1e308"],
     "offset": _NOT_A_NUMBER + ["1e308", "-1e308", "1e200"],
     "seed": ["", "abc", "nan", "1.5", "-1", "0x10"],
 }
@@ -277,8 +279,8 @@ NUMERIC_FLAGS = {
     "quantum": {"--H": "positive", "--b0": "offset", "--levels": "count", "--cells": "count"},
     # (scan's --H is a grid whose out-of-range cells are findings, exit 1: not certainly bad)
     "scan": {"--orbits": "count", "--collisions": "count", "--workers": "count", "--seed": "seed"},
-    "toss": {"--g": "positive", "--e": "positive", "--height": "positive", "--kappa": "positive", "--impacts": "count",
-             "--samples": "count", "--seed": "seed"},
+    "toss": {"--g": "positive", "--e": "restitution", "--mu": "nonnegative", "--height": "positive",
+             "--kappa": "positive", "--impacts": "count", "--samples": "count", "--seed": "seed"},
     "correlation": {"--H": "positive", "--b0": "offset", "--kappa": "positive", "--bounces": "count",
                     "--orbits": "count", "--max-lag": "count", "--seed": "seed"},
     # (coin3d's --e, --g, --height, --ceiling belong to its bounce mode; checked there)

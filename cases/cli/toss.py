@@ -23,19 +23,23 @@ __all__ = ["register"]
 DESCRIPTION = """\
 The toss that lands: the body is launched from a rest orientation with its centre of mass at
 --height (units of κ) above the floor, with upward velocity v0 and spin ω0 (θ̇), in the field --g
-(κ/s², or m/s² with --kappa in metres), and bounces on the floor with Newton's restitution --e on
-the normal velocity in the billiard metric (frictionless impacts) until its outcome is decided: its
-energy below the barrier of the floor's valley it is in, or the bounces dying out (the chattering
-limit).  With --catch it is caught the first time it meets the floor (Keller's coin).  Reports the
-basin map of the outcome over the grid --v0 × --omega (heads/tails for a coin, else the rest state
-by its angle), the number of floor impacts it took, and with --spread the probability of each
-outcome under a Gaussian spread of (v0, ω0) with its standard error.  With --uncertainty it reports
+(κ/s², or m/s² with --kappa in metres), and bounces on the floor with restitution --e and Coulomb
+friction --mu (0: frictionless impacts, Newton's restitution on the normal velocity) until its
+outcome is decided: its energy below the barrier of the floor's valley it is in, or at rest.  With
+friction a body whose bounces die out slides, rolls and rocks on the floor (with --rolling, against
+a rolling resistance) until it lifts off again or settles; without it, it slides for ever
+(undecided).  With --catch it is caught the first time it meets the floor (Keller's coin).  Reports
+the basin map of the outcome over the grid --v0 × --omega (heads/tails/edge for a coin, else the
+rest faces by the angle of their normal), the number of floor impacts it took, each undecided toss
+counted by its reason, and with --spread the probability of each outcome under a Gaussian spread of
+(v0, ω0) with its standard error.  With --uncertainty it reports
 instead the uncertainty exponent α of the basin boundary (Grebogi, Ott and Yorke) over the box of
 --v0 × --omega: the share f(ε) of launches whose outcome changes when moved by ±ε (a fraction of
 the box's sides, in a random direction), fitted to f ∝ ε^α (α = 1 for a smooth boundary, less for
 a fractal one; --samples launches per ε)."""
 
 EXAMPLE = ('coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:300 --omega 0:8:300 -o basin.png\n'
+           'coinwall toss case:egg --e 0.8 --mu 0.3 --rolling 0.01 -o egg.png\n'
            'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --spread 2,5,0.05,0.2 --samples 20000 --seed 1\n'
            'coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3 --omega 0:8 --uncertainty 1e-6:1e-2:5')
 
@@ -84,7 +88,13 @@ def register(subparsers):
                          description=DESCRIPTION, example=EXAMPLE)
     wall_arguments(parser, intervals=False)
     parser.add_argument("--g", type=number, default=1.0, help="field in κ/s² (default 1; m/s² with --kappa)")
-    parser.add_argument("--e", type=number, default=0.6, help="coefficient of restitution in (0, 1] (default 0.6)")
+    parser.add_argument("--e", type=number, default=0.6,
+                        help="coefficient of restitution in (0, 1]; 0 (perfectly plastic) on a floor only (default 0.6)")
+    parser.add_argument("--mu", type=number, default=0.0,
+                        help="Coulomb's coefficient of friction of the floor (default 0: frictionless)")
+    parser.add_argument("--rolling", type=number, default=0.0, metavar="DELTA",
+                        help="with --mu: rolling resistance, the lever arm (units of κ, in [0, 1]) of the floor's "
+                             "push that opposes rolling (default 0: a body rolling without slipping keeps its energy)")
     parser.add_argument("--height", type=number, default=None,
                         help="launch height of the centre of mass (κ; default: b0 + 2 × the largest wall value, at "
                              "least b0 + 1, i.e. clear of the floor at every angle)")
@@ -102,7 +112,8 @@ def register(subparsers):
                         help="impacts per toss at most; a toss still bouncing then is undecided (default 10000)")
     parser.add_argument("--catch", action="store_true", help="stop at the first floor contact (Keller's toss)")
     parser.add_argument("--slide", action="store_true",
-                        help="follow tosses that come to slide on a smooth floor until they lift off (slow)")
+                        help="without friction: follow tosses that come to slide on a smooth floor until they lift "
+                             "off (slow)")
     parser.add_argument("--spread", type=_spread, default=None, metavar="V0,OMEGA0,SV,SW",
                         help="instead of the map: outcome fractions for (v0, ω0) ~ Gaussian(mean, sigma)")
     parser.add_argument("--uncertainty", type=_epsilons, default=None, metavar="LO:HI:N",
@@ -163,21 +174,22 @@ def _cmd_toss(args):
     if args.catch and args.slide:
         raise InvalidArgument("--slide follows tosses that slide on the floor; --catch stops at the first contact "
                               "(drop one of them)")
-    for name, value in (("--g", args.g), ("--e", args.e), ("--b0", args.b0), ("--H", args.H),
-                        ("--height", args.height), ("--theta0", args.theta0)):
+    if args.slide and args.mu > 0:
+        raise InvalidArgument("--slide follows tosses on a frictionless floor; with --mu the contact phases are "
+                              "followed anyway (drop --slide)")
+    for name, value in (("--g", args.g), ("--e", args.e), ("--mu", args.mu), ("--rolling", args.rolling),
+                        ("--b0", args.b0), ("--H", args.H), ("--height", args.height), ("--theta0", args.theta0)):
         if value is not None and not math.isfinite(value):
             raise InvalidArgument(f"{name} must be a finite number, got {value}")
     if not args.g > 0:
         raise InvalidArgument(f"--g must be a positive field, got {args.g}")
-    if not 0 < args.e <= 1:
-        raise InvalidArgument(f"--e must be a coefficient of restitution in (0, 1], got {args.e}")
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
     g = args.g / args.kappa if args.kappa is not None else args.g
     _check_work(args, args.samples if args.spread is not None else
                 2 * args.samples * args.uncertainty[2] if args.uncertainty is not None else args.v0[2] * args.omega[2])
     wall = load_wall(args.wall, args.param, **wall_options(args))
-    table = FieldTable(wall, g=g, e=args.e, b0=args.b0, H=args.H)
+    table = FieldTable(wall, g=g, e=args.e, b0=args.b0, H=args.H, mu=args.mu, rolling=args.rolling)
     height = args.height
     if height is None:
         height = args.b0 + 2.0 * float(np.max(wall(np.linspace(0, 2 * np.pi, 1024, endpoint=False))))
@@ -199,7 +211,8 @@ def _cmd_toss(args):
         finally:
             if bar is not None:
                 bar.close()
-        summary = dict(spread.to_dict(), wall=args.wall, g=g, e=args.e, height=height)
+        summary = dict(spread.to_dict(), wall=args.wall, g=g, e=args.e, mu=args.mu, rolling=args.rolling,
+                       height=height)
         from coinwall.forward.estimates import MIN_SAMPLES, require
 
         decided = round(args.samples * (1 - spread.fractions.get("undecided", (0.0, 0.0))[0]))
@@ -212,6 +225,7 @@ def _cmd_toss(args):
             print(f"spread     {spread!r}")
             print(f"draws      {args.samples} ({decided} decided within --impacts {args.impacts}); ± is the binomial "
                   "standard error")
+            _print_undecided(spread.undecided, args.samples)
         return 0
     if args.uncertainty is not None:
         return _uncertainty(args, table, height, g)
@@ -236,9 +250,10 @@ def _cmd_toss(args):
             files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param),
                                      allow_nan=False).encode()
     written = write_all(files)
-    summary = {"wall": args.wall, "params": args.param, "g": g, "e": args.e, "height": height,
-               "theta0": result.theta0, "grid": [int(w.size), int(v.size)], "fractions": result.fractions(),
-               "status": result.status_counts(), "mean_bounces": float(np.mean(result.bounces)),
+    summary = {"wall": args.wall, "params": args.param, "g": g, "e": args.e, "mu": args.mu, "rolling": args.rolling,
+               "height": height, "theta0": result.theta0, "grid": [int(w.size), int(v.size)],
+               "names": list(result.names), "fractions": result.fractions(), "status": result.status_counts(),
+               "undecided": result.undecided_counts(), "mean_bounces": float(np.mean(result.bounces)),
                "outputs": args.output}
     if args.json:
         print(json.dumps(summary, indent=1, allow_nan=False))
@@ -246,9 +261,18 @@ def _cmd_toss(args):
         print(f"table      {table!r}")
         print(f"map        {result!r}")
         print(f"bounces    mean {summary['mean_bounces']:.3g} floor impacts before the outcome was decided")
+        _print_undecided(summary["undecided"], result.outcome.size)
         for line in written_lines(written, written.replaced):
             print(line)
     return 0
+
+
+def _print_undecided(counts, total):
+    """Each reason for an undecided toss on its own line: its count, share and meaning."""
+    from coinwall.forward.dynamics.floor.toss import reason_lines
+
+    for line in reason_lines(counts, total):
+        print(f"undecided  {line}")
 
 
 def _uncertainty(args, table, height, g):

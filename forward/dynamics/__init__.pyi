@@ -28,7 +28,7 @@ from .coin3d.rigid3d import Rigid3D, Trajectory3D, simulate_3d
 from .coin3d.top import TopFlight, TopTable, top_run
 from .floor.fairness import Fairness, fairness, fairness_curve
 from .floor.field import FieldTable, Flight, field_run, field_run_many
-from .floor.toss import BasinMap, basin_map, heads_fraction
+from .floor.toss import BasinMap, Tosses, basin_map, heads_fraction, launch_spread, toss_outcomes
 from .floor.uncertainty import Uncertainty, uncertainty_exponent
 from .floor.wedge import WedgeLyapunov, wedge_lyapunov
 
@@ -36,11 +36,11 @@ __all__ = ["BasinMap", "Billiard", "BounceStudy", "ChaoticFraction", "Correlatio
            "EnsembleStatistics", "Fairness",
            "FieldTable", "Flight", "KamBoundary", "LyapunovResult", "OrbitStatistics", "PoincareSection",
            "PolygonShape", "PsiFit", "Rigid3D", "RigidBody", "RigidBodyTrajectory", "TauLaw", "TopFlight", "TopTable",
-           "Trajectory", "Trajectory3D", "Uncertainty", "WedgeLyapunov", "basin_map", "billiard_to_body",
+           "Tosses", "Trajectory", "Trajectory3D", "Uncertainty", "WedgeLyapunov", "basin_map", "billiard_to_body",
            "body_to_billiard", "chaotic_fraction", "compile_kernel", "correlation", "dhm_same_side", "ensemble",
            "ensemble_statistics",
            "fairness", "fairness_curve", "field_run", "field_run_many", "fit_psi", "fit_tau_law", "heads",
-           "heads_fraction", "incidence_angle", "kam_boundary", "lyapunov", "lyapunov_many", "orbit_statistics",
-           "paper_boundary", "poincare_section", "random_states", "rest_outcomes", "same_side_by_bounce",
-           "side_correlation", "simulate", "simulate_3d", "simulate_caught", "simulate_rigid_body", "top_run",
-           "uncertainty_exponent", "wedge_lyapunov"]
+           "heads_fraction", "incidence_angle", "kam_boundary", "launch_spread", "lyapunov", "lyapunov_many",
+           "orbit_statistics", "paper_boundary", "poincare_section", "random_states", "rest_outcomes",
+           "same_side_by_bounce", "side_correlation", "simulate", "simulate_3d", "simulate_caught",
+           "simulate_rigid_body", "top_run", "toss_outcomes", "uncertainty_exponent", "wedge_lyapunov"]

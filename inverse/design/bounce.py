@@ -148,7 +148,7 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     >>> int(index[0]), len(valleys)
     (2, 4)
     """
-    from coinwall.forward.dynamics.floor.field import FieldTable, settle_many
+    from coinwall.forward.dynamics.floor.field import FieldTable, field_run_many
 
     check_friction(mu)
     table = FieldTable(wall, g=g, e=e, b0=b0)
@@ -156,7 +156,7 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     if land.names and np.all(np.isinf(land.barriers)):
         raise InvalidArgument(f"wall {wall.description!r} has a single valley: the body rests on one face whatever "
                               "its toss")
-    out = settle_many(table, np.asarray(states, dtype=float), impacts, workers=workers, follow_slides=False)
+    out = field_run_many(table, np.asarray(states, dtype=float), impacts, workers=workers)
     decided = np.isin(out["status"], (1, 2, 3))
     index = np.where(decided, out["valley"], -1)
     left = land.table[:, 0]

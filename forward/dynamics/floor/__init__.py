@@ -1,5 +1,6 @@
-"""A body on a floor: flights in a field (gravity, restitution), the outcomes of a toss, fairness against
-bounces, the basin-boundary exponent and the wedge limit."""
+"""A body on a floor: flights in a field (gravity, restitution, Coulomb friction and the contact phases it
+brings), the valleys of the floor and their rest states, the outcomes of a toss, fairness against bounces,
+the basin-boundary exponent and the wedge limit."""
 
 from coinwall._lazy import attach_stub
 

@@ -2,7 +2,8 @@
 
 from .fairness import Fairness, fairness, fairness_curve
 from .field import FieldTable, Flight, field_run, field_run_many
-from .toss import BasinMap, basin_map, heads_fraction
+from .landscape import Landscape, landscape
+from .toss import BasinMap, Tosses, basin_map, heads_fraction, launch_spread, toss_outcomes
 from .uncertainty import Uncertainty, uncertainty_exponent
 from .wedge import WedgeLyapunov, wedge_lyapunov
 
@@ -11,6 +12,8 @@ __all__ = [
     "Fairness",
     "FieldTable",
     "Flight",
+    "Landscape",
+    "Tosses",
     "Uncertainty",
     "WedgeLyapunov",
     "basin_map",
@@ -19,6 +22,9 @@ __all__ = [
     "field_run",
     "field_run_many",
     "heads_fraction",
+    "landscape",
+    "launch_spread",
+    "toss_outcomes",
     "uncertainty_exponent",
     "wedge_lyapunov",
 ]

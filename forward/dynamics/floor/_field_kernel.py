@@ -1,8 +1,9 @@
 """The field kernel, compiled by numba: flights in a constant field, restitution, and settling.
 
 Like :mod:`._kernel` this file is the kernel's source as people and tools read it; it is never imported
-by coinwall.  :mod:`.field` reads the text after the marker line, joins it after a wall's generated code
-(:mod:`.wallcode`) and loads the whole as one module named after its hash (numba's ``cache=True`` then
+by coinwall.  :mod:`.fieldkernel` reads the text after the marker line, joins it after a wall's generated code
+(:mod:`.wallcode`), the shared search and the friction kernel's texts (:mod:`._friction_kernel`,
+:mod:`._contact_kernel`) and loads the whole as one module named after its hash (numba's ``cache=True`` then
 finds the machine code again in the next process).
 
 The flight
@@ -56,6 +57,9 @@ Newton's law on the normal velocity in the billiard metric: with the slope ``s``
 contact (``s = b'`` on the floor, ``−b'(θ+π)`` on the ceiling) and ``n ∝ (−s, 1)``,
 ``f = (1 + e)(v − s ω)/(1 + s²)``, ``ω += f s``, ``v −= f`` (e = 1: the specular reflection of the
 billiard).  This is the rigid body's frictionless impulse at the contact point: :mod:`.field` derives it.
+With friction (μ > 0) a floor impact is :func:`._friction_kernel._friction_impact` instead (Stronge's
+energetic restitution, Routh's integration; it also changes ξ̇, the horizontal velocity); the ceiling stays
+frictionless.  With μ = 0 the code path is the one above, unchanged (the same results to the bit).
 
 Settling (floor present, g > 0)
 -------------------------------
@@ -68,8 +72,12 @@ decided (status 1).  The chattering limit (ever smaller bounces in finite time):
 gap opens just after a floor impact, ``ḟ = v − s ω``, is below ``chatter = √(2 g δ)`` (a free bounce on a
 flat floor would rise less than δ), the normal velocity is set to zero and the body is at rest on the floor
 (status 3 when then below its valley's barrier, 4 when not: it slides on with energy above the barrier,
-which the impact model cannot follow; the valley reported is the one it is in).  The number of impacts is
-bounded by the caller (status 0 when it is reached: "not settled").
+which the impact model cannot follow; the valley reported is the one it is in).  With friction (μ > 0) the level
+counts the horizontal motion too (friction can turn it into rotation), and a body at rest above its barrier
+stays on the floor: the contact phases (:mod:`._contact_kernel`) follow it, each event a record, until it lifts
+off (back to the flight search), settles, comes to rest, or is undecided with a reason (rolling for ever,
+Painlevé, the steps' budget).  The number of records is bounded by the caller (status 0 when it is reached:
+"not settled").
 """
 
 # Everything above the marker line only makes this file importable and lintable on its own; none of it
@@ -82,7 +90,9 @@ from numba import carray, njit, prange
 
 from ..billiard._search import (
     INF,
+    LEFT,
     PI,
+    RIGHT,
     TWO_PI,
     _advance,
     _data_pointer,
@@ -92,6 +102,25 @@ from ..billiard._search import (
     _reduce,
     _search,
     wall_b1,
+)
+from ._contact_kernel import _contact, _side_angle
+from ._friction_kernel import (
+    C_EVENT,
+    C_FLIGHT,
+    C_PAINLEVE,
+    C_REST,
+    CONTACT_STEPS,
+    EV_END,
+    EV_FACE,
+    KINK_NEAR,
+    _cell_of,
+    _face,
+    _friction_impact,
+    _is_kink,
+    _landing,
+    _piece,
+    _start_phase,
+    _valley,
 )
 
 __all__ = []  # nothing public: the kernel is called through coinwall.forward.dynamics.floor.field
@@ -213,37 +242,22 @@ def _first_hit(phi0, A, B, Q, vt, ivt, t_lo, t_hi, tcap, leaving, g1_leave, c, c
 
 
 @njit(**OPTIONS)
-def _valley(x, valleys):
-    # index of the valley holding the angle x in [0, 2π): valleys[k, 0] are the sorted left maxima
-    nv = valleys.shape[0]
-    if nv <= 1:
-        return 0
-    lo = 0
-    hi = nv
-    while lo < hi:  # number of left maxima ≤ x
-        mid = (lo + hi) // 2
-        if valleys[mid, 0] <= x:
-            lo = mid + 1
-        else:
-            hi = mid
-    k = lo - 1
-    if k < 0:
-        k = nv - 1
-    return k
-
-
-@njit(**OPTIONS)
-def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol, valleys,
-         record, out_time, out_theta, out_eta, out_vt, out_ve, out_side, summary):
-    # one orbit; returns (impacts done, status).  status: 0 all n impacts done (not settled), 1 settled (energy
-    # below the valley's barrier), 2 caught (first floor contact, catch mode), 3 at rest (chattering limit) and
-    # settled, 4 at rest with energy above the barrier, 6 free flight (never meets a wall again), 7 no
-    # convergence, 8 wall not finite, 9 angle beyond float64, 10 cell budget.
-    # summary = [θ mod 2π, turns, η, ω, v, time, floor impacts, valley]
+def _run(state, turns, leaving, n, H, b0, g, e, mu, rr, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol,
+         valleys, lscale, record, out_time, out_theta, out_eta, out_vt, out_ve, out_vx, out_side, summary):
+    # one orbit; returns (records done, status).  A record is an impact (side 0 floor, 1 ceiling) or, with
+    # friction, a contact event (side EV_*).  status: 0 all n records done (not decided), 1 settled (energy below
+    # the valley's barrier), 2 caught (first floor contact, catch mode), 3 at rest (μ = 0: the chattering limit
+    # below the barrier; μ > 0: on a face, or where the rolling resistance holds it), 4 at rest with energy above
+    # the barrier (μ = 0: it slides), 6 free flight, 7 no convergence, 8 wall not finite, 9 angle beyond
+    # float64, 10 cell budget, 11 rolls for ever, 12 no consistent motion on the floor (Painlevé), 13
+    # contact-phase budget.  leaving 2: the state is on the floor, at rest in
+    # the normal direction (μ > 0): the toss starts in contact.
+    # summary = [θ mod 2π, turns, η, θ̇, η̇, time, floor impacts, valley, ξ̇]
     theta = state[0]
     eta = state[1]
     vt = state[2]
     ve = state[3]
+    vx = state[4]
     c = carray(_data_pointer(c), c.shape)
     cells = carray(_data_pointer(cells), cells.shape)
     lookup = carray(_data_pointer(lookup), lookup.shape)
@@ -254,7 +268,76 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     status = 0
     done = 0
     settle = g > 0.0 and valleys.shape[0] > 0
+    mode = 0  # 0 in the air, 1 on the floor on the piece of cell jc, 2 standing on the kink at its right edge
+    jc = 0
+    sigc = 0
+    left = CONTACT_STEPS  # the contact phases' steps left to this toss
+    if leaving == 2:
+        leaving = 0
+        mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells, lookup)
     for i in range(n):
+        kind = 0
+        if mode != 0:
+            if mode == 1:
+                code, kind, x, wraps, jc, vt, vx, sigc, eta, ve, dt, hits, nmode, leave, steps = _contact(
+                    th, wraps, jc, vt, vx, sigc, b0, g, e, mu, rr, chatter, tol, lscale, c, cells, valleys, settle,
+                    left)
+                left -= steps
+                th = x
+            else:
+                jr = jc + 1 if jc + 1 < cells.shape[0] else 0
+                dt, vx, nxt, sgn = _face(jc, jr, th, vx, b0, g, mu, chatter, c, cells)
+                kind = EV_FACE
+                hits = 0
+                code = C_REST if nxt == 2 else C_EVENT
+                leave = math.nan
+                if nxt != 2:
+                    jn = jr if nxt == 1 else jc
+                    th, wraps = _side_angle(th, wraps, jn, cells.shape[0])
+                    jc = jn
+                    vt = 0.0
+                    Bn, sn, B2n = _piece(th, jc, c, cells)
+                    sigc = sgn if sgn != 0 else _start_phase(Bn + b0, sn, B2n, 0.0, vx, g, mu, rr)
+                    if sigc == 2:
+                        code = C_PAINLEVE
+                nmode = 1
+            time += dt
+            floor_hits += hits
+            if code != C_EVENT and code != C_FLIGHT and kind == 0:
+                kind = EV_END
+            if code == C_FLIGHT:
+                mode = 0
+                if nmode == 3:  # back on the floor just after lifting off: a floor impact there
+                    th, wraps = _reduce(th, wraps)
+                    _b, s = wall_b1(th, c)
+                    vt, ve, vx, _p = _friction_impact(vt, ve, vx, s, eta, e, mu)
+                    floor_hits += 1
+                    mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells,
+                                                                        lookup)
+                elif math.isnan(leave):
+                    leaving = -1
+                    g1_leave = math.nan
+                else:
+                    leaving = 0
+                    g1_leave = leave
+            elif code == C_EVENT:
+                mode = nmode
+            th_r, wr = _reduce(th, wraps)
+            done = i + 1
+            if record:
+                out_time[i] = time
+                out_theta[i] = th_r + wr * TWO_PI
+                out_eta[i] = eta
+                out_vt[i] = vt
+                out_ve[i] = ve
+                out_vx[i] = vx
+                out_side[i] = kind
+            if code != C_EVENT and code != C_FLIGHT:
+                status = (0, 0, 1, 3, 11, 12, 13, 8)[code]
+                break
+            if mode == 0:
+                th, wraps = th_r, wr
+            continue
         ivt = 1.0 / vt if vt != 0.0 else INF
         tl = INF
         tu = INF
@@ -315,7 +398,20 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
         eta += ve * t - 0.5 * g * t * t
         ve -= g * t
         time += t
-        vt, ve = _impact(vt, ve, s, e)  # Newton's restitution on the normal velocity
+        if side == 0 and mu > 0.0:
+            # Coulomb friction, Stronge's e; on a kink of b, the impacts at both corners of the face
+            kink, thk, vt2, ve2, vx2, hits, sk = _landing(th, vt, ve, vx, b0, e, mu, chatter, c, cells, lookup)
+            if kink:
+                if thk < th - PI:  # the kink at 2π is the one at 0 of the next turn
+                    wraps += 1
+                elif thk > th + PI:
+                    wraps -= 1
+                th, vt, ve, vx, s = thk, vt2, ve2, vx2, sk
+                floor_hits += hits - 1
+            else:
+                vt, ve, vx, _p = _friction_impact(vt, ve, vx, s, eta, e, mu)
+        else:
+            vt, ve = _impact(vt, ve, s, e)  # Newton's restitution on the normal velocity
         g1_leave = _leaving_rate(side, vt, ve, s)
         done = i + 1
         if record:
@@ -324,6 +420,7 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
             out_eta[i] = eta
             out_vt[i] = vt
             out_ve[i] = ve
+            out_vx[i] = vx
             out_side[i] = side
         leaving = side
         if side == 0:
@@ -339,13 +436,26 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
                     vt = vt + f * s
                     ve = ve - f
                     g1_leave = 0.0
-                level = eta - b0 + 0.5 * (vt * vt + ve * ve) / g
+                if mu > 0.0:  # friction can turn the horizontal motion into rotation: its energy counts
+                    level = eta - b0 + 0.5 * (vt * vt + ve * ve + vx * vx) / g
+                else:
+                    level = eta - b0 + 0.5 * (vt * vt + ve * ve) / g
                 if level < valleys[_valley(th, valleys), 1]:
-                    status = 3 if rest else 1
+                    # (with friction the body is not at rest yet: it slides and rolls on in its valley)
+                    status = 3 if rest and mu == 0.0 else 1
                     break
                 if rest:
-                    status = 4
-                    break
+                    if mu == 0.0:
+                        status = 4
+                        break
+                    # the bounces died out above the barrier: the body stays on the floor (contact phases)
+                    mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells,
+                                                                        lookup)
+            elif mu > 0.0 and g > 0.0 and g1_leave < chatter:
+                # no valleys to settle in (an orbit followed for its own sake), but the bounces died out all the same
+                f = (ve - s * vt) / (1.0 + s * s)
+                vt = vt + f * s
+                mode, jc, sigc, th, wraps, eta, vt, ve, vx = _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells, lookup)
     summary[0] = th
     summary[1] = wraps
     summary[2] = eta
@@ -354,17 +464,36 @@ def _run(state, turns, leaving, n, H, b0, g, e, ceiling, catch, chatter, c, cell
     summary[5] = time
     summary[6] = floor_hits
     summary[7] = _valley(th, valleys)
+    summary[8] = vx
     return done, status
 
 
+@njit(**OPTIONS)
+def _touch(th, wraps, vt, vx, b0, g, mu, rr, c, cells, lookup):
+    # the body put on the floor at θ = th with no normal velocity: (mode, cell, phase, θ, turns, η, θ̇, η̇, ξ̇);
+    # mode 1 on the piece of the cell, 2 standing on a kink (at the right edge of the cell returned)
+    th, wraps = _reduce(th, wraps)
+    j = _cell_of(th, cells, lookup)
+    lo = cells[j, LEFT]
+    hi = cells[j, RIGHT]
+    if _is_kink(j, True, cells) and th <= lo + KINK_NEAR:
+        th = lo
+    elif _is_kink(j, False, cells) and th >= hi - KINK_NEAR:
+        th = hi
+    B, s, B2 = _piece(th, j, c, cells)
+    B += b0
+    sig = _start_phase(B, s, B2, vt, vx, g, mu, rr)
+    return 1, j, sig, th, wraps, B, vt, s * vt, vx
+
+
 @njit(cache=CACHE, parallel=True)
-def _run_many(states, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol, valleys,
+def _run_many(states, n, H, b0, g, e, mu, rr, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol, valleys, lscale,
               done, status, summary):
-    # many orbits in parallel, summaries only (no collision records)
+    # many orbits in parallel, summaries only (no records)
     dummy_f = np.empty(1)
     dummy_i = np.empty(1, dtype=np.int8)
     for k in prange(states.shape[0]):
-        d, s = _run(states[k], 0, -1, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol,
-                    valleys, False, dummy_f, dummy_f, dummy_f, dummy_f, dummy_f, dummy_i, summary[k])
+        d, s = _run(states[k], 0, -1, n, H, b0, g, e, mu, rr, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol,
+                    valleys, lscale, False, dummy_f, dummy_f, dummy_f, dummy_f, dummy_f, dummy_f, dummy_i, summary[k])
         done[k] = d
         status[k] = s

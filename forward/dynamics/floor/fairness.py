@@ -126,7 +126,7 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
     Parameters
     ----------
     table : FieldTable
-        A smooth wall in a field g > 0 (a floor, or a floor and a ceiling).
+        A smooth wall in a field g > 0 (a floor, or a floor and a ceiling), frictionless.
     mean, sigma : pair of float
         The launch ``(v0, ω0)`` (κ/s, rad/s) and its standard deviations: ``(v0, ω0) ~ N(mean, diag(σ²))``.
     height : float
@@ -151,6 +151,9 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
         raise InvalidArgument("a toss needs a field: `g` must be positive")
     if table.wall.kinks:
         raise InvalidArgument(f"`fairness` needs a smooth wall; {table.wall.description!r} has corners")
+    if table.mu > 0.0:
+        raise InvalidArgument("`fairness` stops each toss at its floor impacts on a frictionless floor (`mu` = 0); with "
+                              "friction the contact phases between impacts are followed by `heads_fraction`")
     bounces = check_count("bounces", bounces)
     samples = check_count("samples", samples)
     if bounces > 10_000 or samples > 10 ** 8:
@@ -230,7 +233,7 @@ def plot_fairness(results, tolerance: float = 1e-3, title: str = ""):
     ``tolerance`` against e (open markers: not shown within the bounces computed).  Returns the first axes."""
     from ...formats.figure import new_figure
 
-    fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
+    _fig, (ax, bx) = new_figure(1, 2, figsize=(12, 4.8), constrained_layout=True)
     for r in results:
         line, = ax.plot(r.bounces, np.abs(r.bias), "o-", ms=3, lw=1, label=f"e = {r.e:g}")
         ax.fill_between(r.bounces, np.maximum(np.abs(r.bias) - 2 * r.stderr, 1e-5), np.abs(r.bias) + 2 * r.stderr,

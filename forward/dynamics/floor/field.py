@@ -35,14 +35,19 @@ component ``(θ̇ + b' η̇)/√(1 + b'²)`` is kept (a frictionless contact); t
 ``½ (1 − e²) v_n²`` (units M κ²).  (``tests/forward/dynamics/floor/test_toss.py`` checks the kernel's impacts against the lab
 formula above, for a body of given M and κ.)
 
+Friction
+--------
+With a coefficient of friction μ > 0 the floor also pushes along itself: the state gains the horizontal
+velocity of the centre of mass ``ξ̇ = ẋ/κ``, each floor impact follows Stronge's energetic restitution with
+Routh's integration of the impulse (no impact creates energy, for any μ and e), and a body whose bounces die
+out slides, rolls and rocks on the floor until it lifts off again or settles (:mod:`._friction_kernel`, the
+derivation in ``docs/toss.md``).  The ceiling, when there is one, stays frictionless.  μ = 0 is the
+frictionless model above, computed by the same code as before friction existed (bit for bit).
+
 Outcomes
 --------
-With gravity the floor's wall is a potential landscape: ``λ = E/g = η + (θ̇² + η̇²)/(2g) ≥ b0 + b(θ)``.
-The *valleys* are the intervals between consecutive local maxima of b; a body whose level ``λ − b0`` is
-below the lower of its valley's two maxima (the valley's *barrier*, at least the lowest saddle of all) can
-never leave it: the outcome is decided (:func:`landscape`).  For a coin (two valleys whose minima are on
-either side, ``sin θ < 0`` and ``> 0``) the valleys are named heads and tails (the convention of
-:func:`.correlation.heads`).  The chattering limit and the bounded count: see :mod:`._field_kernel`.
+The valleys of b, their barriers and the names of the rest states: :mod:`.landscape`.  The chattering limit
+and the bounded count: see :mod:`._field_kernel`.
 """
 
 from __future__ import annotations
@@ -57,154 +62,103 @@ from ...display import safe_repr
 from ...errors import InvalidArgument, InvalidWall
 from ...validation import check_count, check_memory, is_integer
 from ...wall import Wall
-from ..billiard.kernel import source_after_marker
 from ..billiard.table import HEIGHT_MAX, HIT_TOL, Billiard
+from .fieldkernel import _kernel
+from .landscape import Landscape, landscape
 
-__all__ = ["CHATTER_HEIGHT", "FIELD_NOTES", "FIELD_SOURCE", "STATUS", "FieldTable", "Flight", "Landscape",
-           "field_run", "field_run_many", "landscape", "reference_run"]
+__all__ = ["CHATTER_HEIGHT", "EVENTS", "FIELD_NOTES", "STATUS", "UNDECIDED_STATUSES", "FieldTable", "Flight",
+           "field_run", "field_run_many"]
 
-_MARKER = ("# ---- field kernel: the text from the line after this one to the end of the file is joined to the "
-           "wall code ----\n")
 #: a floor impact after which the gap opens slower than √(2 g δ), δ = CHATTER_HEIGHT·max(1, scale) κ, is rest
 CHATTER_HEIGHT = 1e-9
 METHODS = ("kernel", "reference")
 #: the kernel's status codes
 STATUS = {0: "bounces", 1: "settled", 2: "caught", 3: "rest", 4: "slides", 6: "free", 7: "no-convergence",
-          8: "wall-not-finite", 9: "angle-overflow", 10: "cell-budget"}
+          8: "wall-not-finite", 9: "angle-overflow", 10: "cell-budget", 11: "rolls", 12: "painleve",
+          13: "contact-budget"}
+#: the statuses that decide no outcome
+UNDECIDED_STATUSES = tuple(v for k, v in STATUS.items() if k not in (1, 2, 3))
 FIELD_NOTES = {
-    0: "the impact budget was reached before the outcome was decided",
+    0: "the budget of impacts (and contact events) was reached before the outcome was decided",
     4: "the bounces died out (chattering limit) with the energy still above the valley's barrier: the body "
-       "slides on the floor and the impact model cannot follow it; the valley reported is where it was",
+       "slides on the frictionless floor and the impact model cannot follow it; the valley reported is where it was "
+       "(give a friction coefficient μ > 0, or follow it with --slide)",
     6: "free flight: the body never meets a wall again",
     7: "the root search did not converge (a near-tangent graze?)",
     8: "the wall evaluated to nan or infinity where the body met it",
     9: "a flight carried θ beyond 1.8e13 rad, where float64 no longer resolves the contact angle",
     10: "the search for the next impact walked more than 2^27 cells without deciding",
+    11: "the body rolls without slipping for ever with its energy above the valley's barrier: a whole period of "
+        "rolling passed without an event, so it repeats (Coulomb friction has no rolling resistance)",
+    12: "the body on the floor can neither roll nor slip consistently here (Painlevé's indeterminacy at a stick)",
+    13: "the contact phases of the toss took 2^18 integration steps without deciding it (a body that slides and "
+        "rolls on and on: give a rolling resistance)",
 }
+#: the events recorded in :attr:`Flight.side`: impacts, and with friction the contact events
+EVENTS = {0: "floor impact", 1: "ceiling impact", 3: "lift-off", 4: "rolling", 5: "slipping",
+          6: "corner", 7: "face", 8: "end", 9: "jam"}
 
-
-FIELD_SOURCE = source_after_marker(__package__, "_field_kernel.py", _MARKER)
-
-
-# ---------------------------------------------------------------------------------------------------- landscape
-@dataclass(frozen=True, repr=False)
-class Landscape:
-    """The valleys of the floor's wall b(θ) (b0 not included; the valleys do not depend on it).
-
-    Attributes
-    ----------
-    minima : ndarray (k,)
-        The angle of each valley's minimum, in [0, 2π), in the order of the valleys.
-    maxima : ndarray (k,)
-        The left maximum of each valley (valley i spans ``[maxima[i], maxima[i+1])``, cyclically).
-    barriers : ndarray (k,)
-        The lower of each valley's two maxima (b's value; ``inf`` for a wall with a single valley).
-    names : list of str
-        ``heads``/``tails`` for a coin (two valleys, minima with ``sin θ < 0`` and ``> 0``), else
-        ``rest θ=…`` by the angle of the minimum.
-    table : ndarray (k, 3)
-        ``[left maximum, barrier, minimum]`` per valley, sorted by the left maximum: the kernel's input.
-    """
-
-    minima: np.ndarray
-    maxima: np.ndarray
-    barriers: np.ndarray
-    names: list
-    table: np.ndarray
-
-    def valley(self, theta):
-        """Index of the valley holding each angle (the kernel's rule)."""
-        x = np.mod(np.asarray(theta, dtype=float), TWO_PI)
-        if self.maxima.size <= 1:
-            return np.zeros(x.shape, dtype=np.int64)
-        k = np.searchsorted(self.table[:, 0], x, side="right") - 1
-        return np.where(k < 0, self.maxima.size - 1, k)
-
-    @safe_repr
-    def __repr__(self):
-        parts = [f"{n} (min θ={m:.4g}, barrier {b:.4g})" for n, m, b in zip(self.names, self.minima, self.barriers)]
-        return f"Landscape({'; '.join(parts)})"
-
-
-def landscape(wall: Wall, points: int = 16384) -> Landscape:
-    """The valleys of ``wall`` (local maxima and minima of b, refined on the exact wall).
-
-    Extrema are found on a grid of ``points`` angles (strict local extrema of the sampled b, cyclic) and
-    refined by a bounded scalar search on b within one grid step (b is continuous, kinks included; the value
-    at an extremum is accurate to rounding even where the angle is known only to ~1e-8).  Extrema closer in
-    b than 1e-12·scale to both neighbours are ignored (flat or rounding wiggles).
-    """
-    from scipy.optimize import minimize_scalar
-
-    theta = np.arange(points) * (TWO_PI / points)
-    b = wall(theta)
-    if not np.all(np.isfinite(b)):
-        raise InvalidWall(f"wall {wall.description!r} is not finite everywhere on [0, 2π)")
-    h = TWO_PI / points
-    prev, nxt = np.roll(b, 1), np.roll(b, -1)
-    flat = 1e-12 * wall.scale
-    is_max = (b > prev) & (b >= nxt) & ((b - np.minimum(prev, nxt)) > 0)
-    is_min = (b < prev) & (b <= nxt)
-
-    def refine(i, sign):
-        res = minimize_scalar(lambda x: sign * float(wall(np.array([x]))[0]), bounds=(theta[i] - h, theta[i] + h),
-                              method="bounded", options={"xatol": 1e-12})
-        x = float(res.x) % TWO_PI
-        return x, float(wall(np.array([x]))[0])
-
-    maxima = [refine(i, -1.0) for i in np.flatnonzero(is_max)]
-    minima = [refine(i, 1.0) for i in np.flatnonzero(is_min)]
-    # drop pairs that are rounding wiggles: a maximum less than `flat` above the minima next to it
-    if maxima and minima and max(v for _, v in maxima) - min(v for _, v in minima) <= flat:
-        maxima, minima = [], []
-    if len(maxima) <= 1:
-        lo = min(minima, key=lambda m: m[1]) if minima else (float(theta[int(np.argmin(b))]), float(b.min()))
-        left = maxima[0][0] if maxima else 0.0
-        table = np.array([[left, math.inf, lo[0]]])
-        return Landscape(np.array([lo[0]]), np.array([left]), np.array([math.inf]), [f"rest θ={lo[0]:.4g}"], table)
-    maxima.sort()
-    mx = np.array([a for a, _ in maxima])
-    mv = np.array([v for _, v in maxima])
-    k = mx.size
-    mins = np.empty(k)
-    barriers = np.empty(k)
-    for i in range(k):
-        left, right = mx[i], mx[(i + 1) % k] + (TWO_PI if i == k - 1 else 0.0)
-        inside = [(v, a) for a, v in minima if left < a < right or left < a + TWO_PI < right]
-        if inside:
-            mins[i] = min(inside)[1]
-        else:  # no sampled minimum between two maxima (cannot happen for strict extrema): the midpoint
-            mins[i] = (0.5 * (left + right)) % TWO_PI
-        barriers[i] = min(mv[i], mv[(i + 1) % k])
-    names = [f"rest θ={m:.4g}" for m in mins]
-    if k == 2 and np.sign(np.sin(mins[0])) * np.sign(np.sin(mins[1])) < 0:
-        names = ["heads" if math.sin(m) < 0 else "tails" for m in mins]
-    table = np.column_stack([mx, barriers, mins])
-    return Landscape(mins, mx, barriers, names, np.ascontiguousarray(table))
+def _number(name, value):
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"`{name}` must be a real number, got {value!r}") from None
+    if isinstance(value, bool) or not math.isfinite(number):
+        raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
+    return number
 
 
 # ---------------------------------------------------------------------------------------------------- table
 @dataclass(frozen=True, repr=False)
 class FieldTable:
-    """A floor (and optionally a ceiling) for ``wall`` in a constant field ``g``, with restitution ``e``.
+    """A floor (and optionally a ceiling) for ``wall`` in a constant field ``g``, with restitution ``e`` and
+    Coulomb friction ``mu`` on the floor.
 
     Parameters
     ----------
     wall : Wall
+        The body's wall b(θ) (units of κ).
     g : float
         The field in κ/s² along −η (≥ 0; 0: no field).
     e : float
-        Newton's coefficient of restitution on the normal velocity, in (0, 1] (1: elastic).
+        The coefficient of restitution in [0, 1] (1: elastic): Newton's on the normal velocity without
+        friction, Stronge's energetic coefficient with it (the two agree when the contact does not slip back).
+        0 (perfectly plastic) needs a field and a floor only.
     b0 : float
         Offset of the wall (``b0 + b`` is the support function), as in :class:`.billiard.Billiard`.
     H : float or None
-        Distance of the ceiling (units of κ); ``None``: a floor only.
+        Distance of the ceiling (units of κ); ``None``: a floor only.  The ceiling is frictionless.
     settle : bool
         Whether an orbit ends once its level is below its valley's barrier (the outcome is then decided; the
-        default).  ``False`` for elastic orbits followed for their own sake (a wedge, where the single valley
-        would end every orbit at its first impact): the kernel gets no valley table and never settles.
+        default).  ``False`` for orbits followed for their own sake (a wedge, where the single valley would end
+        every orbit at its first impact): the kernel gets no valley table and never settles.
+    mu : float
+        Coulomb's coefficient of friction of the floor, ≥ 0 (0: frictionless, the default).
+    rolling : float
+        Rolling resistance, with friction: the lever arm δ (units of κ, in [0, 1]) of the normal force whose
+        couple δ·F_n opposes rolling.  0 (the default) is Coulomb friction alone, under which rolling without
+        slipping keeps its energy: a near-round body may roll for ever (status ``rolls``).
+
+    Attributes
+    ----------
     landscape : Landscape
-        The valleys of the floor (:func:`landscape`); with ``settle=False``, without the kernel's valley table.
+        The valleys of the floor (:func:`.landscape.landscape`); with ``settle=False``, without the kernel's
+        valley table.
+
+    Raises
+    ------
+    InvalidArgument
+        For a value out of its range, or a floor that nothing brings the body back to.
+    InvalidWall
+        For a wall larger than the kernel takes.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> table.landscape.names
+    ['tails', 'heads']
     """
 
     wall: Wall
@@ -213,24 +167,27 @@ class FieldTable:
     b0: float = 0.0
     H: float | None = None
     settle: bool = True
+    mu: float = 0.0
+    rolling: float = 0.0
     landscape: Landscape = field(init=False)
 
     def __post_init__(self):
         if not isinstance(self.wall, Wall):
             raise InvalidArgument(f"`wall` must be a coinwall.forward.Wall, got {type(self.wall).__name__}")
-        for name in ("g", "e", "b0"):
-            value = getattr(self, name)
-            try:
-                number = float(value)
-            except (TypeError, ValueError):
-                raise InvalidArgument(f"`{name}` must be a real number, got {value!r}") from None
-            if isinstance(value, bool) or not math.isfinite(number):
-                raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
-            object.__setattr__(self, name, number)
+        for name in ("g", "e", "b0", "mu", "rolling"):
+            object.__setattr__(self, name, _number(name, getattr(self, name)))
         if not (self.g == 0.0 or 1e-9 <= self.g <= 1e12):
             raise InvalidArgument(f"`g` must be 0 or a field between 1e-9 and 1e12 κ/s², got {self.g!r}")
-        if not 0.0 < self.e <= 1.0:
-            raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1], got {self.e!r}")
+        if not 0.0 <= self.e <= 1.0 or (self.e == 0.0 and (self.H is not None or self.g == 0.0)):
+            raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1] (0, perfectly plastic, with a "
+                                  f"field and a floor only), got {self.e!r}")
+        if not 0.0 <= self.mu <= 1e6:
+            raise InvalidArgument(f"`mu` must be a coefficient of friction between 0 and 1e6, got {self.mu!r}")
+        if self.mu > 0.0 and self.g == 0.0:
+            raise InvalidArgument("friction (`mu` > 0) acts on a floor in a field: give `g` > 0")
+        if not 0.0 <= self.rolling <= 1.0 or (self.rolling > 0.0 and self.mu == 0.0):
+            raise InvalidArgument(f"`rolling` must be a rolling resistance in [0, 1] (units of κ) on a floor with "
+                                  f"friction (`mu` > 0), got {self.rolling!r}")
         if not abs(self.b0) <= HEIGHT_MAX:
             raise InvalidArgument(f"`b0` must be between {-HEIGHT_MAX:g} and {HEIGHT_MAX:g}, got {self.b0!r}")
         if not self.wall.scale <= HEIGHT_MAX:
@@ -246,7 +203,8 @@ class FieldTable:
             raise InvalidArgument(f"`settle` must be True or False, got {self.settle!r}")
         land = landscape(self.wall)
         if not self.settle:  # the kernel skips the settling test when it gets an empty valley table
-            land = Landscape(land.minima, land.maxima, land.barriers, land.names, np.empty((0, 3)))
+            land = Landscape(land.minima, land.maxima, land.barriers, land.names, np.empty((0, 3)), land.coin,
+                             land.faces)
         object.__setattr__(self, "landscape", land)
 
     @property
@@ -271,25 +229,29 @@ class FieldTable:
             return np.full(np.shape(theta), math.inf)
         return self.H - self.b0 - self.wall(np.asarray(theta, dtype=float) + math.pi)
 
-    def energy(self, eta, v_theta, v_eta):
-        """Energy per M κ²: ``½(θ̇² + η̇²) + g η``."""
-        return 0.5 * (np.asarray(v_theta) ** 2 + np.asarray(v_eta) ** 2) + self.g * np.asarray(eta)
+    def energy(self, eta, v_theta, v_eta, v_xi=0.0):
+        """Energy per M κ²: ``½(θ̇² + η̇² + ξ̇²) + g η`` (ξ̇ the horizontal velocity, 0 unless given)."""
+        return (0.5 * (np.asarray(v_theta) ** 2 + np.asarray(v_eta) ** 2 + np.asarray(v_xi) ** 2)
+                + self.g * np.asarray(eta))
 
     @safe_repr
     def __repr__(self):
         top = f", H={self.H:g}" if self.H is not None else ", floor only"
-        return f"FieldTable({self.wall!r}, g={self.g:g}, e={self.e:g}, b0={self.b0:g}{top})"
+        friction = f", mu={self.mu:g}" if self.mu else ""
+        friction += f", rolling={self.rolling:g}" if self.rolling else ""
+        return f"FieldTable({self.wall!r}, g={self.g:g}, e={self.e:g}{friction}, b0={self.b0:g}{top})"
 
 
 # ---------------------------------------------------------------------------------------------------- results
 @dataclass(frozen=True, repr=False)
 class Flight:
-    """Impacts of one orbit in the field, in order, and how it ended.
+    """The impacts (and contact events) of one orbit in the field, in order, and how it ended.
 
-    ``time, theta, eta, v_theta, v_eta, side`` per impact (velocities just after it; θ unwrapped; side 0 the
-    floor, 1 the ceiling).  ``status`` is a key of :data:`STATUS` (a word), ``valley`` the index into
-    ``table.landscape`` where θ was at the end, ``outcome`` its name (or ``None`` when the status does not
-    decide one), ``note`` why it stopped when that is not an outcome.
+    ``time, theta, eta, v_theta, v_eta, v_xi, side`` per record (velocities just after it; θ unwrapped; ξ̇ the
+    horizontal velocity of the centre of mass); ``side`` is 0 for a floor impact, 1 for the ceiling, and with
+    friction a contact event (:data:`EVENTS`).  ``status`` is a key of :data:`STATUS` (a word), ``valley`` the
+    index into ``table.landscape`` where θ was at the end, ``outcome`` its name (or ``None`` when the status
+    does not decide one), ``note`` why it stopped when that is not an outcome.
     """
 
     time: np.ndarray
@@ -305,79 +267,43 @@ class Flight:
     floor_impacts: int
     method: str = "kernel"
     note: str = ""
+    v_xi: np.ndarray = None
 
     def __len__(self):
         return int(self.time.size)
 
     @property
     def outcome(self):
+        """The name of the rest state (or the valley caught), ``None`` when undecided."""
         if self.status in ("settled", "caught", "rest"):
             return self.table.landscape.names[self.valley]
         return None
 
     @property
     def energy(self) -> np.ndarray:
-        return self.table.energy(self.eta, self.v_theta, self.v_eta)
+        """The energy per M κ² after each record (the horizontal motion's included)."""
+        vx = self.v_xi if self.v_xi is not None else 0.0
+        return self.table.energy(self.eta, self.v_theta, self.v_eta, vx)
 
     @safe_repr
     def __repr__(self):
-        return (f"Flight({len(self)} impacts ({self.floor_impacts} on the floor), {self.status}, "
+        return (f"Flight({len(self)} records ({self.floor_impacts} floor impacts), {self.status}, "
                 f"outcome {self.outcome})")
-
-
-# ---------------------------------------------------------------------------------------------------- kernel
-class _FieldKernel:
-    def __init__(self, wall: Wall):
-        from ..billiard.kernel import compiled, kernel_module
-
-        base = compiled(_WallHolder(wall))  # the billiard's constants and cell bounds of this wall (kept per wall)
-        # the wall's code, the search the billiard kernel compiles too (_search.py), then this kernel's text
-        self.module, _ = kernel_module(wall, FIELD_SOURCE, "coinwall_field")
-        self.constants, self.bounds, self.cells = base.constants, base.bounds, base.cells
-
-    def call(self, name, *args):
-        return getattr(self.module, name)(*args)
-
-    def args(self, table: FieldTable):
-        H = float(table.H) if table.H is not None else 0.0
-        return (H, float(table.b0), float(table.g), float(table.e), table.H is not None)
-
-    def wall_args(self, table: FieldTable):
-        bd = self.bounds
-        return (self.constants, self.cells, bd["lookup"], bd["wmin"], bd["wmax"], float(table.tol),
-                table.landscape.table)
-
-
-class _WallHolder:
-    # kernel.compiled() keys its cache on ``table.wall``
-    def __init__(self, wall):
-        self.wall = wall
-
-
-_FIELD_KERNELS: dict = {}
-
-
-def _kernel(table: FieldTable) -> _FieldKernel:
-    import weakref
-
-    global _FIELD_KERNELS
-    if not isinstance(_FIELD_KERNELS, weakref.WeakKeyDictionary):
-        _FIELD_KERNELS = weakref.WeakKeyDictionary()
-    comp = _FIELD_KERNELS.get(table.wall)
-    if comp is None:
-        comp = _FIELD_KERNELS[table.wall] = _FieldKernel(table.wall)
-    return comp
 
 
 # ---------------------------------------------------------------------------------------------------- inputs
 def _check_state(table: FieldTable, state, leaving=None):
-    """A state [θ, η, θ̇, η̇]: finite, on or above the floor (and below the ceiling); the wall it is on."""
+    """A state [θ, η, θ̇, η̇] or [θ, η, θ̇, η̇, ξ̇]: finite, on or above the floor (and below the ceiling); the
+    wall it is on (0 floor, 1 ceiling, −1 none, 2 at rest on the floor in the normal direction: contact)."""
     try:
         arr = np.array(state, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise InvalidArgument("`state` must be numbers [theta, eta, v_theta, v_eta]") from None
-    if arr.shape != (4,) or not np.all(np.isfinite(arr)):
-        raise InvalidArgument(f"`state` must be four finite numbers [theta, eta, v_theta, v_eta], got {state!r}")
+        raise InvalidArgument("`state` must be numbers [theta, eta, v_theta, v_eta(, v_xi)]") from None
+    if arr.shape not in ((4,), (5,)) or not np.all(np.isfinite(arr)):
+        raise InvalidArgument(f"`state` must be four or five finite numbers [theta, eta, v_theta, v_eta(, v_xi)], "
+                              f"got {state!r}")
+    if arr.size == 4:
+        arr = np.append(arr, 0.0)
     if not abs(arr[0]) < 1e15:
         raise InvalidArgument(f"`state` angle {arr[0]!r} is beyond float64's resolution of an angle")
     th = float(arr[0])
@@ -392,6 +318,9 @@ def _check_state(table: FieldTable, state, leaving=None):
     if leaving in (0, 1):
         slope = float(table.wall.derivatives(np.array([th + leaving * math.pi]))[1][0]) * (1 if leaving == 0 else -1)
         inward = (arr[3] - slope * arr[2]) * (1 if leaving == 0 else -1)
+        scale = abs(arr[3]) + abs(slope * arr[2]) + math.sqrt(table.g * max(1.0, table.wall.scale))
+        if leaving == 0 and table.mu > 0.0 and abs(inward) <= 1e-12 * scale:
+            return arr, 2  # on the floor, at rest in the normal direction: the toss starts in contact
         if inward <= 0:
             raise InvalidArgument(f"`state` {arr.tolist()} is on the {'floor' if leaving == 0 else 'ceiling'} and "
                                   f"moves out of the table")
@@ -406,55 +335,132 @@ def _check_impacts(n):
 
 # ---------------------------------------------------------------------------------------------------- runs
 def field_run(table: FieldTable, state, impacts: int, catch: bool = False, method: str = "kernel") -> Flight:
-    """One orbit in the field for at most ``impacts`` impacts, stopping when its outcome is decided.
+    """One orbit in the field for at most ``impacts`` records, stopping when its outcome is decided.
 
-    ``catch=True`` stops at the first floor contact (the coin caught at the floor: Keller's toss).  A state on
-    a wall (η on it to 10·tol) must move into the table; it leaves that wall.  ``method`` is ``"kernel"``
-    (compiled) or ``"reference"`` (:func:`reference_run`).
+    Parameters
+    ----------
+    table : FieldTable
+        The floor, field, restitution and friction.
+    state : array_like
+        ``[θ, η, θ̇, η̇]`` or ``[θ, η, θ̇, η̇, ξ̇]`` (ξ̇ the horizontal velocity of the centre of mass, κ/s;
+        0 when not given).  A state on a wall (η on it to 10·tol) must move into the table; it leaves that
+        wall.  With friction a state on the floor with no normal velocity starts on the floor (sliding or
+        rolling).
+    impacts : int
+        The most records: impacts, and with friction the contact events (lift-off, rolling, slipping, corners).
+    catch : bool
+        Stop at the first floor contact (the coin caught at the floor: Keller's toss).
+    method : str
+        ``"kernel"`` (compiled) or ``"reference"`` (:func:`.reference.reference_run`, frictionless only).
+
+    Returns
+    -------
+    Flight
+
+    Raises
+    ------
+    InvalidArgument
+        For a state outside the table, a bad count or method.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> flight = field_run(FieldTable(coin, g=1.0, e=0.6, mu=0.3), [0.3, 1.5, 3.7, 0.2], 1000)
+    >>> flight.status, flight.outcome
+    ('settled', 'tails')
     """
     if not isinstance(table, FieldTable):
         raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
     impacts = _check_impacts(impacts)
-    check_memory(f"`impacts` = {impacts} (41 bytes per impact)", 41.0 * impacts)
+    check_memory(f"`impacts` = {impacts} (49 bytes per record)", 49.0 * impacts)
     arr, leaving = _check_state(table, state)
     if method == "reference":
-        rows, status, valley, floor_hits = reference_run(table, arr, leaving, impacts, catch)
+        if table.mu > 0.0:
+            raise InvalidArgument("the reference stepper is frictionless: use `method='kernel'` with `mu` > 0")
+        from .reference import reference_run
+
+        rows, status, valley, floor_hits = reference_run(table, arr[:4], leaving, impacts, catch)
         cols = [np.array(c, dtype=float) for c in zip(*rows)] if rows else [np.empty(0) for _ in range(6)]
+        cols = cols[:5] + [np.zeros(cols[0].size)] + cols[5:]
         return _flight(table, arr, cols, status, valley, floor_hits, method)
     if method != "kernel":
         raise InvalidArgument(f"`method` must be one of {METHODS}, got {method!r}")
     comp = _kernel(table)
-    out = [np.empty(impacts) for _ in range(5)] + [np.empty(impacts, dtype=np.int8)]
-    summary = np.empty(8)
+    out = [np.empty(impacts) for _ in range(6)] + [np.empty(impacts, dtype=np.int8)]
+    summary = np.empty(9)
     turns = math.floor(arr[0] / TWO_PI)
     start = arr.copy()
     start[0] -= turns * TWO_PI
     done, status = comp.call("_run", start, int(turns), leaving, impacts, *comp.args(table), bool(catch),
                              table.chatter, *comp.wall_args(table), True, *out, summary)
     cols = [o[:done] for o in out]
-    return _flight(table, arr, cols, int(status), int(summary[7]), int(summary[6]), method)
+    return _flight(table, arr, cols, int(status), _valley_of(table, summary[0], summary[7]), int(summary[6]), method)
+
+
+def _valley_of(table, theta, kernels):
+    """The valley holding θ: the kernel's, or, when it had no valley table (``settle=False``), the landscape's."""
+    if table.settle:
+        return np.asarray(kernels).astype(np.int64) if np.ndim(kernels) else int(kernels)
+    found = table.landscape.valley(theta)
+    return found.astype(np.int64) if np.ndim(theta) else int(found)
 
 
 def _flight(table, start, cols, status, valley, floor_hits, method):
-    time, theta, eta, vt, ve, side = cols
+    time, theta, eta, vt, ve, vx, side = cols
     return Flight(time=np.asarray(time, dtype=float), theta=np.asarray(theta, dtype=float),
                   eta=np.asarray(eta, dtype=float), v_theta=np.asarray(vt, dtype=float),
                   v_eta=np.asarray(ve, dtype=float), side=np.asarray(side, dtype=np.int8), start=np.asarray(start),
                   table=table, status=STATUS.get(status, str(status)), valley=int(valley),
-                  floor_impacts=int(floor_hits), method=method, note=FIELD_NOTES.get(status, ""))
+                  floor_impacts=int(floor_hits), method=method, note=FIELD_NOTES.get(status, ""),
+                  v_xi=np.asarray(vx, dtype=float))
 
 
-def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False, workers=None):
+def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False, workers=None) -> dict:
     """Many orbits in parallel (numba threads), summaries only.
 
-    Returns a dict of arrays: ``status`` (codes of :data:`STATUS`), ``valley``, ``floor_impacts``,
-    ``impacts``, ``time`` (of the last impact) and ``final`` (n, 4) states (θ reduced mod 2π).  States must
-    be strictly inside the table (not on a wall).
+    Parameters
+    ----------
+    table : FieldTable
+        The floor, field, restitution and friction.
+    states : array_like (n, 4) or (n, 5)
+        ``[θ, η, θ̇, η̇(, ξ̇)]`` per orbit, strictly inside the table (not on a wall).
+    impacts : int
+        The most records per orbit (impacts and contact events).
+    catch : bool
+        Stop each at its first floor contact.
+    workers : int, optional
+        Threads (default: numba's).
+
+    Returns
+    -------
+    dict of ndarray
+        ``status`` (codes of :data:`STATUS`), ``valley``, ``floor_impacts``, ``impacts`` (records), ``time`` (of
+        the last record), ``final`` (n, 4) states ``[θ mod 2π, η, θ̇, η̇]`` and ``v_xi`` (n,).
+
+    Raises
+    ------
+    InvalidArgument
+        For states that are not finite or not inside the table.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> out = field_run_many(table, [[0.3, 1.5, 3.7, 0.2], [2.0, 2.5, -4.0, 1.0]], 10_000)
+    >>> [STATUS[int(k)] for k in out["status"]]
+    ['settled', 'settled']
     """
     import numba
 
     impacts = _check_impacts(impacts)
-    arr = np.array(states, dtype=float).reshape(-1, 4)
+    arr = np.array(states, dtype=float)
+    arr = arr.reshape(1, -1) if arr.ndim == 1 else arr
+    if arr.ndim != 2 or arr.shape[1] not in (4, 5):
+        raise InvalidArgument(f"`states` must be rows of [theta, eta, v_theta, v_eta(, v_xi)], got shape {arr.shape}")
+    if arr.shape[1] == 4:
+        arr = np.column_stack([arr, np.zeros(arr.shape[0])])
     if not np.all(np.isfinite(arr)):
         raise InvalidArgument("`states` must be finite numbers")
     low, up = table.lower(arr[:, 0]), table.upper(arr[:, 0])
@@ -470,7 +476,7 @@ def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False,
     m = arr.shape[0]
     done = np.zeros(m, dtype=np.int64)
     status = np.zeros(m, dtype=np.int64)
-    summary = np.zeros((m, 8))
+    summary = np.zeros((m, 9))
     previous = numba.get_num_threads()
     try:
         if workers is not None:
@@ -479,222 +485,6 @@ def field_run_many(table: FieldTable, states, impacts: int, catch: bool = False,
                   *comp.wall_args(table), done, status, summary)
     finally:
         numba.set_num_threads(previous)
-    return {"status": status, "valley": summary[:, 7].astype(np.int64), "floor_impacts": summary[:, 6].astype(np.int64),
-            "impacts": done, "time": summary[:, 5], "final": summary[:, [0, 2, 3, 4]]}
-
-
-# ---------------------------------------------------------------------------------------------------- reference
-_REFERENCE_MAX_STEPS = 400_000
-
-
-def reference_run(table: FieldTable, state, leaving: int, impacts: int, catch: bool = False):
-    """The plain-numpy twin of the kernel: conservative advancement with a global Lipschitz bound.
-
-    On ``[t, t + τ]`` the gap ``f = A + B t − ½ Q t² − b(φ0 + ω t)`` has ``f' ≥ −Λ − |Q| τ`` with
-    ``Λ = |B − Q t| + |ω| max|b'|``, so ``f(t + τ) ≥ f(t) − Λ τ − ½ |Q| τ²``: the positive root of that
-    bound is a step that cannot pass a root.  The first step off the wall just left uses
-    ``f'' ≥ −(Q + ω² max|b''|)`` and never crosses a kink.  It stops at ``f ≤ tol`` and polishes with
-    Brent's method when a sign change is within 1e-8.  Slow (linear convergence, a casadi call per step).
-    Returns ``(rows, status, valley, floor impacts)`` with rows ``(time, θ, η, θ̇, η̇, side)``.
-    """
-    from scipy.optimize import brentq
-
-    from ..billiard.reference import sample_bounds
-
-    wall = table.wall
-    lip, curv, kinks = sample_bounds(wall)
-    tol = table.tol
-    g, e, b0 = table.g, table.e, table.b0
-    H = table.H
-    th, eta, vt, ve = (float(x) for x in state)
-    rows = []
-    clock = 0.0
-    floor_hits = 0
-    status = 0
-    valleys = table.landscape
-    walls = (0, 1) if table.ceiling else (0,)
-
-    def gaps(t):
-        phis = np.array([th + vt * t, th + math.pi + vt * t])
-        b, d1, _ = wall.derivatives(phis)
-        h = eta + ve * t - 0.5 * g * t * t
-        out = [h - b0 - b[0]]
-        if table.ceiling:
-            out.append(H - b0 - b[1] - h)
-        return np.array(out), d1
-
-    for _ in range(impacts):
-        t = 0.0
-        hit = -1
-        for step in range(_REFERENCE_MAX_STEPS):
-            gp, d1 = gaps(t)
-            rate = abs(ve - g * t) + abs(vt) * lip
-            if step == 0 and leaving >= 0:
-                q = g if leaving == 0 else -g
-                g1 = (ve - vt * d1[0]) if leaving == 0 else (-ve - vt * d1[1])
-                K = q + vt * vt * curv
-                if K > 0:
-                    tau = 2.0 * g1 / K
-                elif g1 > 0:
-                    tau = math.inf
-                else:
-                    tau = 0.0
-                if kinks.size and vt != 0:
-                    phi = th + leaving * math.pi
-                    ahead = ((kinks - phi) * np.sign(vt)) % TWO_PI
-                    ahead = ahead[ahead > 1e-12]
-                    if ahead.size:
-                        tau = min(tau, float(ahead.min()) / abs(vt))
-                if len(walls) == 2:
-                    other = gp[1 - leaving]
-                    tau = min(tau, 2 * other / (rate + math.sqrt(rate * rate + 2 * g * other)))
-                if not math.isfinite(tau):
-                    break
-                t += tau
-                continue
-            k = int(np.argmin(gp))
-            if gp[k] <= tol:
-                hit = k
-                break
-            f = float(gp[k]) if len(walls) == 1 else float(gp.min())
-            t += 2.0 * f / (rate + math.sqrt(rate * rate + 2.0 * g * f))
-        if hit < 0:
-            status = 6 if step < _REFERENCE_MAX_STEPS - 1 else 7
-            break
-
-        def gap(s, k=hit):
-            return float(gaps(s)[0][k])
-
-        if gap(t) > 0.0:
-            for width in (1e-12, 1e-10, 1e-8):
-                if gap(t + width) < 0.0:
-                    t = brentq(gap, t, t + width, xtol=1e-16, rtol=1e-15, maxiter=200)
-                    break
-        _, d1 = gaps(t)
-        th, eta, ve = th + vt * t, eta + ve * t - 0.5 * g * t * t, ve - g * t
-        clock += t
-        s = float(d1[0]) if hit == 0 else -float(d1[1])
-        fimp = (1.0 + e) * (ve - s * vt) / (1.0 + s * s)
-        vt, ve = vt + fimp * s, ve - fimp
-        rows.append((clock, th, eta, vt, ve, hit))
-        leaving = hit
-        if hit == 0:
-            floor_hits += 1
-            if catch:
-                status = 2
-                break
-            if g > 0:
-                rest = (ve - vt * s) < table.chatter
-                if rest:
-                    fimp = (ve - s * vt) / (1.0 + s * s)
-                    vt, ve = vt + fimp * s, ve - fimp
-                level = eta - b0 + 0.5 * (vt * vt + ve * ve) / g
-                if level < valleys.barriers[int(valleys.valley(th))]:
-                    status = 3 if rest else 1
-                    break
-                if rest:
-                    status = 4
-                    break
-    return rows, status, int(valleys.valley(th)), floor_hits
-
-
-# ---------------------------------------------------------------------------------------------------- sliding
-_SLIDES_MAX = 20
-
-
-def slide(table: FieldTable, state, duration=None):
-    """Follow the body sliding on a smooth frictionless floor from ``state`` (on the floor, no normal velocity)
-    until it lifts off; return the first state in the air after lift-off, or ``None`` if it slides on.
-
-    On the floor ``η = B(θ) = b0 + b(θ)`` the motion is one-dimensional:
-    ``(1 + B'²) θ̈ + B' B'' θ̇² + g B' = 0`` (energy ``½(1 + B'²)θ̇² + g B`` is conserved; no friction, no
-    loss), with the contact force ``λ = (g + B'' θ̇²)/(1 + B'²)`` along the normal.  It lifts off where λ
-    falls to zero (B'' < 0: over a convex part of the wall, e.g. the coin's edge); there the gap opens only
-    cubically, so the free flight is followed (in closed form) until the gap is 10⁴ contact tolerances, with
-    the gap checked positive on 32 points of the way.  ``duration`` (default 30·√(max(1, scale)/g)) bounds the
-    time on the floor; ``None`` is returned when it does not lift off in that time (it rocks on the floor for
-    ever in a frictionless world), or when the wall has corners (a sliding body meeting a corner needs an
-    impact model this function does not have).
-    """
-    from scipy.integrate import solve_ivp
-
-    if table.wall.kinks or table.g <= 0:
-        return None
-    g, b0, wall = table.g, table.b0, table.wall
-    scale = max(1.0, wall.scale)
-    T = duration if duration is not None else 30.0 * math.sqrt(scale / g)
-
-    from ..billiard.wallcode import python_wall
-
-    d = python_wall(wall, order=2)  # the generated plain-Python b, b', b'' of one angle (no casadi call per step)
-
-    def rhs(_t, y):
-        _, d1, d2 = d(y[0])
-        return [y[1], -d1 * (g + d2 * y[1] ** 2) / (1.0 + d1 * d1)]
-
-    def lift(_t, y):
-        return g + d(y[0])[2] * y[1] ** 2
-
-    lift.terminal, lift.direction = True, -1
-    th0, w0 = float(state[0]), float(state[2])
-    if lift(0.0, [th0, w0]) > 0:
-        sol = solve_ivp(rhs, (0.0, T), [th0, w0], method="DOP853", rtol=1e-11, atol=1e-12, events=lift)
-        if sol.status != 1:
-            return None
-        th0, w0 = (float(x) for x in sol.y_events[0][0])
-    b, d1, _ = d(th0)
-    eta0, v0 = b0 + b, d1 * w0
-    tol = table.tol
-    dt = 1e-9 * math.sqrt(scale / g)
-
-    def gap(s):
-        return eta0 + v0 * s - 0.5 * g * s * s - b0 - float(wall(np.array([th0 + w0 * s]))[0])
-
-    for _ in range(200):
-        if gap(dt) > 1e4 * tol:
-            break
-        dt *= 1.5
-    else:
-        return None
-    if min(gap(dt * k / 32) for k in range(1, 33)) <= 0:
-        return None
-    return np.array([th0 + w0 * dt, eta0 + v0 * dt - 0.5 * g * dt * dt, w0, v0 - g * dt])
-
-
-def settle_many(table: FieldTable, states, impacts: int, catch: bool = False, workers=None, follow_slides=True):
-    """:func:`field_run_many`, with orbits that come to slide on the floor above their barrier (status 4)
-    followed on the floor (:func:`slide`) and back into the air until they settle, up to 20 times each.
-
-    Returns the dict of :func:`field_run_many` plus ``slides`` (how often each orbit slid).  An orbit still
-    sliding at the end keeps status 4 (no outcome).  ``follow_slides=False`` skips the sliding (it is
-    Python, about 50 ms per slide: the cost of a basin map with many sliding tosses).
-    """
-    out = field_run_many(table, states, impacts, catch=catch, workers=workers)
-    out["slides"] = np.zeros(out["status"].size, dtype=np.int64)
-    if catch or not follow_slides:
-        return out
-    stuck = np.zeros(out["status"].size, dtype=bool)  # slid without lifting off: slides for ever
-    for _ in range(_SLIDES_MAX):
-        todo = np.flatnonzero((out["status"] == 4) & ~stuck)
-        if todo.size == 0:
-            break
-        resumed, where = [], []
-        for k in todo:
-            air = slide(table, out["final"][k])
-            if air is not None:
-                resumed.append(air)
-                where.append(k)
-            else:
-                stuck[k] = True
-        if not where:
-            break
-        where = np.array(where)
-        left = np.maximum(impacts - out["impacts"][where], 1)
-        more = field_run_many(table, np.array(resumed), int(left.max()), workers=workers)
-        out["slides"][where] += 1
-        for name in ("status", "valley", "final"):
-            out[name][where] = more[name]
-        out["impacts"][where] += more["impacts"]
-        out["floor_impacts"][where] += more["floor_impacts"]
-        out["time"][where] = np.nan  # (the time on the floor is not tracked)
-    return out
+    return {"status": status, "valley": _valley_of(table, summary[:, 0], summary[:, 7]),
+            "floor_impacts": summary[:, 6].astype(np.int64),
+            "impacts": done, "time": summary[:, 5], "final": summary[:, [0, 2, 3, 4]], "v_xi": summary[:, 8]}

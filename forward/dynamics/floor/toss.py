@@ -1,10 +1,12 @@
-"""The toss that lands: basin maps of the outcome over the launch velocity and spin, and heads fractions.
+"""The toss that lands: the outcome of each launch, basin maps over the launch velocity and spin, and fractions.
 
 A body (its wall b(θ), offset b0) is launched from rest orientation ``theta0`` with its centre of mass at
 height ``height`` (κ, above the floor's reference η = 0), upward velocity ``v0`` (κ/s) and spin ``ω0``
-(θ̇, rad/s), in the field g (κ/s²), and bounces with restitution e until its outcome is decided
-(:mod:`.field`: energy below its valley's barrier, or at rest in the chattering limit), or, with
-``catch``, until it first meets the floor (Keller's coin, caught on landing).  :func:`basin_map` computes
+(θ̇, rad/s), in the field g (κ/s²), and bounces with restitution e (and slides, rolls and rocks with friction
+μ) until its outcome is decided (:mod:`.field`: energy below its valley's barrier, or at rest), or, with
+``catch``, until it first meets the floor (Keller's coin, caught on landing).  :func:`toss_outcomes` gives
+each launch's rest state by name, when and after how many impacts it was decided, or why it was not;
+:func:`launch_spread` draws launches from a Gaussian hand, seeded.  :func:`basin_map` computes
 the outcome on a grid of (v0, ω0) with the number of floor impacts it took (the picture of Vulović and
 Prange, PRA 33, 576 (1986): bands of heads and tails between hyperbolas ω0·v0 ≈ const, thinner as the
 energy grows); :func:`heads_fraction` the probability of each outcome under a Gaussian spread of the
@@ -18,12 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...display import safe_repr
+from ...display import json_numbers, safe_repr
 from ...errors import InvalidArgument
 from ...validation import check_count, check_seed
-from .field import STATUS, FieldTable, settle_many
+from .field import FIELD_NOTES, STATUS, FieldTable, field_run_many
 
-__all__ = ["BasinMap", "Spread", "basin_map", "heads_fraction", "launch_states"]
+__all__ = ["BasinMap", "Spread", "Tosses", "basin_map", "heads_fraction", "launch_spread", "launch_states",
+           "plot_basins", "reason_lines", "toss_outcomes", "undecided_counts"]
 
 _CHUNK = 4096  # orbits per kernel call (the progress bar moves once per chunk)
 UNDECIDED = -1
@@ -62,22 +65,82 @@ def launch_states(table: FieldTable, v0, omega0, height: float, theta0: float | 
     return np.column_stack([np.full(n, theta0), np.full(n, height), w.ravel(), v.ravel()])
 
 
-def _outcomes(table, states, impacts, catch, workers, progress, slide=False):
-    """Outcome (valley index, or UNDECIDED), floor impacts and status per state, in chunks."""
+def _run_chunks(table, states, impacts, catch, workers, progress, slide=False) -> dict:
+    """The kernel's summaries of every state, in chunks (the progress bar moves once per chunk)."""
+    from .slide import settle_many
+
     n = states.shape[0]
-    outcome = np.empty(n, dtype=np.int64)
-    bounces = np.empty(n, dtype=np.int64)
-    status = np.empty(n, dtype=np.int64)
+    keys = ("status", "valley", "floor_impacts", "impacts", "time")
+    out = {key: np.empty(n, dtype=float if key == "time" else np.int64) for key in keys}
+    out["theta"] = np.empty(n)
     for lo in range(0, n, _CHUNK):
         hi = min(n, lo + _CHUNK)
-        out = settle_many(table, states[lo:hi], impacts, catch=catch, workers=workers, follow_slides=slide)
-        decided = np.isin(out["status"], (1, 2, 3))
-        outcome[lo:hi] = np.where(decided, out["valley"], UNDECIDED)
-        bounces[lo:hi] = out["floor_impacts"]
-        status[lo:hi] = out["status"]
+        if slide:
+            part = settle_many(table, states[lo:hi], impacts, catch=catch, workers=workers)
+        else:
+            part = field_run_many(table, states[lo:hi], impacts, catch=catch, workers=workers)
+        for key in keys:
+            out[key][lo:hi] = part[key]
+        out["theta"][lo:hi] = part["final"][:, 0]
         if progress is not None:
             progress(hi - lo)
-    return outcome, bounces, status
+    return out
+
+
+def _outcomes(table, states, impacts, catch, workers, progress, slide=False):
+    """Outcome (valley index, or UNDECIDED), floor impacts and status per state, in chunks."""
+    out = _run_chunks(table, states, impacts, catch, workers, progress, slide)
+    decided = np.isin(out["status"], (1, 2, 3))
+    return np.where(decided, out["valley"], UNDECIDED), out["floor_impacts"], out["status"]
+
+
+def undecided_counts(status) -> dict:
+    """How many tosses are undecided, by reason: the kernel's status words of :data:`.field.STATUS`.
+
+    Parameters
+    ----------
+    status : array_like of int
+        The kernel's status codes, one per toss.
+
+    Returns
+    -------
+    dict
+        ``{status word: count}`` for the undecided statuses present, most frequent first.
+
+    Examples
+    --------
+    >>> undecided_counts([1, 4, 4, 0, 3])
+    {'slides': 2, 'bounces': 1}
+    """
+    values, counts = np.unique(np.asarray(status, dtype=np.int64), return_counts=True)
+    found = [(STATUS.get(int(v), str(int(v))), int(c)) for v, c in zip(values, counts) if int(v) not in (1, 2, 3)]
+    return dict(sorted(found, key=lambda item: -item[1]))
+
+
+def reason_lines(counts: dict, total: int) -> list:
+    """One line per reason for undecided tosses: the status word, the count, the share and what it means.
+
+    Parameters
+    ----------
+    counts : dict
+        ``{status word: count}`` (:func:`undecided_counts`).
+    total : int
+        All tosses.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> reason_lines({'slides': 2}, 4)[0][:35]
+    'slides                2 of 4 (0.500'
+    """
+    return [f"{word:<15s}{n:>8d} of {total} ({n / total:.4f}): {_NOTE_BY_WORD.get(word, '')}"
+            for word, n in counts.items()]
+
+
+_NOTE_BY_WORD = {STATUS[k]: note for k, note in FIELD_NOTES.items()}
 
 
 @dataclass(frozen=True, repr=False)
@@ -101,22 +164,24 @@ class BasinMap:
     catch: bool
 
     def fractions(self) -> dict:
-        """Share of the grid per outcome name (and ``undecided``)."""
-        total = self.outcome.size
-        shares = {name: float(np.mean(self.outcome == k)) for k, name in enumerate(self.names)}
-        shares["undecided"] = float(np.mean(self.outcome == UNDECIDED)) if total else 0.0
-        return shares
+        """Share of the grid per outcome name (valleys of one name added up) and ``undecided``."""
+        return _shares(self.outcome, self.names)
 
     def status_counts(self) -> dict:
+        """How many tosses ended with each of the kernel's statuses (words of :data:`.field.STATUS`)."""
         values, counts = np.unique(self.status, return_counts=True)
         return {STATUS.get(int(v), str(int(v))): int(c) for v, c in zip(values, counts)}
+
+    def undecided_counts(self) -> dict:
+        """How many tosses are undecided, by reason (:func:`undecided_counts`)."""
+        return undecided_counts(self.status)
 
     def to_dict(self) -> dict:
         return {"v0": self.v0.tolist(), "omega0": self.omega0.tolist(), "names": list(self.names),
                 "outcome": self.outcome.tolist(), "bounces": self.bounces.tolist(), "g": self.table.g,
                 "e": self.table.e, "b0": self.table.b0, "H": self.table.H, "height": self.height,
-                "theta0": self.theta0, "catch": self.catch, "fractions": self.fractions(),
-                "status": self.status_counts()}
+                "theta0": self.theta0, "catch": self.catch, "mu": self.table.mu, "fractions": self.fractions(),
+                "status": self.status_counts(), "undecided": self.undecided_counts()}
 
     def to_csv(self) -> str:
         lines = ["v0,omega0,outcome,name,bounces"]
@@ -127,10 +192,11 @@ class BasinMap:
                 lines.append(f"{float(v)!r},{float(w)!r},{k},{name},{int(self.bounces[i, j])}")
         return "\n".join(lines) + "\n"
 
-    def plot(self, title: str = "", keller: bool = True):
-        """Two panels: the outcome (heads/tails coloured, undecided grey) with Keller's hyperbolas
-        ω0·v0/g = π(n + ¼), π(n + ¾) dashed, and the number of floor impacts before the outcome was decided.
-        A caught toss has the first panel only (it is decided at its one floor contact, everywhere)."""
+    def plot(self, title: str = "", keller: bool | None = None):
+        """Two panels: the outcome (each rest state coloured, undecided grey) with, for a coin, Keller's
+        hyperbolas ω0·v0/g = π(n + ¼), π(n + ¾) dashed (``keller``: draw them or not; default: for a coin
+        only), and the number of floor impacts before the outcome was decided.  A caught toss has the first
+        panel only (it is decided at its one floor contact, everywhere)."""
         from matplotlib.colors import BoundaryNorm, ListedColormap
 
         from ...formats.figure import new_figure
@@ -146,6 +212,8 @@ class BasinMap:
         norm = BoundaryNorm(np.arange(-1.5, k, 1.0), cmap.N)
         ax.pcolormesh(self.v0, self.omega0, self.outcome, cmap=cmap, norm=norm, shading="nearest",
                       rasterized=True)
+        if keller is None:
+            keller = self.table.landscape.coin
         if keller and self.table.g > 0:
             v = np.linspace(max(self.v0.min(), 1e-9), self.v0.max(), 400)
             for n in range(400):
@@ -164,7 +232,7 @@ class BasinMap:
         ax.legend(handles=handles, loc="upper right", fontsize=8, frameon=True, framealpha=0.9)  # over the map: a frame
         ax.set_xlabel("launch velocity v0 (κ/s)")
         ax.set_ylabel("spin ω0 (rad/s)")
-        mode = "caught at the floor" if self.catch else f"e = {self.table.e:g}"
+        mode = "caught at the floor" if self.catch else f"e = {self.table.e:g}, μ = {self.table.mu:g}"
         ax.set_title(f"{title + ': ' if title else ''}outcome, g = {self.table.g:g} κ/s², {mode}", fontsize=9)
         if self.catch:
             return ax
@@ -182,7 +250,58 @@ class BasinMap:
     def __repr__(self):
         shares = ", ".join(f"{k} {v:.3f}" for k, v in self.fractions().items())
         return (f"BasinMap({self.omega0.size}×{self.v0.size}, g={self.table.g:g}, e={self.table.e:g}, "
-                f"height {self.height:g}: {shares})")
+                f"mu={self.table.mu:g}, height {self.height:g}: {shares})")
+
+
+def plot_basins(maps, titles=None):
+    """The outcome panels of several :class:`BasinMap` side by side, one colour per rest state's name (the same
+    colour for the same name in every panel, grey: undecided), Keller's hyperbolas on a coin's.  Returns the
+    first axes.
+
+    Parameters
+    ----------
+    maps : sequence of BasinMap
+        Maps of one body (the same names).
+    titles : sequence of str, optional
+        A title per panel (default: e, μ and the rolling resistance, and the share decided).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from matplotlib.patches import Patch
+
+    from ...formats.figure import new_figure
+
+    _fig, axes = new_figure(1, len(maps), figsize=(5.6 * len(maps), 4.8), constrained_layout=True, squeeze=False)
+    names = list(dict.fromkeys(maps[0].names))
+    palette = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]
+    for k, (ax, result) in enumerate(zip(axes[0], maps)):
+        colour = np.zeros(result.outcome.shape + (3,))
+        colour[:] = (0.73, 0.73, 0.73)
+        for i, name in enumerate(result.names):
+            rgb = tuple(int(palette[names.index(name) % len(palette)][j:j + 2], 16) / 255 for j in (1, 3, 5))
+            colour[result.outcome == i] = rgb
+        extent = (result.v0.min(), result.v0.max(), result.omega0.min(), result.omega0.max())
+        ax.imshow(colour, origin="lower", extent=extent, aspect="auto", interpolation="nearest")
+        if result.table.landscape.coin:
+            v = np.linspace(max(result.v0.min(), 1e-9), result.v0.max(), 400)
+            for n in range(400):
+                w = math.pi * (n + np.array([[0.25], [0.75]])) * result.table.g / v
+                if w.min() > result.omega0.max():
+                    break
+                ax.plot(v, w[0], "k--", v, w[1], "k--", lw=0.5, alpha=0.5)
+            ax.set_ylim(result.omega0.min(), result.omega0.max())
+        table = result.table
+        decided = 1.0 - result.fractions()["undecided"]
+        ax.set_title(titles[k] if titles else f"e = {table.e:g}, μ = {table.mu:g}, rolling {table.rolling:g} κ: "
+                     f"{decided:.1%} decided", fontsize=9)
+        ax.set_xlabel("launch velocity v0 (κ/s)")
+        ax.set_ylabel("spin ω0 (rad/s)")
+    handles = [Patch(color=palette[i % len(palette)], label=name) for i, name in enumerate(names)]
+    handles.append(Patch(color="#bbbbbb", label="undecided"))
+    axes[0][-1].legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    return axes[0][0]
 
 
 def _grid(name, values):
@@ -198,7 +317,7 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
 
     ``impacts`` bounds the impacts per toss (an undecided toss after that many is marked −1); ``progress`` is
     called with the number of tosses done after each chunk.  ``slide=True`` follows tosses that come to slide
-    on a smooth floor above their barrier until they lift off (:func:`.field.settle_many`; slow, ~50 ms each).
+    on a smooth floor above their barrier until they lift off (:func:`.slide.settle_many`; slow, ~50 ms each).
     """
     if not isinstance(table, FieldTable):
         raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
@@ -233,10 +352,12 @@ class Spread:
     samples: int
     fractions: dict
     seed: object
+    undecided: dict = None
 
     def to_dict(self):
         return {"mean_v0_omega0": list(self.mean), "sigma_v0_omega0": list(self.sigma), "samples": self.samples,
-                "seed": self.seed, "fractions": {k: {"p": p, "stderr": s} for k, (p, s) in self.fractions.items()}}
+                "seed": self.seed, "fractions": {k: {"p": p, "stderr": s} for k, (p, s) in self.fractions.items()},
+                "undecided": dict(self.undecided or {})}
 
     @safe_repr
     def __repr__(self):
@@ -244,27 +365,244 @@ class Spread:
         return f"Spread(v0 = {self.mean[0]:g} ± {self.sigma[0]:g}, ω0 = {self.mean[1]:g} ± {self.sigma[1]:g}: {shares})"
 
 
-def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int = 10_000, theta0=None, seed=None,
-                   impacts: int = 10_000, catch: bool = False, workers=None, progress=None,
-                   slide: bool = False) -> Spread:
-    """Outcome fractions and their standard errors for launches ``(v0, ω0) ~ N(mean, diag(sigma²))``."""
-    samples = check_count("samples", samples)
+def _check_spread(mean, sigma):
     mean = tuple(float(x) for x in mean)
     sigma = tuple(float(x) for x in sigma)
     if len(mean) != 2 or len(sigma) != 2 or not all(math.isfinite(x) for x in mean + sigma) or min(sigma) < 0:
         raise InvalidArgument(f"the spread needs a mean (v0, ω0) and two standard deviations >= 0, got {mean}, "
                               f"{sigma}")
+    return mean, sigma
+
+
+def launch_spread(mean, sigma, samples: int, seed=None):
+    """Launches drawn from a Gaussian hand: ``(v0, ω0) ~ N(mean, diag(sigma²))``, seeded.
+
+    Parameters
+    ----------
+    mean : pair of float
+        The mean launch velocity (κ/s) and spin (rad/s).
+    sigma : pair of float
+        Their standard deviations (≥ 0).
+    samples : int
+        How many launches.
+    seed : int, optional
+        The seed, an integer >= 0 (the same seed gives the same launches: v0 drawn first, then ω0).
+
+    Returns
+    -------
+    v0, omega0 : ndarray (samples,)
+
+    Raises
+    ------
+    InvalidArgument
+        For a spread that is not two finite means and two standard deviations ≥ 0.
+
+    Examples
+    --------
+    >>> v0, omega0 = launch_spread((2.0, 5.0), (0.05, 0.2), 3, seed=1)
+    >>> v0.shape, omega0.shape
+    ((3,), (3,))
+    """
+    samples = check_count("samples", samples)
+    mean, sigma = _check_spread(mean, sigma)
     rng = np.random.default_rng(check_seed(seed))
-    v = rng.normal(mean[0], sigma[0], samples)
-    w = rng.normal(mean[1], sigma[1], samples)
-    states = launch_states(table, v, w, height, theta0)
-    outcome, _, _ = _outcomes(table, states, impacts, catch, workers, progress, slide)
-    names = list(table.landscape.names) + ["undecided"]
-    fractions = {}
+    return rng.normal(mean[0], sigma[0], samples), rng.normal(mean[1], sigma[1], samples)
+
+
+def _shares(outcome, names) -> dict:
+    """Share per name (valleys of one name added up) and ``undecided``."""
+    total = max(1, outcome.size)
+    shares: dict = {}
     for k, name in enumerate(names):
-        hit = outcome == (k if name != "undecided" else UNDECIDED)
-        p = float(np.mean(hit))
+        shares[name] = shares.get(name, 0.0) + float(np.sum(outcome == k)) / total
+    shares["undecided"] = float(np.sum(outcome == UNDECIDED)) / total
+    return shares
+
+
+@dataclass(frozen=True, repr=False)
+class Tosses:
+    """The outcome of each launch of a toss (:func:`toss_outcomes`).
+
+    Attributes
+    ----------
+    v0, omega0 : ndarray (n,)
+        The launches: upward velocity (κ/s) and spin θ̇ (rad/s).
+    outcome : ndarray of int (n,)
+        The valley index of each rest state (``names``), −1 where undecided.
+    status : ndarray of int (n,)
+        The kernel's status code (:data:`.field.STATUS`): why each toss ended.
+    rest_angle : ndarray (n,)
+        The angle θ of the floor's normal in the body frame at rest (radians, in [0, 2π)): where the toss came to
+        rest (on a face; or where a rolling resistance holds it), else the minimum of the valley it can no
+        longer leave; NaN where undecided.
+    time : ndarray (n,)
+        When the outcome was decided (s): the impact or contact event after which the toss could not leave its
+        valley, or came to rest.
+    impacts : ndarray of int (n,)
+        Floor impacts up to then.
+    names : list of str
+        The rest states' names, by valley (heads/tails/edge for a coin, else faces by their normal angle).
+    table : FieldTable
+    height, theta0 : float
+        The launch height (κ) and orientation (rad).
+    """
+
+    v0: np.ndarray
+    omega0: np.ndarray
+    outcome: np.ndarray
+    status: np.ndarray
+    rest_angle: np.ndarray
+    time: np.ndarray
+    impacts: np.ndarray
+    names: list
+    table: FieldTable
+    height: float
+    theta0: float
+
+    def __len__(self):
+        return int(self.outcome.size)
+
+    @property
+    def name(self) -> np.ndarray:
+        """The name of each launch's rest state (``"undecided"`` where there is none)."""
+        labels = np.array(list(self.names) + ["undecided"], dtype=object)
+        return labels[np.where(self.outcome >= 0, self.outcome, len(self.names))]
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each undecided toss is undecided (a status word of :data:`.field.STATUS`; ``""`` if decided)."""
+        words = np.array([STATUS.get(int(v), str(int(v))) for v in self.status], dtype=object)
+        return np.where(self.outcome >= 0, "", words)
+
+    def fractions(self) -> dict:
+        """Share of the launches per rest state's name, and ``undecided``."""
+        return _shares(self.outcome, self.names)
+
+    def undecided_counts(self) -> dict:
+        """How many launches are undecided, by reason (:func:`undecided_counts`)."""
+        return undecided_counts(self.status)
+
+    def to_dict(self) -> dict:
+        return {"v0": self.v0.tolist(), "omega0": self.omega0.tolist(), "name": self.name.tolist(),
+                "status": [STATUS.get(int(v), str(int(v))) for v in self.status],
+                "rest_angle": json_numbers(self.rest_angle), "time": json_numbers(self.time),
+                "impacts": self.impacts.tolist(), "fractions": self.fractions(),
+                "undecided": self.undecided_counts(), "g": self.table.g, "e": self.table.e, "mu": self.table.mu,
+                "height": self.height, "theta0": self.theta0}
+
+    @safe_repr
+    def __repr__(self):
+        shares = ", ".join(f"{k} {v:.3f}" for k, v in self.fractions().items())
+        return f"Tosses({len(self)} launches, e={self.table.e:g}, mu={self.table.mu:g}: {shares})"
+
+
+def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | None = None, impacts: int = 10_000,
+                  workers=None, progress=None) -> Tosses:
+    """The outcome of each launch ``(v0[i], omega0[i])``: its rest state by name, or why it has none.
+
+    Vectorised (all launches in the compiled kernel's parallel loop) and deterministic: the same launches give
+    the same outcomes.  Draw the launches with :func:`launch_spread` for a seeded hand.
+
+    Parameters
+    ----------
+    table : FieldTable
+        The body's wall, the field g > 0, restitution e and friction μ.
+    v0, omega0 : array_like
+        Launch velocities (κ/s) and spins θ̇ (rad/s), broadcast together.
+    height : float
+        Launch height of the centre of mass (κ).
+    theta0 : float, optional
+        Launch orientation (default: heads' rest angle for a coin, else the first valley's).
+    impacts : int
+        The most impacts and contact events per toss; a toss still going then is undecided (``bounces``).
+    workers : int, optional
+        Threads of the compiled kernel.
+    progress : callable, optional
+        Called with the number of launches done after each chunk of 4096.
+
+    Returns
+    -------
+    Tosses
+
+    Raises
+    ------
+    InvalidArgument
+        For a table without a field, a wall without valleys, a launch into the floor, bad counts.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> v0, omega0 = launch_spread((2.0, 5.0), (0.05, 0.2), 4, seed=1)
+    >>> result = toss_outcomes(table, v0, omega0, height=1.2)
+    >>> sorted(set(result.name) - {"heads", "tails"})
+    []
+    """
+    if not isinstance(table, FieldTable):
+        raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
+    if table.g <= 0:
+        raise InvalidArgument("a toss needs a field: `g` must be positive")
+    impacts = check_count("impacts", impacts)
+    states = launch_states(table, v0, omega0, height, theta0)
+    out = _run_chunks(table, states, impacts, False, workers, progress)
+    decided = np.isin(out["status"], (1, 3))
+    outcome = np.where(decided, out["valley"], UNDECIDED)
+    # at rest with friction: where it rests (on a face, or held by the rolling resistance); else its valley's minimum
+    rest = np.where((out["status"] == 3) & (table.mu > 0), out["theta"],
+                    table.landscape.minima[np.clip(out["valley"], 0, None)])
+    rest = np.where(decided, rest, np.nan)
+    return Tosses(states[:, 3].copy(), states[:, 2].copy(), outcome, out["status"], rest, out["time"],
+                  out["floor_impacts"], list(table.landscape.names), table, float(height), float(states[0, 0])
+                  if states.size else float("nan"))
+
+
+def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int = 10_000, theta0=None, seed=None,
+                   impacts: int = 10_000, catch: bool = False, workers=None, progress=None,
+                   slide: bool = False) -> Spread:
+    """Outcome fractions and their standard errors for launches ``(v0, ω0) ~ N(mean, diag(sigma²))``.
+
+    Parameters
+    ----------
+    table : FieldTable
+        The body's wall, the field, restitution and friction.
+    mean, sigma : pair of float
+        The hand: the mean launch velocity and spin, and their standard deviations (:func:`launch_spread`).
+    height : float
+        Launch height of the centre of mass (κ).
+    samples : int
+        Launches.
+    theta0, impacts, catch, workers, progress, slide
+        As for :func:`basin_map`.
+    seed : int, optional
+        The seed of the launches.
+
+    Returns
+    -------
+    Spread
+        ``fractions[name] = (p, standard error)``, and the undecided tosses counted by reason.
+
+    Raises
+    ------
+    InvalidArgument
+        For a spread, count or launch that is not one.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> spread = heads_fraction(FieldTable(coin, g=1.0, e=0.6, mu=0.3), (2, 5), (0.05, 0.2), 1.2, samples=50, seed=1)
+    >>> sorted(spread.fractions), spread.undecided
+    (['heads', 'tails'], {})
+    """
+    samples = check_count("samples", samples)
+    v, w = launch_spread(mean, sigma, samples, seed)
+    states = launch_states(table, v, w, height, theta0)
+    outcome, _, status = _outcomes(table, states, impacts, catch, workers, progress, slide)
+    fractions = {}
+    for name, p in _shares(outcome, table.landscape.names).items():
         if name == "undecided" and p == 0.0:
             continue
         fractions[name] = (p, math.sqrt(p * (1 - p) / samples))
-    return Spread(mean, sigma, samples, fractions, seed)
+    return Spread(tuple(float(x) for x in mean), tuple(float(x) for x in sigma), samples, fractions, seed,
+                  undecided_counts(status))

@@ -65,7 +65,7 @@ def test_rest_outcomes_against_the_rule_in_numpy(spin):
 def test_no_spin_is_the_planar_toss_of_the_section():
     """ℓz = ℓ3 = 0: the coin flipped about a diameter rests where the planar section r|cos| + d|sin| (scaled to κ₁)
     does in the planar toss, launch by launch (heads ↔ the section's valley of 3π/2 folded onto tilt 0)."""
-    from coinwall.forward.dynamics.floor.field import FieldTable, settle_many
+    from coinwall.forward.dynamics.floor.field import FieldTable, field_run_many
     from coinwall.forward.wall import Wall
 
     r, h = 1.0, 0.8
@@ -83,7 +83,7 @@ def test_no_spin_is_the_planar_toss_of_the_section():
     # planar direction: heads (tilt 0) is the body direction 3π/2, the tilt grows towards 3π/2 − tilt... either
     # sense is a mirror image of the section; θ_planar = 3π/2 + tilt, θ̇_planar = w
     planar = np.column_stack([1.5 * math.pi + tilt, states[:, 1], w, np.zeros(n)])
-    out = settle_many(flat, planar, 10_000, follow_slides=False)
+    out = field_run_many(flat, planar, 10_000)
     names = flat.landscape.names
     land = flat.landscape
     index = {land.valley(1.5 * math.pi)[()]: 0, land.valley(0.5 * math.pi)[()]: 2}

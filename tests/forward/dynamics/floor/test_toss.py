@@ -13,7 +13,8 @@ import pytest
 
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard.table import Billiard, random_states, simulate
-from coinwall.forward.dynamics.floor.field import FieldTable, field_run, field_run_many, landscape
+from coinwall.forward.dynamics.floor.field import FieldTable, field_run, field_run_many
+from coinwall.forward.dynamics.floor.landscape import landscape
 
 COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
@@ -150,7 +151,7 @@ def test_inelastic_toss_settles_and_twin_agrees(coin):
     normal velocity gone (the chattering limit) and its level above the barrier; the twin agrees on the valley
     and the number of floor impacts.  Sliding orbits that lift off again (over the coin's edge) are followed
     back into the air by ``settle_many``."""
-    from coinwall.forward.dynamics.floor.field import settle_many
+    from coinwall.forward.dynamics.floor.slide import settle_many
 
     table = FieldTable(coin, g=1.0, e=0.5)
     rng = np.random.default_rng(1)

@@ -88,7 +88,7 @@ def test_rigid_body_restitution_and_energy():
     start = [1.5, 0.2, 0.0, 4.0]
     traj = simulate_rigid_body(body, start, 6)
     assert len(traj) == 6
-    y, psi, ydot, omega = start
+    _y, _psi, ydot, omega = start
     for i in range(6):
         dt = traj.time[i] - (traj.time[i - 1] if i else 0.0)
         before_ydot = (traj.ydot[i - 1] if i else ydot) - 9.8 * dt

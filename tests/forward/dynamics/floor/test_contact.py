@@ -1,0 +1,193 @@
+"""The contact phases with friction against closed forms: a block sliding on its face, a disc rolling, Housner's
+rocking block.
+
+References (none shares code with the kernel):
+
+* A block standing on a face and sliding decelerates at μg (the floor carries its weight, friction is μ times
+  it): it stops after |ξ̇|/(μg).  It tips instead when the friction's couple is more than its corners can
+  carry, μ h > w (h the centre's height, w the half-width; from the balance of the two corners' forces).
+The discs are Fourier walls (one compiled kernel serves every Fourier wall).
+
+* A disc (b constant) rolling without slipping moves uniformly, ξ̇ = R θ̇, with its energy kept; a disc whose
+  centre of mass is off its centre (b = R + d cos θ) rocks with the period of its energy integral,
+  t = ∫ dθ / θ̇(θ), θ̇² = 2(E − g B)/(1 + B² + B'²) (quadrature by scipy).
+* Housner (Bull. Seismol. Soc. Am. 53, 403 (1963)): a uniform rectangular block (half-width w, half-height h,
+  tan α = w/h, R² = w² + h² = 3κ²) rocking on a rigid floor without sliding or bouncing keeps the fraction
+  1 − (3/2) sin²α of its angular velocity at each impact (angular momentum about the new corner is kept); about
+  a corner it is a pendulum, ½ I_o φ̇² = g R (cos(α − φ₀) − cos(α − φ)) with I_o = 4κ², so the time from
+  release at the tilt φ₀ to the impact is the quadrature ∫₀^φ₀ dφ/φ̇, and for a slender block Housner's closed
+  form T/4 = cosh⁻¹(1/(1 − φ₀/α))/p, p² = 3g/(4R).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from coinwall.forward import Wall
+from coinwall.forward.dynamics.floor.field import EVENTS, FieldTable, field_run
+
+EV = {name: k for k, name in EVENTS.items()}
+
+
+def _block(alpha, **kwargs):
+    """The uniform rectangular block with tan α = w/h in units of κ (w² + h² = 3), and w, h.  (Written with its
+    numbers in the pattern of the other tests' rectangles, whose compiled kernel it shares.)"""
+    w, h = math.sqrt(3) * math.sin(alpha), math.sqrt(3) * math.cos(alpha)
+    return FieldTable(Wall.from_expression(f"{w!r}*abs(cos(t)) + {h!r}*abs(sin(t))"), g=1.0, **kwargs), w, h
+
+
+@pytest.mark.parametrize("v0, mu", [(2.0, 0.3), (-3.0, 0.1), (0.7, 0.25)])
+def test_a_block_sliding_on_its_face_stops_after_v_over_mu_g(v0, mu):
+    """Standing on its short face (θ = 3π/2) with ξ̇ = v0, the block slides to rest in |v0|/(μg): the rest record's
+    time, to rounding; it ends at rest on that face (also when its energy was above the barrier at the start).  A
+    rectangle is a coin in two dimensions: its short faces are its edges."""
+    table, w, h = _block(0.4, e=0.5, mu=mu)
+    assert mu * h < w  # the corners carry the friction's couple: no tipping
+    flight = field_run(table, [1.5 * math.pi, h, 0.0, 0.0, v0], 50)
+    assert flight.status == "rest" and flight.outcome == "edge"
+    assert flight.side[-1] == EV["face"]
+    assert flight.time[-1] == pytest.approx(abs(v0) / (mu * table.g), rel=1e-13)
+    assert flight.v_xi[-1] == 0.0 and flight.floor_impacts == 0
+
+
+def test_a_block_sliding_with_much_friction_tips_over_its_corner():
+    """μ h > w: the friction's couple tips the block onto its front corner at once (the face record is followed by
+    motion on a corner, not by rest)."""
+    table, w, h = _block(0.3, e=0.5, mu=0.9, settle=False)
+    assert 0.9 * h > w
+    flight = field_run(table, [1.5 * math.pi, h, 0.0, 0.0, 2.0], 6)
+    face = np.flatnonzero(flight.side == EV["face"])
+    assert face.size == 1 and flight.time[face[0]] == 0.0 and flight.status != "rest"
+    assert flight.theta[-1] > 1.5 * math.pi  # tipped forward (θ grows onto the corner at +w)
+
+
+def test_a_disc_rolling_without_slipping_keeps_its_energy():
+    """b = 1.3: rolling at θ̇ = 2 it turns uniformly, ξ̇ = R θ̇, and its energy stays at its start value until the
+    kernel stops it after a whole turn as rolling for ever (no event can come: status 'rolls')."""
+    R, w0 = 1.3, 2.0
+    table = FieldTable(Wall.from_fourier(R), g=1.0, e=0.5, mu=0.4, settle=False)
+    start = [0.2, R, w0, 0.0, R * w0]
+    flight = field_run(table, start, 10)
+    assert flight.status == "rolls" and len(flight) == 1
+    assert flight.theta[-1] - 0.2 == pytest.approx(w0 * flight.time[-1], rel=1e-12)
+    assert flight.theta[-1] - 0.2 >= 2 * math.pi
+    assert flight.v_xi[-1] == pytest.approx(R * flight.v_theta[-1], rel=1e-14)
+    E0 = table.energy(R, w0, 0.0, R * w0)
+    assert flight.energy[-1] == pytest.approx(E0, rel=1e-14)
+
+
+def test_an_eccentric_disc_rocks_with_the_period_of_its_energy_integral():
+    """b = 1 + 0.3 cos θ (the centre of mass 0.3 κ off the centre) released at rest at θ0 = 2.2 rocks about θ = π
+    without slipping (μ = 2); the kernel stops it as rolling for ever after its third turning point.  Its energy is
+    kept, and its time is the energy integral's from the start to its end state (scipy.integrate.quad): 1.5 periods
+    and the way back to where it stopped."""
+    from scipy.integrate import quad
+
+    g, theta0 = 1.0, 2.2
+    other = 2 * math.pi - theta0  # the far turning point: B(other) = B(θ0)
+    table = FieldTable(Wall.from_fourier(1.0, cos=[0.3]), g=g, e=0.5, mu=2.0, settle=False)
+
+    def B(x):
+        return 1 + 0.3 * math.cos(x)
+
+    def over_sin_half(d):  # d / sin(d/2), 2 at d = 0
+        return d / math.sin(d / 2) if d != 0 else 2.0
+
+    def smooth(x):
+        # 1/θ̇ times √((x − θ0)(other − x)): θ̇² = 2g(B(θ0) − B(x))/(1 + B² + B'²) and
+        # B(θ0) − B(x) = 0.6 sin((x − θ0)/2) sin((other − x)/2), so this is smooth up to both turning points
+        m = 1 + B(x) ** 2 + (0.3 * math.sin(x)) ** 2
+        return math.sqrt(m / (1.2 * g) * over_sin_half(x - theta0) * over_sin_half(other - x))
+
+    half = quad(smooth, theta0, other, weight="alg", wvar=(-0.5, -0.5))[0]
+    flight = field_run(table, [theta0, B(theta0), 0.0, 0.0, 0.0], 10)
+    assert flight.status == "rolls" and len(flight) == 1
+    end = flight.theta[-1]
+    assert flight.energy[-1] == pytest.approx(g * B(theta0), rel=1e-10)  # kept to the steps' errors (1e-12 each)
+    back = quad(lambda x: smooth(x) / math.sqrt(x - theta0), end, other, weight="alg", wvar=(0, -0.5))[0]
+    assert flight.time[-1] == pytest.approx(3 * half + back, rel=1e-9)
+
+
+@pytest.mark.parametrize("alpha", [0.3, 0.15, 0.6])
+def test_housners_impact_keeps_one_minus_three_halves_sin2_alpha(alpha):
+    """The kernel's corner change (``_corner``) on the block rolling without slipping about its corner (w, −h)
+    into its face, e = 0, μ = 2: the angular velocity after it is 1 − (3/2) sin²α times the one before, to
+    rounding, and the old corner leaves the floor (the body goes on about the new one)."""
+    from coinwall.forward.dynamics.floor.fieldkernel import _kernel
+
+    table, w, h = _block(alpha, e=0.0, mu=2.0, settle=False)
+    comp = _kernel(table)
+    cells = comp.cells
+    jr = int(np.argmin(np.abs(cells[:, 0] - 1.5 * math.pi)))  # the cell right of the kink θ = 3π/2
+    assert cells[jr, 0] == pytest.approx(1.5 * math.pi, abs=1e-12)
+    omega = -0.37  # rolling back onto the face: on the corner (w, −h), B' = w at the kink, ξ̇ = B θ̇
+    vt, ve, _vx, hits, nxt = comp.module._corner(jr - 1, jr, cells[jr, 0], omega, w * omega, h * omega, 0.0, 0.0,
+                                                2.0, table.chatter, comp.constants, cells)
+    assert hits == 1 and nxt == -1
+    assert vt == pytest.approx((1 - 1.5 * math.sin(alpha) ** 2) * omega, rel=1e-14)
+    assert ve - (-w) * vt == pytest.approx(0.0, abs=1e-15) and ve - w * vt > 0  # new corner on, old one rising
+
+
+@pytest.mark.parametrize("alpha, phi0", [(0.3, 0.2), (0.15, 0.1)])
+def test_housners_rocking_block(alpha, phi0):
+    """Released at rest at the tilt φ0 on its corner, without bouncing (e = 0) or sliding (μ = 2), the block rocks
+    and comes to rest on its face.  At each impact the angular velocity keeps the fraction 1 − (3/2) sin²α (the
+    velocity before it read from the energy after the impact before, which the integration keeps to 1e-11: 1e-9);
+    the time to the first impact is the quadrature of the pendulum about the corner to 1e-9, and between impacts
+    twice the quadrature at the amplitude the energy gives."""
+    from scipy.integrate import quad
+
+    table, w, h = _block(alpha, e=0.0, mu=2.0, settle=False)
+    g, R, Io = table.g, math.sqrt(3), 4.0
+    theta0 = 1.5 * math.pi + phi0
+    eta0 = w * math.cos(theta0) - h * math.sin(theta0)  # the corner (w, −h) on the floor
+    flight = field_run(table, [theta0, eta0, 0.0, 0.0, 0.0], 400)
+    corners = np.flatnonzero(flight.side == EV["corner"])
+    assert corners.size >= 5 and flight.status == "rest"
+    ratio = 1 - 1.5 * math.sin(alpha) ** 2
+    energy = [g * eta0] + list(flight.energy[corners])
+    for k, i in enumerate(corners[:10]):
+        before = math.sqrt(2 * (energy[k] - g * h) / Io)
+        assert abs(flight.v_theta[i]) == pytest.approx(ratio * before, rel=1e-9)
+
+    def quarter(amplitude):
+        # ∫₀^A dφ/φ̇, φ̇² = (2gR/I_o)(cos(α − A) − cos(α − φ)) = (4gR/I_o) sin(α − (A + φ)/2) sin((A − φ)/2):
+        # with the weight (A − φ)^(−1/2) the rest is smooth
+        def smooth(p):
+            d = amplitude - p
+            return math.sqrt(Io / (4 * g * R * math.sin(alpha - (amplitude + p) / 2)) * (d / math.sin(d / 2) if d else 2))
+        return quad(smooth, 0, amplitude, weight="alg", wvar=(0, -0.5))[0]
+
+    assert flight.time[corners[0]] == pytest.approx(quarter(phi0), rel=1e-9)
+    for k in range(1, 4):
+        # the amplitude after impact k: ½ I_o ω² = g R (cos(α − φ) − cos α)
+        amplitude = alpha - math.acos(0.5 * Io * flight.v_theta[corners[k - 1]] ** 2 / (g * R) + math.cos(alpha))
+        gap = flight.time[corners[k]] - flight.time[corners[k - 1]]
+        assert gap == pytest.approx(2 * quarter(amplitude), rel=1e-8)
+    # Housner's closed form for the slender block: the linearisation sin x ≈ x (x ≤ α) is off by O(α²)
+    p = math.sqrt(3 * g / (4 * R))
+    housner = math.acosh(1 / (1 - phi0 / alpha)) / p
+    assert flight.time[corners[0]] == pytest.approx(housner, rel=alpha ** 2)
+
+
+def test_a_block_dropped_flat_on_its_face_bounces_straight_and_rests_on_it():
+    """Dropped without spin exactly onto its face (θ = 3π/2, where b has a kink: both corners land together), the
+    block's two corners push together through its centre of mass: it bounces straight up and down, each impact
+    leaving e times the speed it came with (Stronge's e = Newton's here: no slip), θ̇ = 0 throughout, and it comes
+    to rest on that face.  A free fall from the height d above the floor lands at √(2gd) after √(2d/g); the
+    bounces then last 2e^k √(2gd)/g: the k-th impact comes at √(2d/g)(1 + 2e(1 − e^(k−1))/(1 − e)), to rounding."""
+    table, _w, h = _block(0.4, e=0.5, mu=0.3, settle=False)  # followed past its decision, to rest
+    d = 1.0
+    flight = field_run(table, [1.5 * math.pi, h + d, 0.0, 0.0, 0.0], 100)
+    assert flight.status == "rest" and flight.outcome == "edge"
+    assert np.all(flight.v_theta == 0.0) and np.all(flight.theta == flight.theta[0])
+    assert flight.theta[0] == pytest.approx(1.5 * math.pi, abs=1e-12)
+    impacts = np.flatnonzero(flight.side == EV["floor impact"])
+    assert impacts.size >= 3
+    v, t0 = math.sqrt(2 * table.g * d), math.sqrt(2 * d / table.g)
+    for k, i in enumerate(impacts[:6], start=1):
+        assert flight.v_eta[i] == pytest.approx(0.5 ** k * v, rel=1e-12)
+        assert flight.time[i] == pytest.approx(t0 * (1 + 2 * 0.5 * (1 - 0.5 ** (k - 1)) / 0.5), rel=1e-12)
