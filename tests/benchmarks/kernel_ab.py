@@ -24,7 +24,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 # where each kernel's files lie, and where they lay before forward/dynamics/ was divided into rooms
 FOLDERS = {"_search.py": ("forward/dynamics/billiard",), "_kernel.py": ("forward/dynamics/billiard", "forward/dynamics"),
            "cellbounds.py": ("forward/dynamics/billiard", "forward/dynamics"),
-           "_field_kernel.py": ("forward/dynamics/floor", "forward/dynamics")}
+           "_field_kernel.py": ("forward/dynamics/floor", "forward/dynamics"),
+           "_friction_kernel.py": ("forward/dynamics/floor",), "_contact_kernel.py": ("forward/dynamics/floor",)}
 
 
 def _show(revision, name):
@@ -50,7 +51,7 @@ def _code(text):
 def kernel_text(revision, kernel="billiard"):
     """The compiled part of ``kernel`` at ``revision``: the search's text, then the kernel's (after their markers)."""
     from coinwall.forward.dynamics.billiard.kernel import _MARKER, _SEARCH_MARKER
-    from coinwall.forward.dynamics.floor.field import _MARKER as _FIELD_MARKER
+    from coinwall.forward.dynamics.floor import fieldkernel
 
     if revision != "." and subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet",
                                            f"{revision}^{{commit}}"], capture_output=True).returncode != 0:
@@ -58,8 +59,18 @@ def kernel_text(revision, kernel="billiard"):
     if _code(_show(revision, "cellbounds.py")) != _code(_show(".", "cellbounds.py")):
         raise SystemExit(f"kernel_ab: {revision} has another cellbounds.py than the working tree: its kernel "
                          "would read a cell table it was not written for")
-    name, marker = ("_kernel.py", _MARKER) if kernel == "billiard" else ("_field_kernel.py", _FIELD_MARKER)
-    text = _show(revision, name).partition(marker)[2]
+    if kernel == "billiard":
+        parts = [("_kernel.py", _MARKER)]
+    else:  # the field kernel is three texts since friction came (fieldkernel.FIELD_SOURCE); before, it took
+        # other arguments (no μ, no rolling resistance, no horizontal velocity), so it is not compared
+        parts = [("_friction_kernel.py", fieldkernel._FRICTION_MARKER), ("_contact_kernel.py", fieldkernel._CONTACT_MARKER),
+                 ("_field_kernel.py", fieldkernel._MARKER)]
+        if revision != "." and subprocess.run(["git", "-C", str(ROOT), "cat-file", "-e",
+                                               f"{revision}:forward/dynamics/floor/_friction_kernel.py"],
+                                              capture_output=True).returncode != 0:
+            raise SystemExit(f"kernel_ab: {revision} has no friction kernel: its field kernel takes other "
+                             "arguments; compare two revisions that have forward/dynamics/floor/_friction_kernel.py")
+    text = "".join(_show(revision, name).partition(marker)[2] for name, marker in parts)
     search = _show(revision, "_search.py").partition(_SEARCH_MARKER)[2]
     if not text or not search:
         raise SystemExit(f"kernel_ab: {revision}'s kernel files have no marker line")
@@ -83,12 +94,27 @@ def runners(kernel, revisions, collisions):
         table = Billiard(wall, 3.0)
         args, state = compiled(table).args(table), random_states(table, 1, 1)[0]
         return [lambda m=module: _cpu_run(m, state, collisions, args)[0] for module in modules]
-    from bench_toss import TOSS, _field_runner
+    import time
+
+    import numpy as np
 
     from coinwall.forward.dynamics.floor.field import FieldTable
+    from coinwall.forward.dynamics.floor.fieldkernel import _kernel
 
-    table = FieldTable(wall, g=1.0, e=1.0, H=3.0)
-    return [_field_runner(table, TOSS, collisions, module) for module in modules]
+    table = FieldTable(wall, g=1.0, e=1.0, H=3.0)  # e = 1 between floor and ceiling: the orbit never settles
+    comp = _kernel(table)
+    state = np.array([0.3, 1.5, 2.0, 1.5, 0.0])  # θ, η, θ̇, η̇, ξ̇
+    out = [np.empty(collisions) for _ in range(6)] + [np.empty(collisions, dtype=np.int8)]
+    summary = np.empty(9)
+
+    def field_run(module):
+        start = time.process_time()
+        done = module._run(state, 0, -1, collisions, *comp.args(table), False, table.chatter, *comp.wall_args(table),
+                           True, *out, summary)[0]
+        if done != collisions:
+            raise SystemExit(f"kernel_ab: the field orbit stopped after {done} of {collisions} impacts")
+        return time.process_time() - start
+    return [lambda m=module: field_run(m) for module in modules]
 
 
 def main(argv=None):
