@@ -333,6 +333,24 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     over for the jackknife); refused when that exceeds half the available memory.  Work: the lag loop costs
     about max_lag × (bounces + 1000·orbits) comparisons (1000: the cost of one numpy call, per lag and
     orbit); refused above :data:`LAG_WORK_MAX` = 2e11 (a few minutes).
+
+    Raises
+    ------
+    InvalidArgument
+        For fewer than two orbits, a ``max_lag`` not below the bounces per orbit, a run too large for
+        memory, or a table on which fewer than two orbits reach the bottom wall often enough.
+
+    Examples
+    --------
+    P(n) for lags 0 to 5 from 2000 bottom bounces in 4 orbits (too few for a meaningful τ; a real run
+    counts 10^6):
+
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import correlation
+    >>> result = correlation(table, bounces=2000, max_lag=5, orbits=4, seed=0)
+    >>> result.P.shape, float(result.P[0])           # P(0) = 1: a bounce is on its own side
+    ((6,), 1.0)
     """
     from ..billiard.gpu import check_device, group_collisions
 

@@ -214,6 +214,23 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     Returns
     -------
     PoincareSection
+
+    Raises
+    ------
+    InvalidArgument
+        For explicit ``states`` that hold no state, states outside the strip, or a section that would not
+        fit in memory.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import poincare_section
+    >>> section = poincare_section(table, orbits=4, collisions=100, seed=0)
+    >>> section
+    PoincareSection(201 points, 4 orbits × 100 collisions, H=4)
+    >>> bool(abs(section.phi).max() <= 3.1416 / 2)      # incidence angles in [−π/2, π/2]
+    True
     """
     from ..billiard.gpu import check_device, group_collisions
 
