@@ -7,9 +7,10 @@ the ``.rst`` pages themselves and are not checked here.
 
 For each name, its docstring (parsed by numpydoc, as the site renders it) must have:
 
-* a function or method: **Parameters** (when it takes any), **Returns** (or Yields), **Raises** when its own
-  source raises, and **Examples** with at least one ``>>>`` line;
-* a data class (a dataclass or a named tuple): **Attributes** and **Examples**;
+* a function: **Parameters** (when it takes any), **Returns** (or Yields) when it returns a value,
+  **Raises** when its own source raises, and **Examples** with at least one ``>>>`` line;
+* a data class (a dataclass or a named tuple): **Attributes** (or **Parameters**, for one that users
+  construct, like :class:`~coinwall.Billiard`) and **Examples**;
 * any other class: **Parameters** (when its constructor takes any) and **Examples**;
 * an exception: **Examples**.
 
@@ -38,6 +39,10 @@ ROOT = Path(__file__).resolve().parents[1]
 STUB_PACKAGES = ("coinwall", "coinwall.forward", "coinwall.forward.dynamics", "coinwall.forward.formats",
                  "coinwall.forward.quantum", "coinwall.inverse", "coinwall.inverse.export",
                  "coinwall.inverse.design", "coinwall.cases", "coinwall.cases.scan")
+
+# classes built by named constructors (Wall.from_expression, ...), whose __init__ is internal: their
+# Attributes are checked instead of Parameters
+_NAMED_CONSTRUCTORS = {"Wall"}
 
 # names not yet documented in full: name -> the sections it misses (shrinks; never add to it)
 _NOT_YET: dict[str, set[str]] = {
@@ -74,21 +79,28 @@ def _is_data_class(value):
     return dataclasses.is_dataclass(value) or (issubclass(value, tuple) and hasattr(value, "_fields"))
 
 
-def _raises_itself(function):
-    """Whether the function's own body has a ``raise`` statement (not counting nested functions' bodies)."""
+def _own_statements(function):
+    """The statements of the function's own body (not those of functions or classes defined inside it)."""
     try:
         tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
     except (OSError, TypeError, SyntaxError):
-        return False
-    definition = tree.body[0]
-    stack = list(definition.body)
+        return
+    stack = list(tree.body[0].body)
     while stack:
         node = stack.pop()
-        if isinstance(node, ast.Raise) and node.exc is not None:
-            return True
+        yield node
         if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
             stack.extend(ast.iter_child_nodes(node))
-    return False
+
+
+def _raises_itself(function):
+    return any(isinstance(node, ast.Raise) and node.exc is not None for node in _own_statements(function))
+
+
+def _returns_a_value(function):
+    return any(isinstance(node, (ast.Return, ast.Yield, ast.YieldFrom)) and node.value is not None
+               and not (isinstance(node.value, ast.Constant) and node.value.value is None)
+               for node in _own_statements(function))
 
 
 def _takes_arguments(function):
@@ -112,6 +124,9 @@ def missing_sections(value):
         if issubclass(value, BaseException):
             return missing
         if _is_data_class(value):
+            if not (parsed["Attributes"] or parsed["Parameters"]):
+                missing.add("Attributes")
+        elif value.__name__ in _NAMED_CONSTRUCTORS:
             if not parsed["Attributes"]:
                 missing.add("Attributes")
         elif "__init__" in vars(value) and _takes_arguments(value.__init__) and not parsed["Parameters"]:
@@ -119,7 +134,7 @@ def missing_sections(value):
         return missing
     if _takes_arguments(value) and not parsed["Parameters"]:
         missing.add("Parameters")
-    if not (parsed["Returns"] or parsed["Yields"]):
+    if _returns_a_value(value) and not (parsed["Returns"] or parsed["Yields"]):
         missing.add("Returns")
     if _raises_itself(value) and not parsed["Raises"]:
         missing.add("Raises")
