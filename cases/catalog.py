@@ -93,7 +93,20 @@ class Case:
 
 
 def all_cases() -> dict:
-    """Every case, by name, in catalog order."""
+    """Every case, by name, in catalog order.
+
+    Returns
+    -------
+    dict
+        ``{name: Case}``.
+
+    Examples
+    --------
+    >>> from coinwall import all_cases
+    >>> cases = all_cases()
+    >>> list(cases)[:3], all(case.name == name for name, case in cases.items())
+    (['stick', 'stick-uniform', 'ellipse'], True)
+    """
     found = {}
     for module_name in CASE_MODULES:
         module = importlib.import_module(f"{__package__}.{module_name}")
@@ -103,7 +116,28 @@ def all_cases() -> dict:
 
 
 def get_case(name: str) -> Case:
-    """The case called ``name`` (with or without the ``case:`` prefix)."""
+    """The case called ``name`` (with or without the ``case:`` prefix).
+
+    Parameters
+    ----------
+    name : str
+        A case name (``"ellipse"``, ``"case:stick"``, ...); :func:`all_cases` lists them.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    InvalidArgument
+        For an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> from coinwall import get_case
+    >>> get_case("case:ellipse")
+    Case('ellipse': ellipse x² + 2y² = 1 (ε = 1); paper eq. 15–18)
+    """
     key = name[5:] if name.startswith("case:") else name
     cases = all_cases()
     if key not in cases:
