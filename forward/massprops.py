@@ -119,7 +119,26 @@ def _from_moments(mass, area, first, second, density, method, elements=0, min_de
 
 
 def outline_moments(outline) -> MassProperties:
-    """Uniform lamina (ρ = 1) bounded by ``outline``, exact for the Bézier curve (see module docstring)."""
+    """Uniform lamina (ρ = 1) bounded by ``outline``, exact for the Bézier curve (see module docstring).
+
+    Parameters
+    ----------
+    outline : Outline
+
+    Returns
+    -------
+    MassProperties
+        ``method == "exact"`` (Green's theorem).
+
+    Examples
+    --------
+    >>> from coinwall import Outline
+    >>> from coinwall.forward import outline_moments
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> props = outline_moments(square)
+    >>> round(props.mass, 12), round(props.kappa ** 2, 12)       # area 4, κ² = 2/3
+    (4.0, 0.666666666667)
+    """
     p0, p1, p2, p3 = outline._segments
     x, w = _GL8
     s, w = (x + 1) / 2, w / 2
@@ -140,6 +159,31 @@ def parse_density(text: str, params=None):
 
     Parsed with the whitelist of :mod:`forward.expression` (never evaluated as
     Python); the same numbers, operators and functions as a wall expression.
+
+    Parameters
+    ----------
+    text : str
+        ρ(x, y) as an expression in ``x``, ``y`` and ``r``.
+    params : mapping, optional
+        Values of its named parameters.
+
+    Returns
+    -------
+    callable
+        ``rho(x, y)`` on arrays.
+
+    Raises
+    ------
+    InvalidExpression, InvalidParameter
+        For an expression that does not parse or a missing or bad parameter.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.forward import parse_density
+    >>> rho = parse_density("1 + a*r**2", {"a": 1.0})
+    >>> rho(np.array([0.0, 3.0]), np.array([0.0, 4.0])).tolist()
+    [1.0, 26.0]
     """
     import casadi as ca
 

@@ -85,6 +85,15 @@ class LyapunovResult:
         Renormalised separation.
     notes : tuple of str
         Orbits that stopped early and why.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import lyapunov
+    >>> result = lyapunov(table, [0.0, 2.0, 0.6, 0.8], collisions=200)
+    >>> result.per_collision.round(3).tolist(), result.collisions.tolist()
+    ([0.621], [200])
     """
 
     per_collision: np.ndarray
@@ -360,6 +369,15 @@ class ChaoticFraction:
         Collisions per orbit.
     exponents : LyapunovResult
         Every orbit's exponent.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import chaotic_fraction
+    >>> result = chaotic_fraction(table, orbits=8, collisions=200, seed=0)
+    >>> result.fraction, result.regular, result.orbits
+    (0.5, 4, 8)
     """
 
     fraction: float

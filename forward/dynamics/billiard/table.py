@@ -430,6 +430,31 @@ def compile_kernel(table: Billiard, device: str = "cpu") -> float:
 
     Both the single-orbit kernel (:func:`simulate`) and the parallel one (:func:`ensemble`); with
     ``device="gpu"`` the parallel one is the GPU's (compiled in memory, in each process).
+
+    Parameters
+    ----------
+    table : Billiard
+    device : {"cpu", "gpu"}
+        Where the parallel kernel will run.
+
+    Returns
+    -------
+    float
+        Seconds spent (near zero once the kernels are cached for this wall).
+
+    Raises
+    ------
+    InvalidArgument
+        For a table that is not a :class:`Billiard` or an unknown device (or ``"gpu"`` without one).
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall.forward.dynamics import compile_kernel
+    >>> seconds = compile_kernel(table)
+    >>> seconds >= 0.0
+    True
     """
     import time
 
