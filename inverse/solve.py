@@ -27,9 +27,9 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
                cross_check: bool = False) -> Body:
     """Solve the inverse problem: the body whose wall is ``b0 + b(θ)``.
 
-    The body's support function is :math:`h(\theta) = b_0 + b(\theta)`; it is convex where
-    :math:`b_0 + b + b'' \ge 0` everywhere, that is for ``b0`` at or above the critical offset
-    :math:`b_c = -\min_\theta (b + b'')` (:func:`critical_offset`).
+    The body's support function is :math:`h(\\theta) = b_0 + b(\\theta)`; it is convex where
+    :math:`b_0 + b + b'' \\ge 0` everywhere, that is for ``b0`` at or above the critical offset
+    :math:`b_c = -\\min_\\theta (b + b'')` (:func:`critical_offset`).
 
     Parameters
     ----------

@@ -180,3 +180,29 @@ def test_the_check_sees_a_missing_section():
 
     assert missing_sections(bare) == {"Returns", "Raises", "Examples"}
     assert missing_sections(lambda: None) == {"docstring"}
+
+
+def _index_groups():
+    """``{group title: [qualified names]}`` of the task groups of docs/api/index.rst."""
+    groups, title, previous = {}, None, ""
+    for line in (ROOT / "docs" / "api" / "index.rst").read_text(encoding="utf-8").splitlines():
+        if re.fullmatch(r"~{3,}", line):
+            title = previous
+            groups[title] = []
+        elif title and re.fullmatch(r"   coinwall\.[.\w]+", line):
+            groups[title].append(line.strip())
+        previous = line
+    return groups
+
+
+def test_the_index_groups_every_public_name_by_task():
+    groups = _index_groups()
+    for title in ("Walls and bodies", "From data", "The billiard", "The toss on a floor", "The 3-D coin", "Design",
+                  "Quantum", "Scans"):
+        assert groups.get(title), f"docs/api/index.rst has no group {title!r}"
+    listed = [name for names in groups.values() for name in names]
+    duplicates = sorted({name for name in listed if listed.count(name) > 1})
+    assert not duplicates, f"listed in two groups: {duplicates}"
+    public = _public_objects()
+    assert not sorted(set(public) - set(listed)), f"in no group of docs/api/index.rst: {sorted(set(public) - set(listed))}"
+    assert not sorted(set(listed) - set(public)), f"not a public name: {sorted(set(listed) - set(public))}"
