@@ -23,7 +23,23 @@ CASE_MODULES = ("stick", "ellipse", "appendix", "large_offset", "constant_width"
 
 @dataclass(frozen=True)
 class Reference:
-    """A reference value of a case: what, the value, and where it comes from."""
+    """A reference value of a case: what, the value, and where it comes from.
+
+    Attributes
+    ----------
+    name : str
+        What the value is (``"b_c"``, ``"area"``, ...).
+    value : object
+        The value.
+    source : str
+        Where it comes from (a paper equation, a closed form).
+
+    Examples
+    --------
+    >>> from coinwall import get_case
+    >>> get_case("ellipse").references[0]
+    Reference(name='b_c', value=-0.5, source="Appendix: −1/(1+ε), the minimum of b + b'' at θ = 0, π")
+    """
 
     name: str
     value: object
@@ -53,6 +69,15 @@ class Case:
     references : tuple of Reference
     expression, params
         The wall as text and its parameters, when it is an expression.
+
+    Examples
+    --------
+    >>> from coinwall import get_case, solve_body
+    >>> case = get_case("ellipse")
+    >>> case.make_wall(), case.b0
+    (Wall('sqrt((1+eps*cos(t)**2)/(1+eps))' [eps=1]), 0.0)
+    >>> [(reference.name, reference.value) for reference in case.references[:1]]
+    [('b_c', -0.5)]
     """
 
     name: str
