@@ -306,6 +306,14 @@ def test_api_pages_show_examples_in_a_browser():
             fields = [dt.text.strip().rstrip(":") for dt in article.find_elements(By.CSS_SELECTOR, "dl.field-list > dt")]
             for section in sections:
                 assert section in fields + headings, (name, section, fields, headings)
+        # the API index by task: a table per group, every summary in view at 1366 px (no table scrolls sideways)
+        driver.get((html / "api" / "index.html").as_uri())
+        tables = driver.find_elements(By.CSS_SELECTOR, "article table.autosummary")
+        assert len(tables) >= 8, len(tables)
+        wide = driver.execute_script("return [...document.querySelectorAll('article table.autosummary')]"
+                                     ".filter(t => t.parentElement.scrollWidth > t.parentElement.clientWidth + 1)"
+                                     ".map(t => t.closest('section').querySelector('h3').textContent)")
+        assert not wide, f"API index tables wider than the page: {wide}"
         # solve_body's formulas: typeset by MathJax from the site itself, every one of them
         driver.get((html / "api" / "generated" / "coinwall.solve_body.html").as_uri())
         end = time.monotonic() + 30
