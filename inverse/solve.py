@@ -71,7 +71,8 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
     ``x² + 2y² = 1`` itself, of area π/√2; below ``b_c = -1/2`` it has two corners.
 
     >>> from coinwall import Wall, solve_body
-    >>> wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> ellipse = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+    >>> wall = Wall.from_expression(ellipse, {"eps": 1.0})
     >>> body = solve_body(wall, 0.0, points=256)
     >>> body.regime, round(body.area, 6), body.max_wall_error < 1e-8
     ('convex', 2.221441, True)

@@ -388,11 +388,13 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
 
     >>> from coinwall.forward import Wall
     >>> from coinwall.forward.dynamics import FieldTable
-    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> ellipse = "sqrt((1+eps*cos(t)**2)/(1+eps))"           # the paper's eq. 18
+    >>> coin = Wall.from_expression(ellipse, {"eps": 99.0})
     >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
     >>> import numpy as np
     >>> from coinwall.forward.dynamics import basin_map
-    >>> basins = basin_map(table, np.linspace(2.0, 5.0, 4), np.linspace(0.05, 0.2, 3), height=1.2)
+    >>> v0, omega0 = np.linspace(2.0, 5.0, 4), np.linspace(0.05, 0.2, 3)
+    >>> basins = basin_map(table, v0, omega0, height=1.2)
     >>> basins
     BasinMap(3×4, g=1, e=0.6, mu=0.3, height 1.2: tails 0.500, heads 0.500, undecided 0.000)
     >>> basins.names, basins.outcome.tolist()
