@@ -31,7 +31,20 @@ DATA = "data/coin-flips-bartos2023.csv"
 
 
 def bartos_counts() -> dict:
-    """The shipped counts: ``{"tosser": [...], "same": array, "flips": array, ...}`` (one entry per column)."""
+    """The shipped counts: ``{"tosser": [...], "same": array, "flips": array, ...}`` (one entry per column).
+
+    Returns
+    -------
+    dict
+        Tosser names and, per tosser, the counts of same-side landings, flips, and heads/tails by start side.
+
+    Examples
+    --------
+    >>> from coinwall.cases import bartos_counts
+    >>> counts = bartos_counts()
+    >>> len(counts["tosser"]), int(counts["same"].sum()), int(counts["flips"].sum())
+    (48, 178078, 350757)
+    """
     text = importlib.resources.files("coinwall.cases").joinpath(DATA).read_text(encoding="utf-8")
     rows = list(csv.DictReader(io.StringIO(text)))
     out = {"tosser": [r["tosser"] for r in rows]}
@@ -58,6 +71,13 @@ class BartosFits:
         degrees of freedom, and its χ² p-value.
     pearson_statistic, dispersion : float
         Pearson's χ² of the tossers against the pooled proportion and φ = ``pearson_statistic / dof``.
+
+    Examples
+    --------
+    >>> from coinwall.cases import bartos_fits
+    >>> fits = bartos_fits()
+    >>> len(fits.tossers), fits.dof, fits.p_value < 1e-6        # the tossers differ
+    (48, 47, True)
     """
 
     overall: PsiFit

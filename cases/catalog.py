@@ -23,7 +23,23 @@ CASE_MODULES = ("stick", "ellipse", "appendix", "large_offset", "constant_width"
 
 @dataclass(frozen=True)
 class Reference:
-    """A reference value of a case: what, the value, and where it comes from."""
+    """A reference value of a case: what, the value, and where it comes from.
+
+    Attributes
+    ----------
+    name : str
+        What the value is (``"b_c"``, ``"area"``, ...).
+    value : object
+        The value.
+    source : str
+        Where it comes from (a paper equation, a closed form).
+
+    Examples
+    --------
+    >>> from coinwall import get_case
+    >>> get_case("ellipse").references[0]
+    Reference(name='b_c', value=-0.5, source="Appendix: −1/(1+ε), the minimum of b + b'' at θ = 0, π")
+    """
 
     name: str
     value: object
@@ -53,6 +69,15 @@ class Case:
     references : tuple of Reference
     expression, params
         The wall as text and its parameters, when it is an expression.
+
+    Examples
+    --------
+    >>> from coinwall import get_case, solve_body
+    >>> case = get_case("ellipse")
+    >>> case.make_wall(), case.b0
+    (Wall('sqrt((1+eps*cos(t)**2)/(1+eps))' [eps=1]), 0.0)
+    >>> [(reference.name, reference.value) for reference in case.references[:1]]
+    [('b_c', -0.5)]
     """
 
     name: str
@@ -93,7 +118,20 @@ class Case:
 
 
 def all_cases() -> dict:
-    """Every case, by name, in catalog order."""
+    """Every case, by name, in catalog order.
+
+    Returns
+    -------
+    dict
+        ``{name: Case}``.
+
+    Examples
+    --------
+    >>> from coinwall import all_cases
+    >>> cases = all_cases()
+    >>> list(cases)[:3], all(case.name == name for name, case in cases.items())
+    (['stick', 'stick-uniform', 'ellipse'], True)
+    """
     found = {}
     for module_name in CASE_MODULES:
         module = importlib.import_module(f"{__package__}.{module_name}")
@@ -103,7 +141,28 @@ def all_cases() -> dict:
 
 
 def get_case(name: str) -> Case:
-    """The case called ``name`` (with or without the ``case:`` prefix)."""
+    """The case called ``name`` (with or without the ``case:`` prefix).
+
+    Parameters
+    ----------
+    name : str
+        A case name (``"ellipse"``, ``"case:stick"``, ...); :func:`all_cases` lists them.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    InvalidArgument
+        For an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> from coinwall import get_case
+    >>> get_case("case:ellipse")
+    Case('ellipse': ellipse x² + 2y² = 1 (ε = 1); paper eq. 15–18)
+    """
     key = name[5:] if name.startswith("case:") else name
     cases = all_cases()
     if key not in cases:

@@ -31,12 +31,47 @@ from .catalog import Case, Reference
 __all__ = ["ELLIPSE_WALL", "ellipse_wall", "ellipse_critical_offset", "ellipse_outline", "EXAMPLE", "CASES"]
 
 def ellipse_wall(eps: float) -> Wall:
-    """The paper's eq. 18 wall (κ = 1) for eccentricity parameter ``eps``."""
+    """The paper's eq. 18 wall (κ = 1) for eccentricity parameter ``eps``.
+
+    Parameters
+    ----------
+    eps : float
+        The paper's ε: the ellipse ``x² + (1 + ε)y² = 1``.
+
+    Returns
+    -------
+    Wall
+        ``sqrt((1 + ε cos² θ)/(1 + ε))``.
+
+    Examples
+    --------
+    >>> from coinwall.cases import ellipse_wall
+    >>> wall = ellipse_wall(1.0)
+    >>> wall, float(wall(0.0))
+    (Wall('sqrt((1+eps*cos(t)**2)/(1+eps))' [eps=1]), 1.0)
+    """
     return Wall.from_expression(ELLIPSE_WALL, {"eps": eps})
 
 
 def ellipse_critical_offset(eps: float) -> float:
-    """Appendix: ``b_c = −1/(1 + ε)``."""
+    """Appendix: ``b_c = −1/(1 + ε)``.
+
+    Parameters
+    ----------
+    eps : float
+        The paper's ε > −1.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from coinwall import critical_offset
+    >>> from coinwall.cases import ellipse_critical_offset, ellipse_wall
+    >>> ellipse_critical_offset(1.0), round(critical_offset(ellipse_wall(1.0)).b_c, 12)
+    (-0.5, -0.5)
+    """
     return -1.0 / (1.0 + eps)
 
 
@@ -47,6 +82,26 @@ def ellipse_outline(eps: float, segments: int = 256) -> Outline:
     ``(cos u, sin u/sqrt(1+ε))``; the handles ``(4/3) tan(Δ/4)`` times the tangent
     are the standard circle-arc approximation, mapped affinely (error ~1e-15
     relative for 256 segments).
+
+    Parameters
+    ----------
+    eps : float
+        The paper's ε.
+    segments : int
+        Bézier segments.
+
+    Returns
+    -------
+    Outline
+
+    Examples
+    --------
+    The area is π a b = π/√2 for ε = 1:
+
+    >>> import math
+    >>> from coinwall.cases import ellipse_outline
+    >>> round(ellipse_outline(1.0).area - math.pi / math.sqrt(2), 9)
+    0.0
     """
     a, b = 1.0, 1.0 / math.sqrt(1.0 + eps)
     u = np.linspace(0.0, 2 * math.pi, segments, endpoint=False)

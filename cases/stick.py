@@ -25,12 +25,46 @@ STICK_WALL = "L*abs(cos(t))"
 
 
 def stick_wall(length_over_kappa: float = 1.0) -> Wall:
-    """Wall of a stick whose half-length is ``length_over_kappa`` radii of gyration (eq. 5)."""
+    """Wall of a stick whose half-length is ``length_over_kappa`` radii of gyration (eq. 5).
+
+    Parameters
+    ----------
+    length_over_kappa : float
+        The half-length L in units of κ (a uniform rod has L = √3 κ).
+
+    Returns
+    -------
+    Wall
+        ``L |cos θ|``, with its two kinks.
+
+    Examples
+    --------
+    >>> from coinwall.cases import stick_wall
+    >>> stick_wall()
+    Wall('L*abs(cos(t))' [L=1], 2 kinks)
+    """
     return Wall.from_expression(STICK_WALL, {"L": length_over_kappa})
 
 
 def stick_outline(length_over_kappa: float = 1.0) -> Outline:
-    """The segment body, from (−L, 0) to (L, 0)."""
+    """The segment body, from (−L, 0) to (L, 0).
+
+    Parameters
+    ----------
+    length_over_kappa : float
+        The half-length L in units of κ.
+
+    Returns
+    -------
+    Outline
+        Two straight segments, there and back (area 0).
+
+    Examples
+    --------
+    >>> from coinwall.cases import stick_outline
+    >>> stick_outline(2.0).perimeter
+    8.0
+    """
     L = length_over_kappa
     return Outline.from_polygon([[-L, 0.0], [L, 0.0]])
 

@@ -64,6 +64,13 @@ class MassProperties:
         Number of triangles (0 for ``"exact"``).
     min_density : float
         Smallest density found at the quadrature points and mesh vertices.
+
+    Examples
+    --------
+    >>> from coinwall import Outline, mass_properties
+    >>> props = mass_properties(Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]]))
+    >>> props.density, props.method, round(props.polar_moment, 6)     # ∫|x|² dA = 8/3
+    ('1', 'fem', 2.666667)
     """
 
     mass: float
@@ -112,7 +119,26 @@ def _from_moments(mass, area, first, second, density, method, elements=0, min_de
 
 
 def outline_moments(outline) -> MassProperties:
-    """Uniform lamina (ρ = 1) bounded by ``outline``, exact for the Bézier curve (see module docstring)."""
+    """Uniform lamina (ρ = 1) bounded by ``outline``, exact for the Bézier curve (see module docstring).
+
+    Parameters
+    ----------
+    outline : Outline
+
+    Returns
+    -------
+    MassProperties
+        ``method == "exact"`` (Green's theorem).
+
+    Examples
+    --------
+    >>> from coinwall import Outline
+    >>> from coinwall.forward import outline_moments
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> props = outline_moments(square)
+    >>> round(props.mass, 12), round(props.kappa ** 2, 12)       # area 4, κ² = 2/3
+    (4.0, 0.666666666667)
+    """
     p0, p1, p2, p3 = outline._segments
     x, w = _GL8
     s, w = (x + 1) / 2, w / 2
@@ -133,6 +159,31 @@ def parse_density(text: str, params=None):
 
     Parsed with the whitelist of :mod:`forward.expression` (never evaluated as
     Python); the same numbers, operators and functions as a wall expression.
+
+    Parameters
+    ----------
+    text : str
+        ρ(x, y) as an expression in ``x``, ``y`` and ``r``.
+    params : mapping, optional
+        Values of its named parameters.
+
+    Returns
+    -------
+    callable
+        ``rho(x, y)`` on arrays.
+
+    Raises
+    ------
+    InvalidExpression, InvalidParameter
+        For an expression that does not parse or a missing or bad parameter.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.forward import parse_density
+    >>> rho = parse_density("1 + a*r**2", {"a": 1.0})
+    >>> rho(np.array([0.0, 3.0]), np.array([0.0, 4.0])).tolist()
+    [1.0, 26.0]
     """
     import casadi as ca
 
@@ -324,6 +375,24 @@ def mass_properties(outline, density=None, params=None, *, boundary: int = 2048,
         Interior grid points per diameter.
     intorder : int
         Degree of the quadrature rule on every triangle.
+
+    Returns
+    -------
+    MassProperties
+        ``method == "fem"``: computed on a triangle mesh of the outline's polygon.
+
+    Examples
+    --------
+    The square of side 2: area 4 and κ² = (1 + 1)/3; a density ``1 + x²`` puts more mass at the sides.
+
+    >>> from coinwall import Outline, mass_properties
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> uniform = mass_properties(square)
+    >>> round(uniform.mass, 9), round(uniform.kappa, 6)
+    (4.0, 0.816497)
+    >>> heavy = mass_properties(square, "1 + x**2")
+    >>> round(heavy.mass, 6), round(heavy.kappa, 6)               # mass 4 + 4/3
+    (5.333333, 0.856349)
 
     Raises
     ------

@@ -56,6 +56,15 @@ class Outline:
         Segment end points; segment ``i`` goes from ``nodes[i]`` to ``nodes[i+1]``.
     controls : ndarray, shape (n, 2, 2)
         The two inner control points of every segment.
+
+    Examples
+    --------
+    >>> from coinwall import Outline
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> square
+    Outline(4 segments, area=4, perimeter=8)
+    >>> square.support([0.0]).tolist()          # the support function: the half-width 1 along +x
+    [1.0]
     """
 
     nodes: np.ndarray
@@ -263,6 +272,16 @@ def support_function(outline: Outline, theta):
     -------
     ndarray
         ``h(θ)``, same shape as ``theta``.
+
+    Examples
+    --------
+    A square of side 2: ``h(0) = 1`` (a side), ``h(π/4) = √2`` (a corner).
+
+    >>> import numpy as np
+    >>> from coinwall import Outline, support_function
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> support_function(square, np.array([0.0, np.pi / 4])).round(12).tolist()
+    [1.0, 1.414213562373]
     """
     theta = np.asarray(theta, dtype=float)
     shape = theta.shape

@@ -69,6 +69,18 @@ class Revolution:
         mass (uniform density 1).
     centre : float
         ζ of the centre of mass in the coordinates the body was given in (vertices are shifted by it).
+
+    Examples
+    --------
+    A coin of radius 1 and thickness 0.1 (uniform density): I3 = M r²/2.
+
+    >>> from coinwall.forward.revolution import coin
+    >>> disc = coin(1.0, 0.1)
+    >>> disc.kind, round(disc.I3 / (disc.mass / 2), 12)
+    ('polygon', 1.0)
+    >>> h, slope = disc.support([0.0, 1.5707963267948966])     # lying flat, standing on its edge
+    >>> h.round(12).tolist()
+    [0.05, 1.0]
     """
 
     name: str

@@ -31,6 +31,15 @@ def wall_functions(outline, theta, H: float | None = None):
     lower : ndarray
     upper : ndarray or None
         None without ``H``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall import Outline, wall_functions
+    >>> square = Outline.from_polygon([[1, 1], [-1, 1], [-1, -1], [1, -1]])
+    >>> lower, upper = wall_functions(square, np.array([0.0, np.pi / 4]), H=5.0)
+    >>> lower.round(6).tolist(), upper.round(6).tolist()        # upper = H − h(θ + π)
+    ([1.0, 1.414214], [4.0, 3.585786])
     """
     theta = np.asarray(theta, float)
     lower = outline.support(theta)

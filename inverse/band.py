@@ -62,6 +62,20 @@ class Band:
         The outer body's vertices, counter-clockwise.
     outer_normals : ndarray (m,)
         The normal angle of each of its edges (vertex k to k + 1): the angle of the sample line it lies on.
+
+    Examples
+    --------
+    A hexagon's exact support values at 12 angles: every consistent body lies within the band, whose
+    tolerance is the hexagon's corner height ``1 − cos 30°`` over its gaps.
+
+    >>> import numpy as np
+    >>> from coinwall.inverse.band import band_of
+    >>> theta = np.arange(12) * np.pi / 6 + np.pi / 12
+    >>> corners = np.exp(1j * np.pi * np.arange(6) / 3)
+    >>> h = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
+    >>> band = band_of(theta, h, h)
+    >>> band.outer.shape, band.width.shape
+    ((12, 2), (12,))
     """
 
     theta: np.ndarray

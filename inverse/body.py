@@ -92,6 +92,16 @@ class Body:
     statistics : coinwall.inverse.noise.NoisyCritical or None
         For samples given with standard deviations: ``b_c`` as an estimate with a confidence interval (then
         :attr:`b_c_lower` and :attr:`b_c_upper`, which are certified bounds, are None).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, solve_body
+    >>> wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> body = solve_body(wall, -0.6, points=256)       # below b_c = −1/2: Case III
+    >>> body.regime, round(body.b_c, 12), len(body.corners), body.convex
+    ('corner', -0.5, 2, True)
+    >>> body.points.shape == (body.x.size, 2), body.to_dict()["regime"]
+    (True, 'corner')
     """
 
     wall: object

@@ -85,6 +85,18 @@ class CriticalBound:
         How far the true minimiser of each run may be from its reported angle (rad).
     ladder : tuple of (ndarray, float)
         The thinnings looked at, finest first (indices, spacing); corners are looked for on each.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import certify
+    >>> theta = np.radians(np.arange(360.0))
+    >>> corners = np.exp(2j * np.pi * np.arange(5) / 5)          # a regular pentagon's vertices
+    >>> b = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
+    >>> found = certify(theta, np.round(b, 8), np.full(360, 5e-9), 0.0)
+    >>> bound = found.bound                 # a polygon: b_c = 0, within the certified interval
+    >>> bool(bound.lower <= 0.0 <= bound.upper), len(bound.angles)
+    (True, 5)
     """
 
     lower: float
@@ -116,6 +128,18 @@ class DataCorner:
     length : float
         Certified: every body consistent with the samples turns through the whole window along a piece of
         boundary at most this long; ``inf`` for a possible corner (nothing certified), finite for a forced one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import certify
+    >>> theta = np.radians(np.arange(360.0))
+    >>> corners = np.exp(2j * np.pi * np.arange(5) / 5)          # a regular pentagon's vertices
+    >>> b = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
+    >>> found = certify(theta, np.round(b, 8), np.full(360, 5e-9), 0.0)
+    >>> corner = found.corners[0]
+    >>> [round(angle, 4) for angle in corner.window], corner.length < 1e-4
+    ([0.7156, 1.7977], True)
     """
 
     window: tuple
@@ -151,6 +175,20 @@ class Certificate:
         The decided regime, or ``"critical"`` where they do not decide (the body is then the simplest one).
     band : coinwall.inverse.band.Band or None
         The envelopes of every consistent body at ``b0`` (None below ``b_c⁻``, where there is none).
+
+    Examples
+    --------
+    A regular pentagon's support function at every degree, rounded to 8 decimals: the data force its five
+    corners.
+
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import certify
+    >>> theta = np.radians(np.arange(360.0))
+    >>> corners = np.exp(2j * np.pi * np.arange(5) / 5)          # a regular pentagon's vertices
+    >>> b = np.max(np.outer(np.cos(theta), corners.real) + np.outer(np.sin(theta), corners.imag), axis=1)
+    >>> found = certify(theta, np.round(b, 8), np.full(360, 5e-9), 0.0)
+    >>> found
+    Certificate(b0=0, critical, 5 forced corners, 0 possible)
     """
 
     bound: CriticalBound
@@ -168,7 +206,24 @@ class Certificate:
 
 # ---------------------------------------------------------------------------------------------- the b_c interval
 def cyclic_runs(mask) -> tuple[np.ndarray, np.ndarray]:
-    """``(starts, lengths)`` of the runs of True in a cyclic boolean array (a run may wrap past the end)."""
+    """``(starts, lengths)`` of the runs of True in a cyclic boolean array (a run may wrap past the end).
+
+    Parameters
+    ----------
+    mask : ndarray of bool
+
+    Returns
+    -------
+    starts, lengths : ndarray of int
+        Where each run starts and how long it is.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import cyclic_runs
+    >>> cyclic_runs(np.array([True, False, False, True, True]))      # one run: 3, 4, 0
+    (array([3]), array([3]))
+    """
     mask = np.asarray(mask, bool)
     n = mask.size
     if n == 0 or not mask.any():
@@ -183,7 +238,31 @@ def cyclic_runs(mask) -> tuple[np.ndarray, np.ndarray]:
 
 def curvature_range(theta, lo, hi):
     """The least and the largest ``ρ_i`` over values in the boxes ``[lo, hi]`` (each ρ_i depends on
-    three values, so its extremes are taken independently)."""
+    three values, so its extremes are taken independently).
+
+    Parameters
+    ----------
+    theta : array_like (n,)
+        Sorted angles in [0, 2π).
+    lo, hi : array_like (n,)
+        The lower and upper ends of each sample's interval.
+
+    Returns
+    -------
+    low, high : ndarray (n,)
+        The least and the largest discrete radius of curvature at each sample.
+
+    Examples
+    --------
+    The unit circle's wall, sampled every 10° to ±0.001: ρ = 1 is within ``[low, high]`` at every sample.
+
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import curvature_range
+    >>> theta = np.radians(np.arange(0.0, 360.0, 10.0))
+    >>> low, high = curvature_range(theta, np.full(36, 0.999), np.full(36, 1.001))
+    >>> round(float(low.min()), 4), round(float(high.max()), 4)
+    (0.8694, 1.1306)
+    """
     a, c, d = curvature_coefficients(theta)
     lo_prev, hi_prev, lo_next, hi_next = np.roll(lo, 1), np.roll(hi, 1), np.roll(lo, -1), np.roll(hi, -1)
     least = (np.minimum(a * lo_prev, a * hi_prev) + np.minimum(c * lo, c * hi)
@@ -196,7 +275,33 @@ def curvature_range(theta, lo, hi):
 def lp_lower_bound(theta, lo, hi) -> tuple[float, float]:
     """The certified lower end of ``b_c`` (module docstring) and HiGHS's own objective.
 
-    Returns ``(certified, objective)``; ``certified ≤ objective`` up to rounding."""
+    Returns ``(certified, objective)``; ``certified ≤ objective`` up to rounding.
+
+    Parameters
+    ----------
+    theta : array_like (n,)
+        Sorted angles in [0, 2π).
+    lo, hi : array_like (n,)
+        The lower and upper ends of each sample's interval.
+
+    Returns
+    -------
+    certified : float
+        No wall inside the intervals has a smaller ``b_c`` (from the linear programme's dual).
+    objective : float
+        HiGHS's own optimum.
+
+    Examples
+    --------
+    The unit circle sampled every 10° to ±0.001 (its ``b_c`` is −1):
+
+    >>> import numpy as np
+    >>> from coinwall.inverse.certify import lp_lower_bound
+    >>> theta = np.radians(np.arange(0.0, 360.0, 10.0))
+    >>> certified, objective = lp_lower_bound(theta, np.full(36, 0.999), np.full(36, 1.001))
+    >>> round(certified, 6), certified <= objective + 1e-12
+    (-1.001, True)
+    """
     from scipy.optimize import linprog
     from scipy.sparse import coo_matrix
 
@@ -560,6 +665,17 @@ def data_critical_offset(wall):
     """The critical offset of a sampled wall as :func:`coinwall.inverse.critical_offset` reports it: the best
     estimate, the certified interval (:attr:`~CriticalOffset.lower`, :attr:`~CriticalOffset.upper`) and every
     critical angle (:func:`critical_bound`; computed once per wall, which is immutable).
+
+    Parameters
+    ----------
+    wall : Wall
+        A wall made from samples (:meth:`Wall.from_samples`, :func:`~coinwall.forward.formats.load_wall`).
+
+    Returns
+    -------
+    CriticalOffset
+        With :attr:`~CriticalOffset.lower`, :attr:`~CriticalOffset.upper` and the assumption the upper end
+        rests on.
 
     Examples
     --------

@@ -56,6 +56,19 @@ class Corner:
     length : float or None
         For a corner that data force: every body consistent with the samples turns through the whole
         window along a piece of boundary at most this long (certified); None for a formula wall's corner.
+
+    Examples
+    --------
+    The ellipse's body at ``b0 = −0.6`` has a corner on each end of its long axis, at distance
+    ``√0.14`` from the centre of mass; over the window the body's wall is ``distance·cos(θ − direction)``.
+
+    >>> from coinwall import Wall, solve_body
+    >>> wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> corner = solve_body(wall, -0.6, points=256).corners[0]
+    >>> round(corner.direction, 12), round(corner.distance ** 2, 12), corner.exact
+    (3.14159265359, 0.14, True)
+    >>> [round(angle, 6) for angle in corner.window]
+    [2.244148, 4.039037]
     """
 
     direction: float

@@ -68,6 +68,15 @@ class CriticalOffset:
         without bound (the flat points of a superellipse, ~1e-11 rad around them) or where its ranges did
         not narrow within the search's budget; there ``b + b''`` counts by sampled values, and
         :attr:`b_c_tolerance` holds everywhere else (:mod:`coinwall.inverse.criticalcells`).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, critical_offset
+    >>> result = critical_offset(Wall.from_expression("1 + 0.1*cos(3*t)"))   # b + b'' = 1 − 0.8 cos 3θ
+    >>> round(result.b_c, 12), len(result.angles), result.b_c_tolerance < 1e-12
+    (-0.2, 3, True)
+    >>> [round(angle, 6) for angle in result.angles]                       # 0, 2π/3, 4π/3
+    [0.0, 2.094395, 4.18879]
     """
 
     b_c: float
@@ -225,6 +234,30 @@ def regime_of(b0: float, b_c: float, scale: float = 1.0, tolerance: float = 0.0)
 
     ``b0`` counts as critical within ``max(OFFSET_TOLERANCE·max(1, scale), tolerance)`` of ``b_c``
     (``tolerance``: how well b_c is known, e.g. what sampled data allow).
+
+    Parameters
+    ----------
+    b0 : float
+        The offset.
+    b_c : float
+        The critical offset (:attr:`CriticalOffset.b_c`).
+    scale : float
+        The wall's scale (``max |b|``): the tolerance is relative to it.
+    tolerance : float
+        How well ``b_c`` is known (0 for a formula).
+
+    Returns
+    -------
+    str
+        ``"convex"``, ``"critical"`` or ``"corner"``.
+
+    Examples
+    --------
+    >>> from coinwall.inverse import regime_of
+    >>> regime_of(0.0, -0.5), regime_of(-0.5, -0.5), regime_of(-0.6, -0.5)
+    ('convex', 'critical', 'corner')
+    >>> regime_of(-0.501, -0.5, tolerance=0.01)          # within what the data decide
+    'critical'
     """
     tol = max(OFFSET_TOLERANCE * max(1.0, scale), tolerance)
     if math.isinf(b_c) or b0 < b_c - tol:

@@ -70,6 +70,16 @@ class NoisyCritical:
         The typical standard deviation of one sample (root mean square over the angles).
     samples : int
         How many distinct angles the estimate used.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> theta = np.radians(np.arange(360.0))
+    >>> wall = np.sqrt((1 + np.cos(theta) ** 2) / 2)      # the ellipse x² + 2y² = 1: b_c = −0.5
+    >>> from coinwall.inverse.noise import noisy_critical
+    >>> found = noisy_critical(theta, wall + 1e-3 * np.random.default_rng(1).standard_normal(360), 1e-3)
+    >>> round(found.lower, 3), round(found.upper, 3), found.level, found.angles
+    (-0.514, -0.472, 0.95, (0.0, 3.141592653589793))
     """
 
     estimate: float

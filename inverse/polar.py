@@ -46,7 +46,28 @@ __all__ = ["Fold", "PolarSolution", "polar_nodes"]
 
 @dataclass(frozen=True)
 class Fold:
-    """A fold of α(φ) (a cusp of the envelope): ρ(φ) = 0 with a change of sign."""
+    """A fold of α(φ) (a cusp of the envelope): ρ(φ) = 0 with a change of sign.
+
+    Attributes
+    ----------
+    phi : float
+        The normal angle φ where ρ = 0.
+    alpha : float
+        The polar angle α of the fold point.
+    radius : float
+        Its distance from the centre of mass.
+
+    Examples
+    --------
+    Below the critical offset the polar solver meets folds where the envelope turns back (they become the
+    corners of the body):
+
+    >>> from coinwall import Wall, solve_body
+    >>> wall = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> body = solve_body(wall, -0.6, method="polar", points=256)
+    >>> len(body.folds), round(body.folds[0].radius, 6)
+    (4, 0.407597)
+    """
 
     phi: float
     alpha: float

@@ -69,6 +69,29 @@ def kappa_max(outline, per_segment: int = 8):
     Returns ``(kappa_max, support)`` where ``support`` (k, 3) lists the points
     and weights of an optimal distribution; ``(nan, empty)`` if the origin is not
     strictly inside.  See the module docstring for the derivation.
+
+    Parameters
+    ----------
+    outline : Outline
+        A convex outline in units of κ, the centre of mass at the origin.
+    per_segment : int
+        Candidate support points per outline segment.
+
+    Returns
+    -------
+    kappa_max : float
+        The largest radius of gyration (``nan`` if the origin is not strictly inside).
+    support : ndarray (k, 3)
+        Points ``x, y`` and weights of an optimal mass distribution.
+
+    Examples
+    --------
+    All the mass on the rim of the unit disc, balanced about its centre: κ = 1.
+
+    >>> from coinwall import Wall, kappa_max, solve_body
+    >>> value, support = kappa_max(solve_body(Wall.from_expression("1"), 0.0, points=64).outline)
+    >>> round(value, 6), support.shape[1]
+    (1.0, 3)
     """
     pts = outline.polygon(per_segment) if per_segment > 1 else outline.nodes
     # centre of mass strictly inside: every support value positive
@@ -153,6 +176,13 @@ class Realizability:
     uniform_consistent : bool
         The uniform lamina itself gives this wall (κ = 1 and centroid at the origin, to ``tol``).
     tol : float
+
+    Examples
+    --------
+    >>> from coinwall import Wall, realizability, solve_body
+    >>> reading = realizability(solve_body(Wall.from_expression("1"), 0.0, points=64))
+    >>> round(reading.kappa_uniform ** 2, 6), reading.realizable
+    (0.5, True)
     """
 
     b0: float
@@ -179,7 +209,28 @@ class Realizability:
 
 
 def realizability(body, tol: float = 1e-6) -> Realizability:
-    """Uniform κ and centroid of ``body`` (an :class:`inverse.Body`), and the reachable κ range."""
+    """Uniform κ and centroid of ``body`` (an :class:`inverse.Body`), and the reachable κ range.
+
+    Parameters
+    ----------
+    body : Body
+        A solved body.
+    tol : float
+        Tolerance of the self-consistency checks (κ = 1, centroid at the origin).
+
+    Returns
+    -------
+    Realizability
+
+    Examples
+    --------
+    The wall ``b = 1`` is a disc of radius κ: a uniform disc has κ = 1/√2 (not self-consistent), but a
+    ring of mass at the rim reaches κ = 1, so some mass distribution has this wall.
+
+    >>> from coinwall import Wall, realizability, solve_body
+    >>> realizability(solve_body(Wall.from_expression("1"), 0.0, points=64))
+    Realizability(kappa_uniform=0.707107, centroid_offset=0, kappa_max=1, realizable=True, uniform_consistent=False)
+    """
     size = float(np.max(np.hypot(body.x, body.y))) if body.x.size else 0.0
     if body.area <= 1e-12 * max(1.0, size) ** 2:
         # a segment (the stick): the uniform rod, κ = length/√12 about its midpoint (a lamina has no mass)
@@ -213,6 +264,13 @@ class SelfConsistency:
         Whether that distance is within ``tol`` (a fully self-consistent uniform body).
     searched : tuple of float
         The b0 range searched.
+
+    Examples
+    --------
+    >>> from coinwall import Wall, self_consistent_offset
+    >>> result = self_consistent_offset(Wall.from_expression("0.1*cos(2*t)"), points=128, grid=8)
+    >>> len(result.offsets), len(result.consistent) == len(result.offsets)
+    (1, True)
     """
 
     offsets: tuple
@@ -239,7 +297,37 @@ class SelfConsistency:
 
 def self_consistent_offset(wall, *, points: int = 512, grid: int = 24, tol: float = 1e-6,
                            xtol: float = 1e-12) -> SelfConsistency:
-    """Offsets b0 for which the uniform body with wall ``b0 + b`` has κ = 1 (see the module docstring)."""
+    """Offsets b0 for which the uniform body with wall ``b0 + b`` has κ = 1 (see the module docstring).
+
+    Parameters
+    ----------
+    wall : Wall
+        The wall function b(θ).
+    points : int
+        Outline nodes of each body solved.
+    grid : int
+        Offsets tried before the roots are bracketed (≥ 4).
+    tol : float
+        Tolerance of the centroid check.
+    xtol : float
+        Tolerance of the root finder on b0.
+
+    Returns
+    -------
+    SelfConsistency
+
+    Raises
+    ------
+    InvalidArgument
+        For a ``grid`` that is not an integer of at least 4.
+
+    Examples
+    --------
+    >>> from coinwall import Wall, self_consistent_offset
+    >>> result = self_consistent_offset(Wall.from_expression("0.1*cos(2*t)"), points=128, grid=8)
+    >>> [round(b0, 4) for b0 in result.offsets]
+    [1.4125]
+    """
     from scipy.optimize import brentq
 
     from .solve import solve_body

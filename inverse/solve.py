@@ -27,6 +27,10 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
                cross_check: bool = False) -> Body:
     """Solve the inverse problem: the body whose wall is ``b0 + b(θ)``.
 
+    The body's support function is :math:`h(\\theta) = b_0 + b(\\theta)`; it is convex where
+    :math:`b_0 + b + b'' \\ge 0` everywhere, that is for ``b0`` at or above the critical offset
+    :math:`b_c = -\\min_\\theta (b + b'')` (:func:`critical_offset`).
+
     Parameters
     ----------
     wall : forward.Wall
@@ -55,6 +59,26 @@ def solve_body(wall, b0: float = 0.0, *, method: str = "envelope", points: int =
     InvalidArgument, InvalidParameter, InvalidWall
         For an unknown method, a bad resolution, a non-finite offset, or an
         offset for which the centre of mass would lie outside the body.
+
+    See Also
+    --------
+    critical_offset : the smallest offset with a convex body.
+    export_body : write the body as SVG, DXF, JSON, CSV or PNG.
+
+    Examples
+    --------
+    The paper's ellipse wall (eq. 18, ε = 1): at ``b0 = 0`` the body is the ellipse
+    ``x² + 2y² = 1`` itself, of area π/√2; below ``b_c = -1/2`` it has two corners.
+
+    >>> from coinwall import Wall, solve_body
+    >>> ellipse = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+    >>> wall = Wall.from_expression(ellipse, {"eps": 1.0})
+    >>> body = solve_body(wall, 0.0, points=256)
+    >>> body.regime, round(body.area, 6), body.max_wall_error < 1e-8
+    ('convex', 2.221441, True)
+    >>> corner = solve_body(wall, -0.6, points=256)
+    >>> corner.regime, len(corner.corners)
+    ('corner', 2)
     """
     started = time.perf_counter()
     if method not in METHODS:

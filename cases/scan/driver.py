@@ -78,6 +78,15 @@ class ScanResult:
         Workers of the cluster.
     notes : tuple of str
         What the run repaired or changed (damaged cells computed again, fewer workers than asked), in words.
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import TableSpec, scan
+    >>> ellipse = TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))")
+    >>> result = scan("splitting", ellipse, {"eps": "1", "H": "2.3,2.5"}, output="result.zarr",
+    ...               options={"cells": 4}, scheduler="synchronous")
+    >>> result.quantity, result.cells, result.resumed, result.path
+    ('splitting', 2, 0, 'result.zarr')
     """
 
     path: str
@@ -112,7 +121,32 @@ class ScanResult:
 
 def make_axes(grid: dict, table: TableSpec) -> list:
     """The axes of ``grid`` (name → ``LIST | START:STOP:N[log]`` text or a sequence of numbers): the wall
-    parameters in the order given, then ``H`` (required)."""
+    parameters in the order given, then ``H`` (required).
+
+    Parameters
+    ----------
+    grid : dict
+        Axis name → text or numbers; ``"H"`` is required.
+    table : TableSpec
+        The wall whose parameters the other axes name.
+
+    Returns
+    -------
+    list of Axis
+
+    Raises
+    ------
+    InvalidArgument
+        For a grid that is not a dict with an ``H`` axis, an axis that names no parameter of the wall, or
+        a bad axis text.
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import TableSpec, make_axes
+    >>> axes = make_axes({"eps": "0.5,1", "H": "3:4:2"}, TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))"))
+    >>> [(axis.name, axis.values, axis.units) for axis in axes]
+    [('eps', (0.5, 1.0), '1'), ('H', (3.0, 4.0), 'kappa')]
+    """
     if not isinstance(grid, dict) or "H" not in grid:
         raise InvalidArgument(f"`grid` must be a dict with an 'H' axis (and wall parameters), got {grid!r}")
     h_units = "kappa" if table.kappa is None else f"length unit of the wall (kappa = {table.kappa:g})"
@@ -335,6 +369,27 @@ def scan(quantity: str, table: TableSpec, grid: dict, *, output: str, options: d
     Returns
     -------
     ScanResult
+
+    Raises
+    ------
+    InvalidArgument
+        For an unknown quantity or option, a grid without ``H`` or with a bad axis, a store made by a
+        different scan, or a scheduler that cannot be reached.
+
+    Examples
+    --------
+    The ellipse's tunnelling splitting at two wall distances, every cell in this process (a real scan uses
+    a dask cluster); the store is read back with xarray:
+
+    >>> from coinwall.cases.scan import TableSpec, scan
+    >>> ellipse = TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))")
+    >>> result = scan("splitting", ellipse, {"eps": "1", "H": "2.3,2.5"}, output="splitting.zarr",
+    ...               options={"cells": 4}, scheduler="synchronous")
+    >>> result.computed, result.refused
+    (2, 0)
+    >>> import xarray
+    >>> [f"{value:.3e}" for value in xarray.open_zarr("splitting.zarr").splitting.values.ravel()]
+    ['2.068e-05', '3.844e-03']
     """
     from coinwall import __version__
 

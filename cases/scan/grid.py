@@ -37,6 +37,12 @@ class Axis:
         Units of the values (``"kappa"`` for H, ``"1"`` for a dimensionless parameter).
     text : str
         What the user wrote (kept in the store's attributes).
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import parse_axis
+    >>> parse_axis("H", "2:8:4", units="kappa")
+    Axis(name='H', values=(2.0, 4.0, 6.0, 8.0), units='kappa', text='2:8:4')
     """
 
     name: str
@@ -62,11 +68,34 @@ def parse_axis(name: str, text: str, units: str = "1") -> Axis:
     """An :class:`Axis` from ``"a,b,c"`` or ``"START:STOP:N"`` (linear, both ends included) or
     ``"START:STOP:Nlog"`` (geometric; both ends > 0).
 
+    Parameters
+    ----------
+    name : str
+        The coordinate name.
+    text : str
+        The values, as above.
+    units : str
+        Their units.
+
+    Returns
+    -------
+    Axis
+
     Raises
     ------
     InvalidArgument
         Not numbers, N not a whole number in [1, AXIS_POINTS_MAX], a log range with an end ≤ 0, or a
         value given twice (two cells with the same coordinates would share a seed and a store row).
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import parse_axis
+    >>> [round(value, 6) for value in parse_axis("eps", "0.5:30:3log").values]
+    [0.5, 3.872983, 30.0]
+    >>> parse_axis("eps", "1,2,1")
+    Traceback (most recent call last):
+    ...
+    coinwall.forward.errors.InvalidArgument: ...
     """
     if not isinstance(text, str) or not text.strip():
         raise InvalidArgument(f"`{name}` must be a list of numbers or START:STOP:N[log], got {text!r}")
@@ -108,6 +137,26 @@ def cell_seed(seed: int, coordinates) -> int:
     ``numpy.random.SeedSequence(seed, spawn_key=<the float64 bit patterns of the coordinates>)``.
 
     The bit patterns make it exact (no rounding of a printed value) and independent of the grid.
+
+    Parameters
+    ----------
+    seed : int
+        The scan's seed.
+    coordinates : sequence of float
+        The cell's coordinates, in axis order.
+
+    Returns
+    -------
+    int
+        A seed in [0, 2⁶³).
+
+    Examples
+    --------
+    The same cell gets the same seed in any scan with the same seed, whatever else its grid holds:
+
+    >>> from coinwall.cases.scan import cell_seed
+    >>> cell_seed(0, (1.0, 3.0)) == cell_seed(0, (1.0, 3.0)), cell_seed(0, (1.0, 3.0)) == cell_seed(1, (1.0, 3.0))
+    (True, False)
     """
     seed = check_count("seed", seed, minimum=0)
     key = tuple(int(np.float64(c).view(np.uint64)) for c in coordinates)

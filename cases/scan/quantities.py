@@ -45,6 +45,14 @@ class Quantity:
         Option name → default value.
     seeded : bool
         Whether the cell function uses its seed.
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import QUANTITIES
+    >>> sorted(QUANTITIES)
+    ['chaotic-fraction', 'lyapunov', 'splitting', 'tau', 'toss']
+    >>> QUANTITIES["lyapunov"].defaults
+    {'orbits': 20, 'collisions': 2000, 'every': 10, 'device': 'cpu'}
     """
 
     name: str
@@ -190,7 +198,35 @@ MAX_CELL_WORK = 1e10
 
 
 def check_options(quantity: str, options: dict | None) -> dict:
-    """All options of ``quantity`` in canonical types, defaults filled in; unknown names are refused."""
+    """All options of ``quantity`` in canonical types, defaults filled in; unknown names are refused.
+
+    Parameters
+    ----------
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    options : dict or None
+        Option name → value.
+
+    Returns
+    -------
+    dict
+        Every option of the quantity.
+
+    Raises
+    ------
+    InvalidArgument
+        For an unknown quantity, an unknown option name or a bad value.
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import check_options
+    >>> check_options("splitting", {"cells": 4})
+    {'pair': 0, 'cells': 4, 'order': 2}
+    >>> check_options("lyapunov", {"orbit": 4})
+    Traceback (most recent call last):
+    ...
+    coinwall.forward.errors.InvalidArgument: `orbit` is not an option of 'lyapunov'; its options are orbits, collisions, every, device
+    """
     check_choice("quantity", quantity, tuple(QUANTITIES))
     spec = QUANTITIES[quantity]
     options = dict(options or {})
@@ -276,6 +312,19 @@ def compute_cell(quantity: str, table_spec, values: dict, H: float, seed: int, o
         ``{"status": 1, variable: value, ...}``, or ``{"status": 2, "error": message}`` when the library
         refuses this cell's input (a table that does not open at this (ε, H), H below the diameter for a
         splitting): a finding about that cell, not a failure of the scan.
+
+    Raises
+    ------
+    InvalidArgument
+        For an unknown quantity (a refused input of the cell is a status 2, not an exception).
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import TableSpec, check_options, compute_cell
+    >>> ellipse = TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))")
+    >>> cell = compute_cell("splitting", ellipse, {"eps": 1.0}, 2.3, 0, check_options("splitting", {"cells": 4}))
+    >>> cell["status"], f"{cell['splitting']:.3e}"
+    (1, '2.068e-05')
     """
     from coinwall.forward.errors import CoinwallError
 

@@ -39,6 +39,12 @@ class TableSpec:
         Offset added to the wall, in the unit of the wall (divided by ``kappa`` when given).
     kappa : float or None
         Radius of gyration in the wall's length unit: wall, H and b0 are divided by it (docs/dynamics.md, Units).
+
+    Examples
+    --------
+    >>> from coinwall.cases.scan import TableSpec
+    >>> TableSpec("sqrt((1+eps*cos(t)**2)/(1+eps))", b0=-0.1)
+    TableSpec(wall='sqrt((1+eps*cos(t)**2)/(1+eps))', params=(), b0=-0.1, kappa=None)
     """
 
     wall: object

@@ -387,13 +387,53 @@ def load_outline(path: str, *, layer: str | None = None, com=None, kappa: float 
                  units: str | None = None, element: str | None = None):
     """Outline from a file, in units of κ with the centre of mass at the origin, and a note.
 
-    The same as :func:`read_outline` (see there for the parameters), with its warnings appended
-    to the note.
+    The same as :func:`read_outline`, with its warnings appended to the note. Concave parts of a drawing
+    never touch a wall: the outline is the convex hull.
+
+    Parameters
+    ----------
+    path : str
+        ``.json`` (from ``coinwall solve``, or ``{"outline"|"points": [[x, y], ...]}``), ``.csv`` (x, y
+        columns; a header row is skipped), ``.svg`` (closed paths, polygons, rects, circles, ellipses) or
+        ``.dxf`` (LWPOLYLINE, POLYLINE, SPLINE, CIRCLE, ELLIPSE, and closed chains of LINE and ARC).
+    layer : str, optional
+        DXF layer to read (default: every layer but annotation layers).
+    com : (float, float), optional
+        Centre of mass in drawing coordinates, as written in the file and in its own units (SVG: user
+        units, y pointing down; DXF, JSON, CSV: y up); default: recorded by coinwall, else the centroid.
+    kappa : float, optional
+        Radius of gyration in ``units`` (default: recorded by coinwall, else 1 drawing unit).
+    units : str, optional
+        Unit of ``kappa`` (``"mm"``, ``"cm"``, ``"in"``, ...; default: the drawing's own unit). Needs
+        ``kappa``.
+    element : str, optional
+        SVG: the id of the element to read (default: the whole drawing).
 
     Returns
     -------
     (Outline, str)
         The convex outline and a note saying what was done.
+
+    Raises
+    ------
+    InvalidOutline
+        Missing, empty, damaged or unsupported files; no closed shape; nothing on the layer or in the
+        element.
+    InvalidArgument
+        A bad ``com``, ``kappa``, ``units``, ``layer`` or ``element``.
+
+    Examples
+    --------
+    A triangle drawn with a radius of gyration of 2 drawing units, moved to its centroid and scaled to κ:
+
+    >>> from coinwall import load_outline
+    >>> with open("triangle.csv", "w") as fh:
+    ...     _ = fh.write("x,y\\n3,0\\n0,3\\n-3,-3\\n")
+    >>> outline, note = load_outline("triangle.csv", kappa=2.0)
+    >>> outline
+    Outline(3 segments, area=3.375, perimeter=8.82952)
+    >>> note
+    'CSV points; centre of mass = centroid (-0, -0), uniform density; kappa = 2 drawing units'
     """
     reading = read_outline(path, layer=layer, element=element, com=com, kappa=kappa, units=units)
     note = "; ".join([reading.note] + [f"warning: {w}" for w in reading.warnings])
@@ -422,6 +462,20 @@ def outline_from_polar(text: str, params=None, *, samples: int = 4096, com=None)
     Returns
     -------
     (Outline, str)
+
+    Raises
+    ------
+    InvalidOutline
+        Where R(α) is not positive.
+    InvalidExpression, InvalidParameter
+        For an expression that does not parse or a bad parameter.
+
+    Examples
+    --------
+    >>> from coinwall import outline_from_polar
+    >>> outline, note = outline_from_polar("1 + 0.2*cos(t)", samples=256)
+    >>> outline.nodes.shape, note
+    ((256, 2), 'polar R(α) = 1 + 0.2*cos(t): convex, exact-derivative Bézier outline on 256 nodes; pole = centre of mass')
     """
     from ..wall import Wall
 

@@ -66,6 +66,27 @@ def load_wall(text: str, params=None, *, degrees: bool = False, b_halfwidth: flo
     ------
     InvalidWall, InvalidExpression
         A bad file or expression, ``params`` given with a file, or a drawing (which has no wall yet).
+
+    Examples
+    --------
+    A wall sampled at every degree, rounded to 6 decimals, as people write it: each sample is an interval
+    of half a unit of its last digit, and the critical offset of ``1 + 0.1 cos 2θ`` (exactly −0.7, where
+    ``b + b'' = 1 − 0.3 cos 2θ`` is smallest) is certified to lie in the interval printed.
+
+    >>> import math
+    >>> from coinwall import critical_offset
+    >>> from coinwall.forward.formats import load_wall
+    >>> with open("wall.csv", "w") as fh:
+    ...     _ = fh.write("theta_deg,b\\n")
+    ...     for degree in range(360):
+    ...         _ = fh.write(f"{degree},{1 + 0.1 * math.cos(2 * math.radians(degree)):.6f}\\n")
+    >>> wall = load_wall("wall.csv")
+    >>> wall, f"{wall.sample_rounding[0]:.2g}"          # half a unit of the 6th decimal
+    (Wall('uniform samples (n=360)'), '5e-07')
+    >>> critical_offset(wall)
+    CriticalOffset(b_c=-0.698797851192 in [-0.700865, -0.692739], angles=[0, 3.14159])
+    >>> load_wall("1 + 0.1*cos(2*t)")
+    Wall('1 + 0.1*cos(2*t)')
     """
     from ..wall import Wall
 
@@ -393,7 +414,45 @@ def load_wall_file(path: str, *, degrees: bool = False, b_halfwidth: float = 0.0
     ``theta_halfwidth`` (bounds; the angle's in the file's angle unit) where those are larger.  ``b_sd`` and
     ``theta_sd`` (or columns ``b_sd``, ``theta_sd``) are standard deviations: statistics, which the solvers
     turn into estimates with confidence intervals.  ``noisy``: measurements that scatter beyond their digits
-    (``coinwall fit``): samples at one angle are averaged, not intersected."""
+    (``coinwall fit``): samples at one angle are averaged, not intersected.
+
+    Parameters
+    ----------
+    path : str
+        A ``.csv`` or ``.json`` wall file.
+    degrees : bool
+        The angles of the file are in degrees (a header ``theta_deg`` says so too).
+    b_halfwidth, theta_halfwidth : float
+        Half-widths (bounds) of the values and angles, where they exceed half a unit of the last digit.
+    b_sd, theta_sd : float, optional
+        Standard deviations of the values and angles.
+    noisy : bool
+        Samples at one angle are averaged, not intersected.
+
+    Returns
+    -------
+    Wall
+
+    Raises
+    ------
+    InvalidWall
+        A missing, empty or damaged file, a file of another kind (a body, a drawing), samples that do not
+        make a wall (too few, not finite, contradictory duplicates).
+    InvalidArgument
+        A bad half-width or standard deviation.
+
+    Examples
+    --------
+    Fourier coefficients ``b = 1 + 0.1 cos 2θ`` in JSON:
+
+    >>> import json
+    >>> from coinwall.forward.formats import load_wall_file
+    >>> with open("wall.json", "w") as fh:
+    ...     json.dump({"a0": 1.0, "cos": [0.0, 0.1]}, fh)
+    >>> wall = load_wall_file("wall.json")
+    >>> wall, wall.kind, round(float(wall(0.0)), 12)
+    (Wall('Fourier series (2 harmonics)'), 'fourier', 1.1)
+    """
     import numpy as np
 
     from ..wall import Wall

@@ -60,6 +60,13 @@ class Spectrum:
         Wall-clock time of mesh, assembly and solve.
     vectors : tuple of ndarray
         Each level's eigenvector on the free dofs of its mesh (M-normalised: ∫ψ² dθ dη = 1).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, quantum_spectrum
+    >>> spectrum = quantum_spectrum(Wall.from_expression("1"), H=3.0, levels=4, cells=4, order=2)
+    >>> spectrum.method, spectrum.order, len(spectrum.eigenvalues)
+    ('fem', 2, 4)
     """
 
     eigenvalues: np.ndarray
@@ -127,6 +134,26 @@ def default_cells(strip: Strip, levels: int, order: int = 2) -> int:
     walls (exact values; tests/forward/quantum/test_quantum.py) the largest relative error of degree p with
     cells of side h is about c_p·(h√λ)^(2p), measured: 2.6e-4 at h√λ = 0.62 (P2), 4.3e-5 at 1.24 (P3),
     3.4e-7 at 1.24 (P4); h√λ = 0.5, 1.4, 2.5 for p = 2, 3, 4 gives ~1e-4.
+
+    Parameters
+    ----------
+    strip : Strip
+    levels : int
+        The highest level wanted.
+    order : int
+        The element degree (2, 3 or 4).
+
+    Returns
+    -------
+    int
+        Rows of cells across the strip.
+
+    Examples
+    --------
+    >>> from coinwall import Wall, make_strip
+    >>> from coinwall.forward.quantum import default_cells
+    >>> default_cells(make_strip(Wall.from_expression("1"), 3.0), levels=10)
+    13
     """
     lam = 1.5 * 4.0 * math.pi * levels / max(strip.area, 1e-12) + (math.pi / strip.width_max) ** 2
     target = {2: 0.5, 3: 1.4, 4: 2.5}.get(order, 0.5)
@@ -325,6 +352,24 @@ def quantum_spectrum(wall, H=None, b0: float = 0.0, levels: int = 10, *, method:
     Returns
     -------
     Spectrum
+
+    Raises
+    ------
+    InvalidArgument
+        For a Wall without ``H``, something that is neither a Wall nor a Strip, an unknown method, or a
+        spectral run estimated to take longer than ``max_seconds``.
+
+    Examples
+    --------
+    The flat wall ``b = 1`` at ``H = 3`` is a strip of width 1 around the cylinder θ ∈ [0, 2π): its levels
+    are ``π² n² + m²`` exactly; the lowest, π² = 9.8696, to 5e-4 with this coarse mesh.
+
+    >>> from coinwall import Wall, quantum_spectrum
+    >>> spectrum = quantum_spectrum(Wall.from_expression("1"), H=3.0, levels=4, cells=4, order=2)
+    >>> spectrum.eigenvalues.round(2).tolist()
+    [9.87, 10.87, 10.88, 13.89]
+    >>> spectrum.classes[0]
+    'swap+ mirror+ half_turn+'
     """
     check_choice("method", method, ("auto", *METHODS))
     levels = check_count("levels", levels, minimum=1, maximum=100_000)

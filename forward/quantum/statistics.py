@@ -99,6 +99,14 @@ class SpacingStatistics:
         Kolmogorov–Smirnov distances from 1 − e^(−s) and from the Wigner surmise.
     brody : float
         Maximum-likelihood Brody parameter (0 Poisson, 1 Wigner).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, quantum_spectrum
+    >>> from coinwall.forward.quantum import level_statistics
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> level_statistics(quantum_spectrum(ellipse, H=3.0, levels=40, cells=6, order=2), skip=2)
+    SpacingStatistics(14 spacings in 5 classes, KS Poisson 0.291, KS GOE 0.132, Brody q = 0.900)
     """
 
     spacings: np.ndarray
@@ -126,7 +134,32 @@ class SpacingStatistics:
 
 def level_statistics(spectrum, skip: int = 10) -> SpacingStatistics:
     """Spacing statistics of ``spectrum``, class by class, dropping each class's lowest ``skip`` levels
-    (below them the smooth counting function is not yet a good unfolding)."""
+    (below them the smooth counting function is not yet a good unfolding).
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        A class-resolved spectrum (many levels: the statistics need hundreds).
+    skip : int
+        The lowest levels of each class left out.
+
+    Returns
+    -------
+    SpacingStatistics
+
+    Examples
+    --------
+    Far too few levels for a verdict, but the call is the same as for hundreds:
+
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import quantum_spectrum
+    >>> from coinwall.forward.quantum import level_statistics
+    >>> spectrum = quantum_spectrum(ellipse, H=3.0, levels=40, cells=6, order=2)
+    >>> stats = level_statistics(spectrum, skip=2)
+    >>> stats.classes, stats.spacings.size
+    (5, 14)
+    """
     names = spectrum.classes
     # the classes of a strip that fell apart are its regions: equal areas (the swap maps one onto the other)
     group = 2 ** len(spectrum.symmetry_names) if spectrum.strip.periodic else len(spectrum.strip.regions)

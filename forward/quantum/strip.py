@@ -59,6 +59,13 @@ class Strip:
         ``"half_turn"`` ((θ, η) → (θ + π, η), when b(θ + π) = b(θ)), each checked numerically.
     area, wall_length : float
         Area of the open strip and the total length of both walls there (Euclidean metric in (θ, η)).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, make_strip
+    >>> strip = make_strip(Wall.from_expression("1"), 3.0)
+    >>> strip.width_min, strip.width_max, round(strip.diameter, 12)
+    (1.0, 1.0, 2.0)
     """
 
     table: Billiard
@@ -137,7 +144,29 @@ class Strip:
 
 
 def make_strip(wall, H, b0=0.0) -> Strip:
-    """The :class:`Strip` of ``wall`` between walls at distance ``H`` (units of κ), offset ``b0``."""
+    """The :class:`Strip` of ``wall`` between walls at distance ``H`` (units of κ), offset ``b0``.
+
+    Parameters
+    ----------
+    wall : Wall
+    H : float
+        Distance between the walls (units of κ).
+    b0 : float
+        Offset added to the wall.
+
+    Returns
+    -------
+    Strip
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import make_strip
+    >>> strip = make_strip(ellipse, 2.3)          # necks of width H − 2 at θ = 0 and π
+    >>> strip
+    Strip(H=2.3, width 0.3..0.8858, periodic, symmetries swap+mirror+half_turn, area 3.64618)
+    """
     return Strip(Billiard(wall, H, b0))
 
 

@@ -79,6 +79,15 @@ class Splitting:
     action : float
         The WKB action S through one neck at λ₊ (Δλ ∝ exp(−S)).
     dofs, cells : int
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import doublet_splitting
+    >>> split = doublet_splitting(ellipse, 2.3, cells=4, order=2)
+    >>> round(split.gap, 12), split.classes[0] != split.classes[1]
+    (0.3, True)
     """
 
     H: float
@@ -111,7 +120,30 @@ class Splitting:
 
 
 def wkb_action(strip, lam, points: int = 20001) -> float:
-    """S = ∫ √((π/w)² − λ) dθ over the forbidden interval (π/w)² > λ containing the neck (0 if there is none)."""
+    """S = ∫ √((π/w)² − λ) dθ over the forbidden interval (π/w)² > λ containing the neck (0 if there is none).
+
+    Parameters
+    ----------
+    strip : Strip
+    lam : float
+        The level λ (1/κ²).
+    points : int
+        Quadrature points over the period.
+
+    Returns
+    -------
+    float
+        S, so that the splitting goes as ``exp(−S)``.
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import make_strip
+    >>> from coinwall.forward.quantum import wkb_action
+    >>> round(wkb_action(make_strip(ellipse, 2.3), 17.71455), 3)
+    12.449
+    """
     theta = strip.neck + np.linspace(-0.5 * math.pi, 0.5 * math.pi, points)
     width = strip.width(theta)
     rate2 = np.where(width > 0, (math.pi / np.maximum(width, 1e-300)) ** 2 - lam, np.inf)
@@ -129,7 +161,31 @@ def wkb_action(strip, lam, points: int = 20001) -> float:
 
 
 def tunnelling_time(delta_lambda, mass, kappa):
-    """ħ/ΔE in seconds for a splitting ``delta_lambda`` (1/κ²), ``mass`` in kg and ``kappa`` in m."""
+    """ħ/ΔE in seconds for a splitting ``delta_lambda`` (1/κ²), ``mass`` in kg and ``kappa`` in m.
+
+    Parameters
+    ----------
+    delta_lambda : float
+        The splitting Δλ (1/κ²).
+    mass : float
+        The body's mass (kg).
+    kappa : float
+        Its radius of gyration (m).
+
+    Returns
+    -------
+    float
+        ħ/ΔE in seconds, with ``ΔE = ħ² Δλ / (2 m κ²)``.
+
+    Examples
+    --------
+    A 1 g body with κ = 1 cm and a splitting of 10⁻³/κ² would tunnel between heads and tails once in
+    about 10³⁰ s:
+
+    >>> from coinwall.forward.quantum import tunnelling_time
+    >>> f"{tunnelling_time(1e-3, 1e-3, 1e-2):.2e}"
+    '1.90e+30'
+    """
     return 2.0 * mass * kappa**2 / (HBAR * np.asarray(delta_lambda, dtype=float))
 
 
@@ -161,6 +217,27 @@ def doublet_splitting(wall, H, b0: float = 0.0, *, pair: int = 0, cells: int = 8
     cells, order : int
         Mesh rows across and element degree (:func:`.mesh.strip_mesh`); the columns follow the neck's
         width, so its decay is resolved at every H.
+
+    Returns
+    -------
+    Splitting
+
+    Raises
+    ------
+    InvalidArgument
+        When ``H`` is not above the body's diameter (the strip fell apart at its necks).
+
+    Examples
+    --------
+    The ellipse's lowest heads–tails doublet at ``H = 2.3`` (necks 0.3 wide): the direct difference and
+    Herring's flux formula agree.
+
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import doublet_splitting
+    >>> split = doublet_splitting(ellipse, 2.3, cells=4, order=2)
+    >>> f"{split.direct:.3e} {split.flux:.3e}"
+    '2.068e-05 2.068e-05'
     """
     from .spectrum import quantum_spectrum
     from .strip import make_strip
@@ -173,7 +250,34 @@ def doublet_splitting(wall, H, b0: float = 0.0, *, pair: int = 0, cells: int = 8
 
 
 def splitting_of(spectrum, pair: int = 0) -> Splitting:
-    """The :class:`Splitting` of levels 2·pair and 2·pair + 1 of a periodic, class-resolved ``spectrum``."""
+    """The :class:`Splitting` of levels 2·pair and 2·pair + 1 of a periodic, class-resolved ``spectrum``.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        A class-resolved spectrum of a periodic strip.
+    pair : int
+        0 for the lowest doublet.
+
+    Returns
+    -------
+    Splitting
+
+    Raises
+    ------
+    InvalidArgument
+        When the spectrum has too few class-resolved levels for that pair.
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> ellipse = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 1.0})
+    >>> from coinwall import quantum_spectrum
+    >>> from coinwall.forward.quantum import splitting_of
+    >>> split = splitting_of(quantum_spectrum(ellipse, H=2.3, levels=4, cells=4, order=2))
+    >>> f"{split.direct:.3e}"
+    '2.068e-05'
+    """
     strip = spectrum.strip
     k = 2 * pair
     spectrum.require_vectors("the splitting of a pair")

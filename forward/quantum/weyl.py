@@ -53,7 +53,28 @@ def corner_constant(strip) -> float:
 
 
 def weyl_count(strip, lam):
-    """The smooth counting function N̄(λ) = Aλ/(4π) − L√λ/(4π) + C (0 for λ ≤ 0)."""
+    """The smooth counting function N̄(λ) = Aλ/(4π) − L√λ/(4π) + C (0 for λ ≤ 0).
+
+    Parameters
+    ----------
+    strip : Strip
+    lam : float or ndarray
+        λ (1/κ²).
+
+    Returns
+    -------
+    float or ndarray
+        N̄(λ), with A the strip's area, L the length of its walls and C its corner term.
+
+    Examples
+    --------
+    The flat strip of width 1: A = 2π, L = 4π, so N̄(100) = 200π/(4π) − 40π/(4π) = 40.
+
+    >>> from coinwall import Wall, make_strip
+    >>> from coinwall.forward.quantum import weyl_count
+    >>> round(float(weyl_count(make_strip(Wall.from_expression("1"), 3.0), 100.0)), 12)
+    40.0
+    """
     lam = np.maximum(np.asarray(lam, dtype=float), 0.0)
     return (strip.area * lam - strip.wall_length * np.sqrt(lam)) / (4.0 * math.pi) + corner_constant(strip)
 
@@ -76,6 +97,15 @@ class WeylCheck:
     mean_residual, rms_residual, max_residual : float
         Mean, root mean square and largest absolute residual over the upper half of the levels (the lower
         half is where the asymptotic law is least expected to hold).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, quantum_spectrum
+    >>> spectrum = quantum_spectrum(Wall.from_expression("1"), H=3.0, levels=4, cells=4, order=2)
+    >>> from coinwall.forward.quantum import weyl_check
+    >>> check = weyl_check(spectrum)
+    >>> check.counts.tolist()                  # i + 1/2 at the i-th level
+    [0.5, 1.5, 2.5, 3.5]
     """
 
     area: float
@@ -119,7 +149,24 @@ class WeylCheck:
 
 
 def weyl_check(spectrum) -> WeylCheck:
-    """Compare the counting function of ``spectrum`` with N̄(λ) of its strip."""
+    """Compare the counting function of ``spectrum`` with N̄(λ) of its strip.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+
+    Returns
+    -------
+    WeylCheck
+
+    Examples
+    --------
+    >>> from coinwall import Wall, quantum_spectrum
+    >>> spectrum = quantum_spectrum(Wall.from_expression("1"), H=3.0, levels=4, cells=4, order=2)
+    >>> from coinwall.forward.quantum import weyl_check
+    >>> weyl_check(spectrum)
+    WeylCheck(A=6.28319, L=12.5664, C=0, residual mean 0.321, rms 0.323, max 0.359)
+    """
     strip = spectrum.strip
     values = np.asarray(spectrum.eigenvalues, dtype=float)
     counts = np.arange(values.size) + 0.5

@@ -49,6 +49,19 @@ class Launch:
     """The hand (module docstring): ``g`` (κ/s²), ``height`` of the lowest point (κ), ``v0`` and ``omega`` as
     (mean, standard deviation) in κ/s and rad/s, ``theta0`` the launch direction (None: uniform).
 
+    Parameters
+    ----------
+    g : float
+        The field (κ/s²), in [1e-9, 1e12].
+    height : float
+        Height of the body's lowest point above the floor at launch (κ).
+    v0 : (float, float)
+        Mean and standard deviation of the upward launch velocity (κ/s).
+    omega : (float, float)
+        Mean and standard deviation of the spin (rad/s).
+    theta0 : float, optional
+        The launch direction (rad); ``None``: uniform.
+
     Examples
     --------
     >>> Launch().draw(np.random.default_rng(0), 2).shape

@@ -41,6 +41,17 @@ class Launch3D:
     """The tumbling drop (module docstring): ``g``, ``height`` of the lowest point, ``v0`` (mean, sd) and the
     spread ``spin`` (rad/s) of each lab component of the angular velocity.
 
+    Parameters
+    ----------
+    g : float
+        The field (κ₁/s², > 0).
+    height : float
+        Height of the body's lowest point above the floor at launch (κ₁).
+    v0 : (float, float)
+        Mean and standard deviation of the upward launch velocity.
+    spin : float
+        Standard deviation of each lab component of the angular velocity (rad/s, ≥ 0).
+
     Examples
     --------
     >>> Launch3D().draw(np.random.default_rng(0), 2).shape

@@ -331,6 +331,15 @@ class Resimulation:
     ``tosses`` fresh launches, and ``z[name]``: the difference from the design's probability in units of the
     two standard errors combined (the design's own is its half-width / z).
 
+    Attributes
+    ----------
+    probabilities : dict
+        ``{outcome: (p, standard error)}`` from the fresh launches.
+    z : dict
+        ``{outcome: z}``: the difference from the design's probability over the combined standard error.
+    tosses : int
+        The fresh launches.
+
     Examples
     --------
     >>> r = Resimulation({"edge": (0.34, 0.002)}, {"edge": 0.5}, 50000)

@@ -48,6 +48,17 @@ class ExportResult:
         for SVG ``{"path", "tolerance", "diameter", "units"}``; deviations and the tolerance
         in output units.  Formats without approximation have an empty report.
     options : ExportOptions
+
+    Examples
+    --------
+    >>> from coinwall import Wall, solve_body
+    >>> disc = solve_body(Wall.from_expression("1"), 0.0, points=64)
+    >>> from coinwall import export_body
+    >>> result = export_body(disc, ["disc.dxf", "disc.svg"], kappa=12.0, units="mm")
+    >>> result.paths, {path: round(report["tolerance"], 9) for path, report in result.reports.items()}
+    (['disc.dxf', 'disc.svg'], {'disc.dxf': 0.0024, 'disc.svg': 0.0024})
+    >>> all(deviation <= 0.0024 for deviation in result.deviations().values())     # mm: within the tolerance
+    True
     """
 
     paths: list
@@ -75,13 +86,35 @@ class ExportResult:
 
 
 def exporters() -> dict:
-    """Map of extension (``".svg"``) to exporter module (a copy of ``EXPORTERS``)."""
+    """Map of extension (``".svg"``) to exporter module (a copy of ``EXPORTERS``).
+
+    Returns
+    -------
+    dict
+        ``{extension: module}``.
+
+    Examples
+    --------
+    >>> from coinwall.inverse.export import exporters
+    >>> sorted(exporters())
+    ['.csv', '.dxf', '.json', '.pdf', '.png', '.svg']
+    """
     return dict(EXPORTERS)
 
 
 def check_outputs(paths) -> list:
     """Before any work: every path has an exporter (by its extension) and can be written (the writer's rules,
     :func:`coinwall.forward.formats.output.check_paths`); returns ``[(path, exporter module)]``.
+
+    Parameters
+    ----------
+    paths : list of str
+        The output files.
+
+    Returns
+    -------
+    list of (str, module)
+        Each path with the exporter module its extension names.
 
     Raises
     ------
@@ -120,6 +153,36 @@ def write_outputs(body, paths, *, kappa=None, units=None, tolerance=None, dimens
 
     ``kappa``/``units``/``tolerance``/``dimension``/``cut`` are :class:`ExportOptions`; use
     :func:`export_body` to also get the achieved deviations.
+
+    Parameters
+    ----------
+    body : Body
+    paths : list of str
+        Output files; the format follows the extension.
+    kappa, units, tolerance, dimension, cut
+        As for :func:`export_body`.
+
+    Returns
+    -------
+    list of str
+        The paths written.
+
+    Raises
+    ------
+    OutputError
+        Unknown extension or unwritable place (nothing is written then).
+
+    Examples
+    --------
+    >>> from coinwall import Wall, solve_body
+    >>> disc = solve_body(Wall.from_expression("1"), 0.0, points=64)
+    >>> from coinwall import load_outline
+    >>> from coinwall.inverse.export import write_outputs
+    >>> write_outputs(disc, ["disc.json", "disc.csv"])
+    ['disc.json', 'disc.csv']
+    >>> outline, note = load_outline("disc.json")          # a written body reads back
+    >>> round(outline.area, 3)
+    3.142
     """
     return export_body(body, paths, kappa=kappa, units=units, tolerance=tolerance, dimension=dimension,
                        cut=cut).paths
@@ -144,6 +207,25 @@ def export_body(body, paths, *, kappa=None, units=None, tolerance=None, dimensio
         Draw the largest diameter (SVG).
     cut : bool
         Cut-ready SVG/DXF: one closed contour on one layer, nothing else (:class:`ExportOptions`).
+
+    Returns
+    -------
+    ExportResult
+        The paths written, each format's report, and the deviation each approximated outline achieved
+        (:meth:`ExportResult.deviations`).
+
+    Examples
+    --------
+    A disc of radius κ drawn at real size with κ = 10 mm; the SVG approximates the exact outline within the
+    tolerance reported:
+
+    >>> from coinwall import Wall, export_body, solve_body
+    >>> disc = solve_body(Wall.from_expression("1"), 0.0, points=64)
+    >>> result = export_body(disc, ["disc.json", "disc.svg"], kappa=10.0, units="mm")
+    >>> result.paths
+    ['disc.json', 'disc.svg']
+    >>> max(result.deviations().values()) < 1e-6
+    True
 
     Raises
     ------

@@ -41,6 +41,15 @@ class ExportOptions:
         Cut-ready drawing: one closed contour on one layer and nothing else (DXF: a single
         LWPOLYLINE within the tolerance on layer ``CUT``; SVG: a single path, no marks), so that laser
         or CNC software that takes every layer cuts the outline once.
+
+    Examples
+    --------
+    >>> from coinwall import Wall, solve_body
+    >>> disc = solve_body(Wall.from_expression("1"), 0.0, points=64)
+    >>> from coinwall import export_body
+    >>> result = export_body(disc, ["disc.svg"], kappa=12.0, units="mm", cut=True)
+    >>> result.options.units, result.options.cut
+    ('mm', True)
     """
 
     kappa: float | None = None

@@ -61,7 +61,24 @@ LAG_WORK_MAX = 2e11     # max_lag × (bounces + 1000·orbits) comparisons at mos
 
 
 def heads(theta):
-    """True where the arrow (body axis) points right: ``sin θ < 0`` (module docstring)."""
+    """True where the arrow (body axis) points right: ``sin θ < 0`` (module docstring).
+
+    Parameters
+    ----------
+    theta : array_like
+        Contact angles θ (radians).
+
+    Returns
+    -------
+    ndarray of bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.forward import heads
+    >>> heads(np.array([-0.5, 0.5])).tolist()
+    [True, False]
+    """
     return np.sin(np.asarray(theta, dtype=float)) < 0.0
 
 
@@ -140,6 +157,15 @@ class Correlation:
     table : Billiard
     seed : int or None
     notes : tuple of str
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import correlation
+    >>> result = correlation(table, bounces=2000, max_lag=5, orbits=4, seed=0)
+    >>> result.P.shape, result.orbits, result.count
+    ((6,), 4, 'bottom')
     """
 
     P: np.ndarray
@@ -333,6 +359,24 @@ def correlation(table: Billiard, bounces: int = 1_000_000, max_lag: int = 40, or
     over for the jackknife); refused when that exceeds half the available memory.  Work: the lag loop costs
     about max_lag × (bounces + 1000·orbits) comparisons (1000: the cost of one numpy call, per lag and
     orbit); refused above :data:`LAG_WORK_MAX` = 2e11 (a few minutes).
+
+    Raises
+    ------
+    InvalidArgument
+        For fewer than two orbits, a ``max_lag`` not below the bounces per orbit, a run too large for
+        memory, or a table on which fewer than two orbits reach the bottom wall often enough.
+
+    Examples
+    --------
+    P(n) for lags 0 to 5 from 2000 bottom bounces in 4 orbits (too few for a meaningful τ; a real run
+    counts 10^6):
+
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import correlation
+    >>> result = correlation(table, bounces=2000, max_lag=5, orbits=4, seed=0)
+    >>> result.P.shape, float(result.P[0])           # P(0) = 1: a bounce is on its own side
+    ((6,), 1.0)
     """
     from ..billiard.gpu import check_device, group_collisions
 
@@ -444,6 +488,12 @@ class TauLaw:
     power, power_stderr : float
         ``τ = c'·(H − D)^(−p)``: fitted p (the claim is p = 1).
     D : float
+
+    Examples
+    --------
+    >>> from coinwall.forward import fit_tau_law
+    >>> fit_tau_law([3.0, 4.0, 6.0], [1.0, 0.5, 0.25], [0.01, 0.01, 0.01], D=2.0)
+    TauLaw(τ = 1/(H − 2) ± 0.0087, χ²/dof 0; free power p = 1.000 ± 0.023)
     """
 
     c: float
@@ -466,7 +516,35 @@ class TauLaw:
 
 
 def fit_tau_law(H, tau, tau_stderr, D) -> TauLaw:
-    """Fit ``τ = c/(H − D)`` (weighted, one parameter) and ``τ = c'(H − D)^(−p)`` (log-log, weighted)."""
+    """Fit ``τ = c/(H − D)`` (weighted, one parameter) and ``τ = c'(H − D)^(−p)`` (log-log, weighted).
+
+    Parameters
+    ----------
+    H : array_like
+        Wall distances (units of κ).
+    tau, tau_stderr : array_like
+        The correlation times τ measured at them and their standard errors.
+    D : float
+        The distance at which the strip closes (τ diverges).
+
+    Returns
+    -------
+    TauLaw
+
+    Raises
+    ------
+    InvalidArgument
+        With fewer than two points with ``H > D``, finite τ and positive errors.
+
+    Examples
+    --------
+    τ = 1/(H − 2) exactly: ``c = 1`` and the free power ``p = 1``.
+
+    >>> from coinwall.forward import fit_tau_law
+    >>> law = fit_tau_law([3.0, 4.0, 6.0], [1.0, 0.5, 0.25], [0.01, 0.01, 0.01], D=2.0)
+    >>> round(law.c, 9), round(law.power, 9)
+    (1.0, 1.0)
+    """
     from scipy.optimize import curve_fit
 
     H, tau, err = (np.asarray(v, dtype=float) for v in (H, tau, tau_stderr))

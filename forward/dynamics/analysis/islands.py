@@ -27,7 +27,24 @@ ELLIPSE_WALL = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 
 
 def paper_boundary(H):
-    """The paper's eq. (20): ``ε ≈ 1/H + 17/H²``."""
+    """The paper's eq. (20): ``ε ≈ 1/H + 17/H²``.
+
+    Parameters
+    ----------
+    H : float or array_like
+        Wall distances (units of κ).
+
+    Returns
+    -------
+    float or ndarray
+        The paper's ε_c(H).
+
+    Examples
+    --------
+    >>> from coinwall.forward import paper_boundary
+    >>> round(float(paper_boundary(10.0)), 6)
+    0.27
+    """
     H = np.asarray(H, dtype=float)
     return 1.0 / H + 17.0 / H**2
 

@@ -63,6 +63,15 @@ class KamBoundary:
         Criterion: regular fraction below this counts as fully chaotic.
     history : tuple
         Per H, the list of (ε, regular fraction) evaluated.
+
+    Examples
+    --------
+    A run costs seconds (orbits of the ellipse at each bisection step); the paper's fit ``ε ≈ 1/H + 17/H²``
+    (:func:`~coinwall.forward.paper_boundary`) is what it is compared with:
+
+    >>> from coinwall.forward import paper_boundary
+    >>> [round(float(paper_boundary(H)), 4) for H in (5.0, 10.0, 20.0)]
+    [0.88, 0.27, 0.0925]
     """
 
     H: np.ndarray
@@ -175,6 +184,31 @@ def kam_boundary(H_values, bracket=(0.05, 50.0), steps: int = 7, orbits: int = 1
         Called after each evaluation with no argument.
     device : {"cpu", "gpu"}
         Where the orbits are computed (:func:`.lyapunov.lyapunov_many`).
+
+    Returns
+    -------
+    KamBoundary
+        ε_c for each H, with the bracket each bisection ended on.
+
+    Raises
+    ------
+    InvalidArgument
+        For H values that are not finite and positive or leave the table closed at the bracket's low end,
+        a bad bracket or ``regular_max``, or a run above the work bound.
+
+    Examples
+    --------
+    The bisection runs the Lyapunov classification of :func:`chaotic_fraction` at each step (seconds at
+    these sizes). A table closed at the bracket's low end is refused before any work:
+
+    >>> from coinwall import kam_boundary
+    >>> from coinwall.forward import paper_boundary
+    >>> round(float(paper_boundary(10.0)), 6)                # the paper's eq. 20 at H = 10
+    0.27
+    >>> kam_boundary([1.0])
+    Traceback (most recent call last):
+    ...
+    coinwall.forward.errors.InvalidArgument: `H` = 1 leaves no room for motion (the walls overlap at every angle); need H > 1.9518 = min over θ of 2·b0 + b(θ) + b(θ+π)
 
     Notes
     -----

@@ -85,6 +85,15 @@ class LyapunovResult:
         Renormalised separation.
     notes : tuple of str
         Orbits that stopped early and why.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import lyapunov
+    >>> result = lyapunov(table, [0.0, 2.0, 0.6, 0.8], collisions=200)
+    >>> result.per_collision.round(3).tolist(), result.collisions.tolist()
+    ([0.621], [200])
     """
 
     per_collision: np.ndarray
@@ -174,6 +183,22 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
     LyapunovResult
         ``collisions`` and ``time`` count only the intervals after the transient; ``notes`` name the
         orbits that stopped early and why (their exponents are NaN).
+
+    Raises
+    ------
+    InvalidArgument
+        For states outside the strip, counts that are not positive integers, a ``d0`` that is not small and
+        positive, or a run that does not fit in memory.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import random_states
+    >>> from coinwall.forward import lyapunov_many
+    >>> result = lyapunov_many(table, random_states(table, 3, seed=1), collisions=100, workers=1)
+    >>> result.per_collision.shape, result.collisions.tolist()
+    ((3,), [100, 100, 100])
     """
     import numba
 
@@ -292,7 +317,34 @@ def lyapunov_many(table: Billiard, states, collisions: int = 2000, every: int = 
 
 def lyapunov(table: Billiard, state, collisions: int = 2000, every: int = 10, d0: float = 1e-9, seed=0,
              transient: int = 3) -> LyapunovResult:
-    """Largest Lyapunov exponent of the orbit started at ``state`` (see :func:`lyapunov_many`)."""
+    """Largest Lyapunov exponent of the orbit started at ``state`` (see :func:`lyapunov_many`).
+
+    Parameters
+    ----------
+    table : Billiard
+    state : array_like (4,)
+        The start state ``[theta, eta, v_theta, v_eta]`` (inside the strip).
+    collisions, every, d0, seed, transient
+        As in :func:`lyapunov_many`.
+
+    Returns
+    -------
+    LyapunovResult
+        One orbit's exponent per collision and per unit time.
+
+    Raises
+    ------
+    InvalidArgument
+        As :func:`lyapunov_many`: a state outside the strip, or counts that are not positive integers.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import lyapunov
+    >>> lyapunov(table, [0.0, 2.0, 0.6, 0.8], collisions=200)
+    LyapunovResult(λ = 0.621/collision = 0.146/time, 200 collisions)
+    """
     return lyapunov_many(table, np.asarray(state, dtype=float).reshape(1, 4), collisions, every, d0, seed,
                          workers=1, transient=transient)
 
@@ -317,6 +369,15 @@ class ChaoticFraction:
         Collisions per orbit.
     exponents : LyapunovResult
         Every orbit's exponent.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import chaotic_fraction
+    >>> result = chaotic_fraction(table, orbits=8, collisions=200, seed=0)
+    >>> result.fraction, result.regular, result.orbits
+    (0.5, 4, 8)
     """
 
     fraction: float
@@ -364,6 +425,21 @@ def chaotic_fraction(table: Billiard, orbits: int = 100, collisions: int = 2000,
     Returns
     -------
     ChaoticFraction
+
+    Raises
+    ------
+    InvalidArgument
+        For a threshold that is not a positive number, or counts that are not positive integers.
+
+    Examples
+    --------
+    Eight Liouville-random orbits of 200 collisions each, classified by their exponent:
+
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import chaotic_fraction
+    >>> chaotic_fraction(table, orbits=8, collisions=200, seed=0)
+    ChaoticFraction(0.500 ± 0.177: 4 of 8 orbits regular, λ threshold 0.0795/collision over 200 collisions)
     """
     orbits = check_count("orbits", orbits)
     collisions = check_count("collisions", collisions)

@@ -43,6 +43,15 @@ class OrbitStatistics:
     final_angle, final_turns : float, int
         The last contact angle reduced to [0, 2π), as the kernel carries it from piece to piece, and its
         whole turns (the pieces continue exactly: θ is never re-checked at its unwrapped value).
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall.forward.dynamics import orbit_statistics
+    >>> stats = orbit_statistics(table, [0.0, 2.0, 0.6, 0.8], 1000)
+    >>> stats.collisions
+    1000
     """
 
     table: Billiard
@@ -110,6 +119,14 @@ def orbit_statistics(table: Billiard, state, collisions: int, method: str = "ker
     Returns
     -------
     OrbitStatistics
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall.forward.dynamics import orbit_statistics
+    >>> orbit_statistics(table, [0.0, 2.0, 0.6, 0.8], 1000)
+    OrbitStatistics(1000 collisions, kernel, mean free time 3.63717, bottom fraction 0.4970)
     """
     collisions = check_count("collisions", collisions, maximum=MAX_COLLISIONS)
     start = np.array(state, dtype=float).ravel()
@@ -167,6 +184,15 @@ class EnsembleStatistics:
         The estimate above and its standard error (nan with fewer than two orbits with collisions).
     notes : tuple of str
         Orbits that stopped early, and why.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import random_states
+    >>> from coinwall.forward.dynamics import ensemble_statistics
+    >>> ensemble_statistics(table, random_states(table, 20, seed=1), 50)
+    EnsembleStatistics(20 orbits, 1000 collisions on the cpu, mean free time 2.90875 ± 0.33)
     """
 
     table: Billiard

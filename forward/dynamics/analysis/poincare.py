@@ -55,6 +55,17 @@ def incidence_angle(table: Billiard, theta, v_theta, v_eta, side=0):
     -------
     ndarray
         φ in [−π/2, π/2] (module docstring for the convention).
+
+    Examples
+    --------
+    On the flat bottom at θ = 0 (``b'(0) = 0``) a velocity (0.6, 0.8) makes the angle atan(0.6/0.8) with
+    the normal:
+
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall.forward import incidence_angle
+    >>> round(float(incidence_angle(table, 0.0, 0.6, 0.8, 0)), 12)
+    0.643501108793
     """
     theta = np.asarray(theta, dtype=float)
     top = np.broadcast_to(np.asarray(side) != 0, theta.shape)
@@ -89,6 +100,15 @@ class PoincareSection:
     table : Billiard
     notes : tuple of str
         One entry per orbit that stopped early (``"orbit k: <why>"``).
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import poincare_section
+    >>> section = poincare_section(table, orbits=4, collisions=100, seed=0)
+    >>> section.theta.shape == section.phi.shape == section.orbit.shape, sorted(set(section.orbit.tolist()))
+    (True, [0, 1, 2, 3])
     """
 
     theta: np.ndarray
@@ -214,6 +234,23 @@ def poincare_section(table: Billiard, orbits: int = 60, collisions: int = 2000, 
     Returns
     -------
     PoincareSection
+
+    Raises
+    ------
+    InvalidArgument
+        For explicit ``states`` that hold no state, states outside the strip, or a section that would not
+        fit in memory.
+
+    Examples
+    --------
+    >>> from coinwall import Billiard, Wall
+    >>> table = Billiard(Wall.from_fourier(1.0, [0.2]), H=4.0)
+    >>> from coinwall import poincare_section
+    >>> section = poincare_section(table, orbits=4, collisions=100, seed=0)
+    >>> section
+    PoincareSection(201 points, 4 orbits × 100 collisions, H=4)
+    >>> bool(abs(section.phi).max() <= 3.1416 / 2)      # incidence angles in [−π/2, π/2]
+    True
     """
     from ..billiard.gpu import check_device, group_collisions
 

@@ -97,6 +97,27 @@ def body_to_billiard(state, kappa: float = 1.0) -> np.ndarray:
 
     ``θ = −ψ − π/2``, ``η = y/κ``, ``θ̇ = −ω``, ``η̇ = ẏ/κ`` (docs/equivalence.md).  A fifth number, the
     horizontal velocity ``ẋ``, becomes ``ξ̇ = ẋ/κ``.  Works on a single state (4,) or (5,) or rows of states.
+
+    Parameters
+    ----------
+    state : array_like (4,), (5,) or (n, 4), (n, 5)
+        ``(y, ψ, ẏ, ω)`` and optionally ``ẋ``.
+    kappa : float
+        The radius of gyration (physical length).
+
+    Returns
+    -------
+    ndarray
+        ``(θ, η, θ̇, η̇)`` (and ``ξ̇``), the same shape.
+
+    Examples
+    --------
+    >>> from coinwall.forward import billiard_to_body, body_to_billiard
+    >>> state = body_to_billiard([1.5, 0.0, 0.0, 2.0])
+    >>> state.round(6).tolist()                                 # θ = −π/2, θ̇ = −ω
+    [-1.570796, 1.5, -2.0, 0.0]
+    >>> billiard_to_body(state).round(12).tolist()
+    [1.5, 0.0, 0.0, 2.0]
     """
     s = np.asarray(state, dtype=float)
     y, psi, ydot, omega = (s[..., i] for i in range(4))
@@ -108,7 +129,27 @@ def body_to_billiard(state, kappa: float = 1.0) -> np.ndarray:
 
 def billiard_to_body(state, kappa: float = 1.0) -> np.ndarray:
     """Billiard state ``(θ, η, θ̇, η̇(, ξ̇))`` → rigid-body state ``(y, ψ, ẏ, ω(, ẋ))``; inverse of
-    :func:`body_to_billiard`."""
+    :func:`body_to_billiard`.
+
+    Parameters
+    ----------
+    state : array_like (4,), (5,) or (n, 4), (n, 5)
+        ``(θ, η, θ̇, η̇)`` and optionally ``ξ̇``.
+    kappa : float
+        The radius of gyration (physical length).
+
+    Returns
+    -------
+    ndarray
+        ``(y, ψ, ẏ, ω)`` (and ``ẋ``), the same shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.forward import billiard_to_body
+    >>> billiard_to_body([-np.pi / 2, 1.5, -2.0, 0.0], kappa=2.0).round(12).tolist()   # y = κη, ω = −θ̇
+    [3.0, 0.0, 0.0, 2.0]
+    """
     s = np.asarray(state, dtype=float)
     theta, eta, v_theta, v_eta = (s[..., i] for i in range(4))
     parts = [kappa * eta, -theta - 0.5 * math.pi, kappa * v_eta, -v_theta]
@@ -238,6 +279,17 @@ class RigidBodyTrajectory:
         The body and walls.
     message : str
         ``""`` if all requested collisions were found; otherwise why it stopped.
+
+    Examples
+    --------
+    A stick dropped on a floor with friction, three impacts:
+
+    >>> from coinwall import RigidBody, simulate_rigid_body
+    >>> from coinwall.forward import PolygonShape
+    >>> body = RigidBody(PolygonShape.stick(1.0), H=None, kappa=0.6, g=9.8, e=0.5, mu=0.4)
+    >>> trajectory = simulate_rigid_body(body, [2.0, 0.3, 0.0, 5.0, 0.0], 3)
+    >>> len(trajectory), trajectory.side.tolist()
+    (3, [0, 0, 0])
     """
 
     time: np.ndarray

@@ -32,6 +32,12 @@ class PolygonShape:
     ----------
     vertices : ndarray, shape (n, 2)
         Vertex positions relative to the centre of mass (physical lengths).
+
+    Examples
+    --------
+    >>> from coinwall.forward import PolygonShape
+    >>> PolygonShape.stick(1.0)                                # two vertices: a stick of half-length 1
+    PolygonShape(2 vertices, radius=1)
     """
 
     vertices: np.ndarray
@@ -116,6 +122,12 @@ class EllipseShape:
         Semi-axes (physical lengths, positive).
     centre : tuple of float
         Geometric centre relative to the centre of mass.
+
+    Examples
+    --------
+    >>> from coinwall.forward import EllipseShape
+    >>> EllipseShape(1.0, 0.5)
+    EllipseShape(a=1, b=0.5, centre=(0, 0))
     """
 
     a: float

@@ -35,7 +35,30 @@ __all__ = ["BounceStudy", "plot_studies", "same_side_by_bounce"]
 class BounceStudy:
     """``same[n−1]``: P(side up at the n-th floor impact = start side), ``stderr`` its binomial error over the
     tosses that reached that impact (``reached``); ``settled``: the share settled below the equator's
-    barrier within the bounces; ``status``: counts of :data:`.top.STATUS` codes; the inputs."""
+    barrier within the bounces; ``status``: counts of :data:`.top.STATUS` codes; the inputs.
+
+    Attributes
+    ----------
+    same : ndarray (bounces,)
+        P(side up at the n-th floor impact = start side).
+    stderr : ndarray (bounces,)
+        Its binomial standard error.
+    reached : ndarray of int (bounces,)
+        Tosses that reached the n-th impact.
+    settled : float
+        Share settled below the equator's barrier within the bounces.
+    status : dict
+        Counts of the kernel's status codes.
+    inputs : dict
+        The parameters of the study.
+
+    Examples
+    --------
+    >>> from coinwall.forward.dynamics import same_side_by_bounce
+    >>> study = same_side_by_bounce(80.0, 0.5, samples=200, bounces=3, seed=0)
+    >>> study.same.tolist(), study.reached.tolist()
+    ([0.53, 0.555, 0.555], [200, 200, 200])
+    """
 
     same: np.ndarray
     stderr: np.ndarray
@@ -94,7 +117,53 @@ def same_side_by_bounce(psi_degrees: float, e: float, samples: int = 10_000, bou
     """Simulate ``samples`` tosses (see the module docstring); lengths in metres, speeds in m/s, spin in rad/s.
     ``ceiling``: a second wall that high above the floor (m; the paper's two walls), else none.  ``progress``
     is called with the number of tosses done after each batch (batches of about 20,000 toss-bounces, a
-    fraction of a second each, so that Ctrl-C is answered within a second); the result does not depend on it."""
+    fraction of a second each, so that Ctrl-C is answered within a second); the result does not depend on it.
+
+    Parameters
+    ----------
+    psi_degrees : float
+        The angle ψ between the angular momentum and the coin's normal (degrees, in [0, 180]).
+    e : float
+        Restitution of the floor.
+    samples : int
+        Tosses.
+    bounces : int
+        Floor impacts followed.
+    seed : int, optional
+        Seed of the launches.
+    radius, thickness : float
+        The coin (m).
+    height : float
+        Launch height (m).
+    speed : (float, float)
+        Range of launch speeds (m/s).
+    spin : (float, float)
+        Spin rate and its spread (rad/s).
+    g : float
+        Gravity (m/s²).
+    ceiling : float, optional
+        A second wall this high above the floor (m).
+    progress : callable, optional
+        Called with the tosses done after each batch.
+
+    Returns
+    -------
+    BounceStudy
+
+    Raises
+    ------
+    InvalidArgument
+        For ψ outside [0, 180]°, a launch height below the coin's reach, a bad speed or spin range, or a
+        ceiling below the launch.
+
+    Examples
+    --------
+    A 1-euro-sized coin at ψ = 80° bouncing on a floor with e = 0.5:
+
+    >>> from coinwall.forward.dynamics import same_side_by_bounce
+    >>> same_side_by_bounce(80.0, 0.5, samples=200, bounces=3, seed=0)
+    BounceStudy(e=0.5, ψ=80°: P(same) by bounce 0.5300, 0.5550, 0.5550; settled 0.000)
+    """
     from ...revolution import coin
     from .top import STATUS, TopTable, sides_at_bounces
 

@@ -31,6 +31,42 @@ def side_correlation(table, states, lz, l3, impacts: int, max_lag: int = 10, bur
     error, ``P_inf`` (mean of the orbits' h² + (1 − h)²), ``tau`` and ``tau_stderr`` (a jackknife over groups of
     orbits; nan when a fit fails), ``orbits``,
     ``floor_impacts`` (counted in all).
+
+    Parameters
+    ----------
+    table : TopTable
+        A body of revolution between two walls.
+    states : array_like (m, 4)
+        ``(θ, η, θ̇, η̇)`` of each orbit's start (m ≥ 2).
+    lz, l3 : float
+        ``ℓ_z`` and ``ℓ₃`` (rad/s).
+    impacts : int
+        Impacts of each orbit.
+    max_lag : int
+        Largest lag n.
+    burn : int
+        Impacts dropped at the start of each orbit.
+
+    Returns
+    -------
+    dict
+        The keys above.
+
+    Raises
+    ------
+    InvalidArgument
+        For a table without a ceiling, fewer than two orbits, or an orbit with too few floor impacts.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from coinwall.forward.revolution import coin
+    >>> from coinwall.forward.dynamics import TopTable, side_correlation
+    >>> table = TopTable(coin(1.0, 0.2), H=6.0)
+    >>> starts = np.array([[0.3, 3.0, 0.5, 0.3], [1.0, 3.0, -0.5, 0.4]])
+    >>> result = side_correlation(table, starts, 0.0, 0.0, 400, max_lag=3, burn=5)
+    >>> result["P"].shape, result["orbits"]
+    ((3,), 2)
     """
     from ..analysis.correlation import fit_decay
     from .top import TopTable, top_run

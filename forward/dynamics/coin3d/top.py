@@ -64,6 +64,17 @@ class TopTable:
         Height of the ceiling (κ₁) above the floor's reference; ``None``: a floor only.
     tol : float
         Contact tolerance (κ₁).
+
+    Examples
+    --------
+    >>> from coinwall.forward.revolution import coin
+    >>> from coinwall.forward.dynamics import TopTable
+    >>> table = TopTable(coin(1.0, 0.2), g=1.0, e=0.5)          # a thick coin on a floor
+    >>> h = float(table.floor(0.3))                              # the floor's height at tilt θ = 0.3
+    >>> table
+    TopTable(coin r=1 thickness=0.2, g=1, e=0.5, H=None)
+    >>> round(h, 6)
+    0.776945
     """
 
     body: Revolution
@@ -140,7 +151,34 @@ def energy(table: TopTable, theta, eta, v_theta, v_eta, lz, l3):
 @dataclass(frozen=True, repr=False)
 class TopFlight:
     """The impacts of one orbit: ``time`` (since the start), the state just after each impact
-    (``theta``, ``eta``, ``v_theta``, ``v_eta``) and the ``wall`` hit (0 floor, 1 ceiling); ``status``."""
+    (``theta``, ``eta``, ``v_theta``, ``v_eta``) and the ``wall`` hit (0 floor, 1 ceiling); ``status``.
+
+    Attributes
+    ----------
+    time : ndarray (n,)
+        Time of each impact since the start.
+    theta, eta, v_theta, v_eta : ndarray (n,)
+        The state just after each impact: tilt, height of the centre of mass and their rates.
+    wall : ndarray (n,) of int
+        0 floor, 1 ceiling.
+    lz, l3 : float
+        The conserved ``ℓ_z`` and ``ℓ₃`` (rad/s).
+    status : str
+        Why the orbit ended.
+    method : str
+        ``"kernel"`` or ``"reference"``.
+
+    Examples
+    --------
+    >>> from coinwall.forward.revolution import coin
+    >>> from coinwall.forward.dynamics import TopTable
+    >>> table = TopTable(coin(1.0, 0.2), g=1.0, e=0.5)          # a thick coin on a floor
+    >>> h = float(table.floor(0.3))                              # the floor's height at tilt θ = 0.3
+    >>> from coinwall.forward.dynamics import top_run
+    >>> flight = top_run(table, [0.3, h + 1.0, 0.5, 0.0], 0.0, 0.0, 5)
+    >>> flight.wall.tolist(), flight.status
+    ([0, 0, 0, 0, 0], 'impact budget reached')
+    """
 
     time: np.ndarray
     theta: np.ndarray
@@ -190,7 +228,43 @@ def _check_state(table, state, lz, l3):
 def top_run(table: TopTable, state, lz: float, l3: float, impacts: int, method: str = "kernel") -> TopFlight:
     """One orbit for ``impacts`` impacts from ``state`` = (θ, η, θ̇, η̇) strictly inside the table, with the
     conserved ``ℓ_z = L_z/I₁`` and ``ℓ₃ = L₃/I₁`` (rad/s).  ``method``: ``"kernel"`` (numba) or
-    ``"reference"`` (:func:`reference_run`)."""
+    ``"reference"`` (:func:`reference_run`).
+
+    Parameters
+    ----------
+    table : TopTable
+    state : array_like (4,)
+        ``(θ, η, θ̇, η̇)``: tilt in [0, π], height of the centre of mass (κ₁) and their rates.
+    lz, l3 : float
+        ``ℓ_z = L_z/I₁`` and ``ℓ₃ = L₃/I₁`` (rad/s).
+    impacts : int
+        Impacts to follow.
+    method : {"kernel", "reference"}
+
+    Returns
+    -------
+    TopFlight
+
+    Raises
+    ------
+    InvalidArgument
+        For a state that is not four finite numbers, a tilt outside [0, π] or at a pole that ``ℓ_z``, ``ℓ₃``
+        forbid, a height not between the walls, or an unknown method.
+
+    Examples
+    --------
+    The compiled kernel and the plain reference stepper follow the same orbit:
+
+    >>> from coinwall.forward.revolution import coin
+    >>> from coinwall.forward.dynamics import TopTable
+    >>> table = TopTable(coin(1.0, 0.2), g=1.0, e=0.5)          # a thick coin on a floor
+    >>> h = float(table.floor(0.3))                              # the floor's height at tilt θ = 0.3
+    >>> from coinwall.forward.dynamics import top_run
+    >>> kernel = top_run(table, [0.3, h + 1.0, 0.5, 0.0], 0.0, 0.0, 5)
+    >>> reference = top_run(table, [0.3, h + 1.0, 0.5, 0.0], 0.0, 0.0, 5, method="reference")
+    >>> bool(abs(kernel.theta - reference.theta).max() < 1e-8)
+    True
+    """
     if not isinstance(table, TopTable):
         raise InvalidArgument(f"`table` must be a TopTable, got {type(table).__name__}")
     impacts = check_count("impacts", impacts, maximum=100_000_000)

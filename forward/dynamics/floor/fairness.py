@@ -66,6 +66,18 @@ class Fairness:
     samples : int
     mean, sigma : tuple
         The launch spread: ``(v0, ω0)`` and their standard deviations.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable, fairness
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> smooth = FieldTable(coin, g=1.0, e=0.6)          # frictionless floor
+    >>> result = fairness(smooth, (3.0, 0.15), (0.3, 0.02), height=1.2, bounces=5, samples=200)
+    >>> result
+    Fairness(e=0.6, 200 tosses, 5 bounces: last bias -0.2250 ± 0.0316, not shown fair to 0.001)
+    >>> bool(abs(result.heads + result.tails + result.undecided - 1).max() < 1e-12)
+    True
     """
 
     e: float
@@ -141,6 +153,29 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
         Seed of the launch draws.
     workers : int, optional
         Threads of the compiled kernel.
+
+    Returns
+    -------
+    Fairness
+
+    Raises
+    ------
+    InvalidArgument
+        For a table without a field, a wall with corners, a floor with friction, a spread without a mean and
+        two standard deviations ≥ 0, or more than 10000 bounces or 10^8 samples.
+
+    Examples
+    --------
+    200 tosses launched heads up: all are heads at the first floor impact, and the bias moves with each
+    bounce (far too few tosses for a fair verdict):
+
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable, fairness
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> smooth = FieldTable(coin, g=1.0, e=0.6)          # frictionless floor
+    >>> result = fairness(smooth, (3.0, 0.15), (0.3, 0.02), height=1.2, bounces=5, samples=200)
+    >>> result.heads.round(3).tolist()
+    [1.0, 0.655, 0.195, 0.295, 0.275]
     """
     from ..billiard.reference import sample_bounds
     from .toss import launch_states
@@ -218,7 +253,40 @@ def fairness(table: FieldTable, mean, sigma, height: float, bounces: int = 30, s
 def fairness_curve(wall, restitutions, mean, sigma, height: float, g: float = 1.0, b0: float = 0.0,
                    bounces: int = 30, samples: int = 100_000, tolerance: float = 1e-3, seed=0, workers=None):
     """:func:`fairness` for each e of ``restitutions`` (a floor only): a list of :class:`Fairness`, and the
-    bounces after which each is fair to ``tolerance`` (``None``: not shown within ``bounces``)."""
+    bounces after which each is fair to ``tolerance`` (``None``: not shown within ``bounces``).
+
+    Parameters
+    ----------
+    wall : Wall
+        A smooth wall.
+    restitutions : sequence of float
+        The coefficients of restitution e, one :class:`Fairness` each.
+    mean, sigma, height, bounces, samples, seed, workers
+        As for :func:`fairness`.
+    g : float
+        The field (κ/s²).
+    b0 : float
+        Offset added to the wall.
+    tolerance : float
+        ``|bias|`` at which a toss counts as fair.
+
+    Returns
+    -------
+    curves : list of Fairness
+        One per restitution.
+    fair_after : list of int or None
+        The bounces after which each is fair to ``tolerance`` (within twice its standard error), ``None``
+        when not shown within ``bounces``.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import fairness_curve
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> curves, fair_after = fairness_curve(coin, [0.6], (3.0, 0.15), (0.3, 0.02), 1.2, bounces=5, samples=200)
+    >>> len(curves), fair_after
+    (1, [None])
+    """
     results = []
     for e in restitutions:
         table = FieldTable(wall, g=g, e=float(e), b0=b0)

@@ -252,6 +252,41 @@ class Flight:
     friction a contact event (:data:`EVENTS`).  ``status`` is a key of :data:`STATUS` (a word), ``valley`` the
     index into ``table.landscape`` where θ was at the end, ``outcome`` its name (or ``None`` when the status
     does not decide one), ``note`` why it stopped when that is not an outcome.
+
+    Attributes
+    ----------
+    time, theta, eta, v_theta, v_eta : ndarray (n,)
+        Each record's time, contact angle (unwrapped), height of the centre of mass and velocities after it.
+    v_xi : ndarray (n,) or None
+        The horizontal velocity of the centre of mass after each record (with friction).
+    side : ndarray (n,) of int
+        0 for a floor impact, 1 for the ceiling, else a contact event (:data:`EVENTS`).
+    start : ndarray (4,)
+        The start state ``[theta, eta, v_theta, v_eta]``.
+    table : FieldTable
+    status : str
+        Why the flight ended, a key of :data:`STATUS` (``"settled"``, ``"rest"``, ...).
+    valley : int
+        Index into ``table.landscape`` of the valley θ was in at the end.
+    floor_impacts : int
+        Floor impacts in all.
+    method : str
+        ``"kernel"`` or ``"reference"``.
+    note : str
+        Why it stopped, when that is not an outcome.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> from coinwall.forward.dynamics import field_run
+    >>> flight = field_run(table, [0.3, 1.5, 3.7, 0.2], 1000)
+    >>> flight
+    Flight(4 records (4 floor impacts), settled, outcome tails)
+    >>> flight.side.tolist(), flight.floor_impacts
+    ([0, 0, 0, 0], 4)
     """
 
     time: np.ndarray

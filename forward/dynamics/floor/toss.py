@@ -150,6 +150,35 @@ class BasinMap:
     ``outcome[i, j]`` is the valley index (``names``) for ``omega0[i]``, ``v0[j]``, or −1 where undecided
     (the impact budget was reached, or the body slides on with energy above its barrier); ``bounces`` the
     floor impacts before the outcome was decided (1 for a caught toss); ``status`` the kernel's codes.
+
+    Attributes
+    ----------
+    v0, omega0 : ndarray
+        The grid's launch velocities (κ/s) and spins (rad/s).
+    outcome : ndarray of int (len(omega0), len(v0))
+        The valley index of each toss (``names``), −1 where undecided.
+    bounces : ndarray of int
+        Floor impacts before the outcome was decided.
+    status : ndarray of int
+        The kernel's status codes (:data:`.field.STATUS`).
+    names : list of str
+        The outcomes' names, by valley.
+    table : FieldTable
+    height, theta0 : float
+        The launch height and orientation.
+    catch : bool
+        Whether each toss was stopped at its first floor impact.
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> from coinwall.forward.dynamics import basin_map
+    >>> basins = basin_map(table, [2.0, 3.0], [0.05, 0.1], height=1.2)
+    >>> basins.outcome.shape, basins.bounces.shape
+    ((2, 2), (2, 2))
     """
 
     v0: np.ndarray
@@ -318,6 +347,58 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
     ``impacts`` bounds the impacts per toss (an undecided toss after that many is marked −1); ``progress`` is
     called with the number of tosses done after each chunk.  ``slide=True`` follows tosses that come to slide
     on a smooth floor above their barrier until they lift off (:func:`.slide.settle_many`; slow, ~50 ms each).
+
+    Parameters
+    ----------
+    table : FieldTable
+        The wall, the field ``g > 0``, the restitution and the friction of the floor.
+    v0 : array_like
+        Launch velocities of the centre of mass, upwards (κ/s): the columns of the map.
+    omega0 : array_like
+        Launch spins θ̇ (rad/s): the rows of the map.
+    height : float
+        Launch height of the centre of mass above the floor (κ).
+    theta0 : float, optional
+        Launch orientation (default: heads' rest angle for a coin).
+    impacts : int
+        Floor impacts per toss before it is marked undecided.
+    catch : bool
+        Stop each toss at its first floor impact (a toss caught in the hand) instead of letting it bounce.
+    workers : int, optional
+        Threads of the compiled kernel.
+    progress : callable, optional
+        Called with the number of tosses done after each chunk.
+    slide : bool
+        Follow tosses that slide on a smooth floor above their barrier until they lift off (slow).
+
+    Returns
+    -------
+    BasinMap
+        ``outcome[i, j]`` for ``omega0[i]``, ``v0[j]``.
+
+    Raises
+    ------
+    InvalidArgument
+        For a table without a field (``g ≤ 0``) or without valleys, launch grids that are not finite numbers,
+        or a launch height that puts the body into the floor (or the ceiling).
+
+    Examples
+    --------
+    A thin coin (the ellipse with ε = 99) launched heads up from height 1.2κ on a 3 × 4 grid:
+
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> ellipse = "sqrt((1+eps*cos(t)**2)/(1+eps))"           # the paper's eq. 18
+    >>> coin = Wall.from_expression(ellipse, {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> import numpy as np
+    >>> from coinwall.forward.dynamics import basin_map
+    >>> v0, omega0 = np.linspace(2.0, 5.0, 4), np.linspace(0.05, 0.2, 3)
+    >>> basins = basin_map(table, v0, omega0, height=1.2)
+    >>> basins
+    BasinMap(3×4, g=1, e=0.6, mu=0.3, height 1.2: tails 0.500, heads 0.500, undecided 0.000)
+    >>> basins.names, basins.outcome.tolist()
+    (['tails', 'heads'], [[1, 0, 0, 1], [1, 0, 1, 0], [1, 0, 0, 1]])
     """
     if not isinstance(table, FieldTable):
         raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
@@ -445,6 +526,17 @@ class Tosses:
     table : FieldTable
     height, theta0 : float
         The launch height (κ) and orientation (rad).
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> from coinwall.forward.dynamics import toss_outcomes
+    >>> tosses = toss_outcomes(table, [2.0, 3.0, 4.0], [0.05, 0.1, 0.2], height=1.2)
+    >>> [tosses.names[k] for k in tosses.outcome], tosses.impacts.tolist()
+    (['heads', 'tails', 'tails'], [4, 4, 5])
     """
 
     v0: np.ndarray

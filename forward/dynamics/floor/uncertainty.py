@@ -58,6 +58,16 @@ class Uncertainty:
     e : float
         The restitution of the table (``catch``: the toss was caught at the floor).
     catch : bool
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> from coinwall.forward.dynamics import uncertainty_exponent
+    >>> uncertainty_exponent(table, (2, 5), (0.05, 0.2), 1.2, epsilons=(0.01, 0.003), samples=100)
+    Uncertainty(e = 0.6: α = 0.337 ± 0.196 from 2 ε in [0.003, 0.01], 100 launches each)
     """
 
     epsilons: np.ndarray
@@ -127,6 +137,27 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         As for :func:`.toss.basin_map`.
     seed : int
         Seed of the launches and directions.
+
+    Returns
+    -------
+    Uncertainty
+
+    Raises
+    ------
+    InvalidArgument
+        For a table without a field, a launch box that is not two pairs ``low < high``, or fewer than two ε
+        in (0, 0.1].
+
+    Examples
+    --------
+    >>> from coinwall.forward import Wall
+    >>> from coinwall.forward.dynamics import FieldTable
+    >>> coin = Wall.from_expression("sqrt((1+eps*cos(t)**2)/(1+eps))", {"eps": 99.0})
+    >>> table = FieldTable(coin, g=1.0, e=0.6, mu=0.3)
+    >>> from coinwall.forward.dynamics import uncertainty_exponent
+    >>> result = uncertainty_exponent(table, (2, 5), (0.05, 0.2), 1.2, epsilons=(0.01, 0.003), samples=100)
+    >>> result.counts.tolist(), result.samples
+    ([33, 22], 100)
     """
     from .toss import _outcomes, launch_states
 
