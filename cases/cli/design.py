@@ -201,6 +201,8 @@ def _model(args):
         value = getattr(args, flag)
         if value is not None and not math.isfinite(value):
             raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
+    if args.device == "gpu" and args.workers is not None:
+        raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     if args.confidence is None:
         args.confidence = 0.95
     elif args.model in ("drop", "flip") and args.resimulate is None:

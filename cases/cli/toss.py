@@ -191,6 +191,8 @@ def _cmd_toss(args):
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
     g = args.g / args.kappa if args.kappa is not None else args.g
+    if args.device == "gpu" and args.workers is not None:
+        raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     check_device(args.device)  # before any work
     _check_work(args, args.samples if args.spread is not None else
                 2 * args.samples * args.uncertainty[2] if args.uncertainty is not None else args.v0[2] * args.omega[2])

@@ -169,6 +169,11 @@ def test_device_refused_in_one_line(monkeypatch, capsys):
                  "gpu"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--device does nothing in the drop toss" in err[0], err
+    for argv in (toss + ["--workers", "2"], ["design", rect, "--param", "h=0.2:2", "--target", "edge=1/3", "--model",
+                                             "bounce", "--device", "gpu", "--workers", "2"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--workers sets the CPU's threads" in err[0], err
     with pytest.raises(InvalidArgument, match="numba-cuda is not installed"):
         field.field_run_many(CASES["friction"][0], [[0.3, 2.0, 1.0, 0.5]], 10, device="gpu")
 
