@@ -42,7 +42,8 @@ _FLAGS = {"ratio": ((0.0, ("flip",))), "e": (0.6, ("bounce", "bounce3d")), "mu":
           "v0": ((0.0, 0.0), ("bounce", "bounce3d")), "omega": ((0.0, 3.0), ("bounce",)),
           "theta0": (None, ("bounce",)), "spin": (3.0, ("bounce3d",)), "impacts": (10_000, ("bounce", "bounce3d")),
           "tolerance": (0.005, ("bounce", "bounce3d")), "max_tosses": (10_000_000, ("bounce", "bounce3d")),
-          "seed": (0, ("bounce", "bounce3d")), "workers": (None, ("bounce", "bounce3d"))}
+          "seed": (0, ("bounce", "bounce3d")), "workers": (None, ("bounce", "bounce3d")),
+          "device": ("cpu", ("bounce",))}
 
 
 def _pair(text: str):
@@ -96,6 +97,8 @@ def register(subparsers):
     parser.add_argument("--max-tosses", type=count, default=None,
                         help="Monte Carlo: the most launches per evaluation (default 1e7)")
     parser.add_argument("--workers", type=count, default=None, help="Monte Carlo: threads (default: every core)")
+    parser.add_argument("--device", choices=["cpu", "gpu"], default=None,
+                        help="bounce: where the tosses run, all CPU cores (default) or a CUDA GPU (coinwall[gpu])")
     parser.add_argument("--resimulate", type=count, default=None, metavar="N",
                         help="toss the designed body N more times with independent launches and compare")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
@@ -198,6 +201,8 @@ def _model(args):
         value = getattr(args, flag)
         if value is not None and not math.isfinite(value):
             raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
+    if args.device == "gpu" and args.workers is not None:
+        raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     if args.confidence is None:
         args.confidence = 0.95
     elif args.model in ("drop", "flip") and args.resimulate is None:
@@ -212,7 +217,8 @@ def _model(args):
         return Flip(args.ratio)
     if args.model == "bounce":
         launch = Launch(g=args.g, height=args.height, v0=args.v0, omega=args.omega, theta0=args.theta0)
-        return Bounce(e=args.e, mu=args.mu, launch=launch, impacts=args.impacts, workers=args.workers)
+        return Bounce(e=args.e, mu=args.mu, launch=launch, impacts=args.impacts, workers=args.workers,
+                      device=args.device)
     launch = Launch3D(g=args.g, height=args.height, v0=args.v0, spin=args.spin)
     return Bounce3D(e=args.e, launch=launch, impacts=args.impacts, workers=args.workers)
 

@@ -76,7 +76,7 @@ def register(subparsers):
                        help="relative standard deviation of the hand's v0 and ω0 (toss; default 0.02)")
     group.add_argument("--impacts", type=count, default=None, help="impacts per toss at most (toss; default 10000)")
     group.add_argument("--device", choices=["cpu", "gpu"], default=None,
-                       help="where the billiard's orbits run (chaotic-fraction, lyapunov, tau; default cpu): gpu "
+                       help="where the orbits run (chaotic-fraction, lyapunov, tau, toss; default cpu): gpu "
                             "computes each cell's orbits on a CUDA GPU (coinwall[gpu]), one local worker by default")
     scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
     scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",

@@ -10,6 +10,7 @@ from .budget import add_allow_long, check_time
 from .common import (
     add_command,
     count,
+    device_argument,
     load_wall,
     number,
     progress_bar,
@@ -36,7 +37,8 @@ counted by its reason, and with --spread the probability of each outcome under a
 instead the uncertainty exponent α of the basin boundary (Grebogi, Ott and Yorke) over the box of
 --v0 × --omega: the share f(ε) of launches whose outcome changes when moved by ±ε (a fraction of
 the box's sides, in a random direction), fitted to f ∝ ε^α (α = 1 for a smooth boundary, less for
-a fractal one; --samples launches per ε)."""
+a fractal one; --samples launches per ε).  With --device gpu the tosses run on a CUDA GPU, one
+per thread, friction and contact phases included."""
 
 EXAMPLE = ('coinwall toss case:coin --g 1 --e 0.6 --height 1.2 --v0 0:3:300 --omega 0:8:300 -o basin.png\n'
            'coinwall toss case:egg --e 0.8 --mu 0.3 --rolling 0.01 -o egg.png\n'
@@ -123,6 +125,7 @@ def register(subparsers):
                         help="draws for --spread, launches per ε for --uncertainty (default 10000)")
     parser.add_argument("--seed", type=count, default=None, help="seed of the --spread or --uncertainty draws")
     parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
+    device_argument(parser)
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="basin map: figure (.png, .svg, .pdf), .csv (v0,omega0,outcome,name,bounces) or .json "
                              "(repeatable)")
@@ -139,7 +142,8 @@ NS_PER_IMPACT, NS_PER_TOSS = 2_000.0, 50_000.0
 def _check_work(args, tosses: int) -> None:
     """Refuse (without --allow-long) a run estimated past one hour: every toss may bounce --impacts times when
     nothing settles (e = 1); with e < 1 the energy above the barrier falls by about 1 − e² an impact, so a toss
-    takes about 10 + 30/(1 − e²) impacts (measured means: 8 at e = 0.6, 58 at e = 0.95)."""
+    takes about 10 + 30/(1 − e²) impacts (measured means: 8 at e = 0.6, 58 at e = 0.95).  The estimate is the CPU's,
+    with --device gpu too (a GPU's rate of tosses has not been measured)."""
     import os
 
     impacts = args.impacts if args.e >= 1 else min(args.impacts, 10 + 30 / (1 - args.e ** 2))
@@ -153,6 +157,7 @@ def _check_work(args, tosses: int) -> None:
 def _cmd_toss(args):
     import numpy as np
 
+    from coinwall.forward.dynamics.billiard.gpu import check_device
     from coinwall.forward.dynamics.floor.field import FieldTable
     from coinwall.forward.dynamics.floor.toss import basin_map, heads_fraction, launch_states
     from coinwall.forward.errors import InvalidArgument
@@ -186,6 +191,9 @@ def _cmd_toss(args):
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
     g = args.g / args.kappa if args.kappa is not None else args.g
+    if args.device == "gpu" and args.workers is not None:
+        raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
+    check_device(args.device)  # before any work
     _check_work(args, args.samples if args.spread is not None else
                 2 * args.samples * args.uncertainty[2] if args.uncertainty is not None else args.v0[2] * args.omega[2])
     wall = load_wall(args.wall, args.param, **wall_options(args))
@@ -207,7 +215,8 @@ def _cmd_toss(args):
         try:
             spread = heads_fraction(table, mean, sigma, height, samples=args.samples, theta0=args.theta0,
                                     seed=args.seed, impacts=args.impacts, catch=args.catch, workers=args.workers,
-                                    progress=bar.update if bar is not None else None, slide=args.slide)
+                                    progress=bar.update if bar is not None else None, slide=args.slide,
+                                    device=args.device)
         finally:
             if bar is not None:
                 bar.close()
@@ -234,7 +243,8 @@ def _cmd_toss(args):
     bar = progress_bar(args, v.size * w.size, "toss")
     try:
         result = basin_map(table, v, w, height, theta0=args.theta0, impacts=args.impacts, catch=args.catch,
-                           workers=args.workers, progress=bar.update if bar is not None else None, slide=args.slide)
+                           workers=args.workers, progress=bar.update if bar is not None else None, slide=args.slide,
+                           device=args.device)
     finally:
         if bar is not None:
             bar.close()
@@ -288,7 +298,7 @@ def _uncertainty(args, table, height, g):
     eps = np.geomspace(lo, hi, n)
     result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
                                   theta0=args.theta0, seed=args.seed if args.seed is not None else 0,
-                                  impacts=args.impacts, catch=args.catch, workers=args.workers)
+                                  impacts=args.impacts, catch=args.catch, workers=args.workers, device=args.device)
     from coinwall.forward.estimates import require
 
     # a point of the fit is log f(ε) with relative error 1/√count: it needs 10 uncertain launches at least

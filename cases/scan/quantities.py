@@ -117,7 +117,7 @@ def _splitting(table, seed, pair, cells, order):
             "neck_width": s.gap}
 
 
-def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
+def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts, device):
     from coinwall.forward.dynamics.floor.toss import UNDECIDED, _outcomes, launch_states
 
     table = table_spec.field_table_at(values, g)
@@ -127,7 +127,7 @@ def _toss(table_spec, values, H, seed, tosses, g, v0, omega0, spread, impacts):
     rng = np.random.default_rng(check_seed(seed))
     v = rng.normal(v0, spread * abs(v0), tosses)
     w = rng.normal(omega0, spread * abs(omega0), tosses)
-    outcome, bounces, _ = _outcomes(table, launch_states(table, v, w, height), impacts, False, 1, None)
+    outcome, bounces, _ = _outcomes(table, launch_states(table, v, w, height), impacts, False, 1, None, device=device)
     names = table.landscape.names
     heads_k = names.index("heads") if "heads" in names else 0
     heads = float(np.mean(outcome == heads_k))
@@ -189,7 +189,7 @@ QUANTITIES = {
          "bias": ("1", "heads/(heads + tails) - 1/2"), "bias_stderr": ("1", "binomial standard error of bias"),
          "mean_bounces": ("1", "mean floor impacts before the outcome was decided (decided tosses)"),
          "level": ("kappa", "toss energy level E/(M g kappa) = H + (v0^2 + omega0^2)/(2g)")},
-        {"tosses": 2000, "g": 1.0, "v0": 2.0, "omega0": 5.0, "spread": 0.02, "impacts": 10_000}),
+        {"tosses": 2000, "g": 1.0, "v0": 2.0, "omega0": 5.0, "spread": 0.02, "impacts": 10_000, "device": "cpu"}),
 }
 
 

@@ -123,7 +123,7 @@ def check_friction(mu) -> float:
 
 
 def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, impacts: int = 10_000,
-         workers=None):
+         workers=None, device: str = "cpu"):
     """The outcome of each launch: the one place the planar toss is run (:mod:`coinwall.forward.dynamics.floor.field`,
     compiled, parallel over launches).
 
@@ -141,6 +141,9 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
         Impacts per toss at most.
     workers : int, optional
         Threads.
+    device : {"cpu", "gpu"}
+        All CPU cores, or a CUDA GPU, one toss per thread
+        (:func:`~coinwall.forward.dynamics.floor.field.field_run_many`).
 
     Returns
     -------
@@ -169,7 +172,7 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     if land.names and np.all(np.isinf(land.barriers)):
         raise InvalidArgument(f"wall {wall.description!r} has a single valley: the body rests on one face whatever "
                               "its toss")
-    out = field_run_many(table, np.asarray(states, dtype=float), impacts, workers=workers)
+    out = field_run_many(table, np.asarray(states, dtype=float), impacts, workers=workers, device=device)
     decided = np.isin(out["status"], (1, 2, 3))
     index = np.where(decided, out["valley"], -1)
     left = land.table[:, 0]
@@ -193,6 +196,8 @@ class Bounce:
         Impacts per toss at most.
     workers : int, optional
         Threads of the compiled toss.
+    device : {"cpu", "gpu"}
+        Where the tosses run: all CPU cores, or a CUDA GPU (:func:`toss`).
 
     Examples
     --------
@@ -204,7 +209,9 @@ class Bounce:
     exact = False
 
     def __init__(self, e: float = 0.6, mu: float = 0.0, launch: Launch | None = None, impacts: int = 10_000,
-                 workers=None):
+                 workers=None, device: str = "cpu"):
+        from coinwall.forward.dynamics.billiard.gpu import check_device
+
         e = check_finite("e", e)
         if not 0.0 < e <= 1.0:
             raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1], got {e:g}")
@@ -215,6 +222,7 @@ class Bounce:
             raise InvalidArgument(f"`launch` must be a Launch, got {type(self.launch).__name__}")
         self.impacts = check_count("impacts", impacts, maximum=10 ** 9)
         self.workers = workers
+        self.device = check_device(device)
 
     @property
     def dimensions(self) -> int:
@@ -229,7 +237,7 @@ class Bounce:
             raise InvalidArgument("the bounce toss is planar; a body of revolution bounces in the bounce3d toss")
         states = self.launch.states(lambda th: b0 + body(th), draws)
         index, valleys, _ = toss(body, states, e=self.e, mu=self.mu, g=self.launch.g, b0=b0, impacts=self.impacts,
-                                 workers=self.workers)
+                                 workers=self.workers, device=self.device)
         return valley_hits(index, outcome_sets(valleys, names, kind)), index < 0
 
     def to_dict(self) -> dict:

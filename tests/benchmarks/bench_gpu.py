@@ -1,7 +1,12 @@
 """Benchmark of the billiard kernel on a CUDA GPU against all the machine's CPU cores, in one run, with its invariants.
 
 Run:  python tests/benchmarks/bench_gpu.py [--orbits M] [--collisions N] [--launches L] [--cpu-orbits K]
-                                           [--threads T] [--variants LIST] [--json FILE] [--smoke]
+                                           [--threads T] [--variants LIST] [--tosses T] [--cpu-tosses K]
+                                           [--toss-impacts N] [--json FILE] [--smoke]
+
+The toss (the field kernel on the GPU: tosses/s and events/s against all CPU cores, with its own invariants) is
+measured after the billiard; tests/benchmarks/_gpu_toss.py says how, and prints its block (``toss coin: ...``,
+``toss egg friction: ...``) before the summary line.  ``--tosses 0`` leaves it out.
 
 Two tables: the coin (the ellipse wall with ε = 99, H = 3) and the paper's mixed ellipse (ε = 0.55, H = 1.9; it
 has islands, so its orbits are not all chaotic).  The GPU helpers (the variants' kernels, the layouts of the
@@ -476,6 +481,9 @@ def main(argv=None):
     parser.add_argument("--variants", default=",".join(VARIANTS),
                         help=f"variants on the coin, comma-separated (default {','.join(VARIANTS)}; also threadsT; "
                              "'' for none)")
+    parser.add_argument("--tosses", type=int, default=2 ** 18, help="GPU tosses per table (default 2^18; 0: none)")
+    parser.add_argument("--cpu-tosses", type=int, default=2 ** 14, help="CPU tosses per table (default 2^14)")
+    parser.add_argument("--toss-impacts", type=int, default=10_000, help="records per toss at most (default 10000)")
     parser.add_argument("--json", default=None, help="write the numbers as JSON to this file")
     parser.add_argument("--smoke", action="store_true", help="a few orbits in numba's CUDA simulator")
     args = parser.parse_args(argv)
@@ -484,6 +492,7 @@ def main(argv=None):
     if args.smoke:
         os.environ["NUMBA_ENABLE_CUDASIM"] = "1"  # before numba is imported
         args.orbits, args.collisions, args.launches, args.cpu_orbits = 6, 12, 2, 6
+        args.tosses, args.cpu_tosses, args.toss_impacts = min(args.tosses, 4), 4, 12
     import numba
 
     from coinwall.forward.dynamics.billiard import gpu
@@ -514,6 +523,11 @@ def main(argv=None):
     names = [v for v in args.variants.split(",") if v.strip()]
     report["variants"] = {}
     run_variants(coin[0], coin[1], coin[3], args, args.threads, coin[2], names, report["variants"], save)
+    if args.tosses > 0:
+        from _gpu_toss import measure_tosses
+
+        verdicts.append(measure_tosses(args.tosses, args.cpu_tosses, args.toss_impacts, _cores(), report))
+        save()
     print(f"summary: invariants {'ok' if all(verdicts) else 'FAILED'}; coin "
           f"{report['tables']['coin']['gpu_rate']:.3g} /s, {report['tables']['coin']['ratio']:.3g}x the "
           f"{_cores()} cores on {device}")

@@ -9,7 +9,8 @@
 #    numba-cuda from .whl only where the machine has none), copies coinwall's folders there as pyproject.toml's
 #    package-dir maps them, and puts /tmp/site first on PYTHONPATH;
 # 3. runs tests/benchmarks/bench_gpu.py (collisions/s on the GPU against all CPU cores, with the invariants);
-# 4. runs tests/forward/dynamics/billiard/test_gpu.py on the device (NUMBA_ENABLE_CUDASIM=0), not the simulator.
+# 4. runs tests/forward/dynamics/billiard/test_gpu.py and tests/forward/dynamics/floor/test_toss_gpu.py on the device
+#    (NUMBA_ENABLE_CUDASIM=0), not the simulator.
 #
 # Everything goes to "$OUT" (default /tmp/gpu-check), six files: gpu_check.log (all of it), nvidia-smi.txt,
 # versions.txt, bench_gpu.txt, bench_gpu.json, pytest.txt.  The whole run keeps within GPU_CHECK_SECONDS (default
@@ -95,7 +96,8 @@ bench=${PIPESTATUS[0]}
 [ "$bench" = 124 ] && echo "gpu_check: bench_gpu.py ran out of its time"
 
 step "test_gpu.py on the device"
-timeout $(( $(left) - 5 )) python3 -P -m pytest -q -p no:cacheprovider -n 4 tests/forward/dynamics/billiard/test_gpu.py </dev/null \
+timeout $(( $(left) - 5 )) python3 -P -m pytest -q -p no:cacheprovider -n 4 tests/forward/dynamics/billiard/test_gpu.py \
+    tests/forward/dynamics/floor/test_toss_gpu.py </dev/null \
     2>&1 | tee "$OUT/pytest.txt"
 tests=${PIPESTATUS[0]}
 [ "$tests" = 124 ] && echo "gpu_check: the tests ran out of their time"

@@ -79,15 +79,17 @@ def slide(table: FieldTable, state, duration=None):
     return np.array([th0 + w0 * dt, eta0 + v0 * dt - 0.5 * g * dt * dt, w0, v0 - g * dt])
 
 
-def settle_many(table: FieldTable, states, impacts: int, catch: bool = False, workers=None, follow_slides=True):
+def settle_many(table: FieldTable, states, impacts: int, catch: bool = False, workers=None, follow_slides=True,
+                device="cpu"):
     """:func:`field_run_many`, with orbits that come to slide on the floor above their barrier (status 4)
     followed on the floor (:func:`slide`) and back into the air until they settle, up to 20 times each.
 
     Returns the dict of :func:`field_run_many` plus ``slides`` (how often each orbit slid).  An orbit still
     sliding at the end keeps status 4 (no outcome).  ``follow_slides=False`` skips the sliding (it is
-    Python, about 50 ms per slide: the cost of a basin map with many sliding tosses).
+    Python, about 50 ms per slide: the cost of a basin map with many sliding tosses).  ``device``: where the
+    flights run (:func:`field_run_many`; the slides are followed on the CPU).
     """
-    out = field_run_many(table, states, impacts, catch=catch, workers=workers)
+    out = field_run_many(table, states, impacts, catch=catch, workers=workers, device=device)
     out["slides"] = np.zeros(out["status"].size, dtype=np.int64)
     if catch or not follow_slides:
         return out
@@ -108,7 +110,7 @@ def settle_many(table: FieldTable, states, impacts: int, catch: bool = False, wo
             break
         where = np.array(where)
         left = np.maximum(impacts - out["impacts"][where], 1)
-        more = field_run_many(table, np.array(resumed), int(left.max()), workers=workers)
+        more = field_run_many(table, np.array(resumed), int(left.max()), workers=workers, device=device)
         out["slides"][where] += 1
         for name in ("status", "valley", "final"):
             out[name][where] = more[name]

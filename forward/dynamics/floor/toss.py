@@ -28,8 +28,10 @@ from .field import FIELD_NOTES, STATUS, FieldTable, field_run_many
 __all__ = ["BasinMap", "Spread", "Tosses", "basin_map", "heads_fraction", "launch_spread", "launch_states",
            "plot_basins", "reason_lines", "toss_outcomes", "undecided_counts"]
 
-_CHUNK = 4096  # orbits per kernel call (the progress bar moves once per chunk)
+# orbits per kernel call (the progress bar moves once per chunk); on a GPU 2^18, enough to keep it busy
+_CHUNK = {"cpu": 4096, "gpu": 262_144}
 UNDECIDED = -1
+_PALETTE = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]  # rest states' colours
 
 
 def _default_theta0(table: FieldTable) -> float:
@@ -42,6 +44,10 @@ def _default_theta0(table: FieldTable) -> float:
 
 def launch_states(table: FieldTable, v0, omega0, height: float, theta0: float | None = None) -> np.ndarray:
     """States ``[θ0, height, ω0, v0]`` for arrays of launch velocities and spins (broadcast together)."""
+    if not isinstance(table, FieldTable):
+        raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
+    if table.g <= 0:
+        raise InvalidArgument("a toss needs a field: `g` must be positive")
     land = table.landscape
     if land.names and np.all(np.isinf(land.barriers)):
         # one valley without a barrier: the wall is flat (a disc), every orientation is a rest state, and the
@@ -65,20 +71,20 @@ def launch_states(table: FieldTable, v0, omega0, height: float, theta0: float | 
     return np.column_stack([np.full(n, theta0), np.full(n, height), w.ravel(), v.ravel()])
 
 
-def _run_chunks(table, states, impacts, catch, workers, progress, slide=False) -> dict:
+def _run_chunks(table, states, impacts, catch, workers, progress, slide=False, device="cpu") -> dict:
     """The kernel's summaries of every state, in chunks (the progress bar moves once per chunk)."""
     from .slide import settle_many
 
+    chunk = _CHUNK.get(device, 1)  # (field_run_many checks the device)
     n = states.shape[0]
     keys = ("status", "valley", "floor_impacts", "impacts", "time")
-    out = {key: np.empty(n, dtype=float if key == "time" else np.int64) for key in keys}
-    out["theta"] = np.empty(n)
-    for lo in range(0, n, _CHUNK):
-        hi = min(n, lo + _CHUNK)
+    out = {key: np.empty(n, dtype=float if key in ("time", "theta") else np.int64) for key in keys + ("theta",)}
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
         if slide:
-            part = settle_many(table, states[lo:hi], impacts, catch=catch, workers=workers)
+            part = settle_many(table, states[lo:hi], impacts, catch=catch, workers=workers, device=device)
         else:
-            part = field_run_many(table, states[lo:hi], impacts, catch=catch, workers=workers)
+            part = field_run_many(table, states[lo:hi], impacts, catch=catch, workers=workers, device=device)
         for key in keys:
             out[key][lo:hi] = part[key]
         out["theta"][lo:hi] = part["final"][:, 0]
@@ -87,9 +93,9 @@ def _run_chunks(table, states, impacts, catch, workers, progress, slide=False) -
     return out
 
 
-def _outcomes(table, states, impacts, catch, workers, progress, slide=False):
+def _outcomes(table, states, impacts, catch, workers, progress, slide=False, device="cpu"):
     """Outcome (valley index, or UNDECIDED), floor impacts and status per state, in chunks."""
-    out = _run_chunks(table, states, impacts, catch, workers, progress, slide)
+    out = _run_chunks(table, states, impacts, catch, workers, progress, slide, device)
     decided = np.isin(out["status"], (1, 2, 3))
     return np.where(decided, out["valley"], UNDECIDED), out["floor_impacts"], out["status"]
 
@@ -235,8 +241,7 @@ class BasinMap:
         else:
             fig, (ax, bx) = new_figure(1, 2, figsize=(12, 5), constrained_layout=True)
         k = len(self.names)
-        palette = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]
-        colours = ["#bbbbbb"] + [palette[i % len(palette)] for i in range(k)]
+        colours = ["#bbbbbb"] + [_PALETTE[i % len(_PALETTE)] for i in range(k)]
         cmap = ListedColormap(colours)
         norm = BoundaryNorm(np.arange(-1.5, k, 1.0), cmap.N)
         ax.pcolormesh(self.v0, self.omega0, self.outcome, cmap=cmap, norm=norm, shading="nearest",
@@ -304,12 +309,11 @@ def plot_basins(maps, titles=None):
 
     _fig, axes = new_figure(1, len(maps), figsize=(5.6 * len(maps), 4.8), constrained_layout=True, squeeze=False)
     names = list(dict.fromkeys(maps[0].names))
-    palette = ["#c8553d", "#2f6690", "#f2a541", "#3a7d44", "#8e6c8a", "#6b9080"]
     for k, (ax, result) in enumerate(zip(axes[0], maps)):
         colour = np.zeros(result.outcome.shape + (3,))
         colour[:] = (0.73, 0.73, 0.73)
         for i, name in enumerate(result.names):
-            rgb = tuple(int(palette[names.index(name) % len(palette)][j:j + 2], 16) / 255 for j in (1, 3, 5))
+            rgb = tuple(int(_PALETTE[names.index(name) % len(_PALETTE)][j:j + 2], 16) / 255 for j in (1, 3, 5))
             colour[result.outcome == i] = rgb
         extent = (result.v0.min(), result.v0.max(), result.omega0.min(), result.omega0.max())
         ax.imshow(colour, origin="lower", extent=extent, aspect="auto", interpolation="nearest")
@@ -327,7 +331,7 @@ def plot_basins(maps, titles=None):
                      f"{decided:.1%} decided", fontsize=9)
         ax.set_xlabel("launch velocity v0 (κ/s)")
         ax.set_ylabel("spin ω0 (rad/s)")
-    handles = [Patch(color=palette[i % len(palette)], label=name) for i, name in enumerate(names)]
+    handles = [Patch(color=_PALETTE[i % len(_PALETTE)], label=name) for i, name in enumerate(names)]
     handles.append(Patch(color="#bbbbbb", label="undecided"))
     axes[0][-1].legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     return axes[0][0]
@@ -341,7 +345,7 @@ def _grid(name, values):
 
 
 def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None = None, impacts: int = 10_000,
-              catch: bool = False, workers=None, progress=None, slide: bool = False) -> BasinMap:
+              catch: bool = False, workers=None, progress=None, slide: bool = False, device: str = "cpu") -> BasinMap:
     """The outcome of the toss on the grid ``v0`` × ``omega0`` (see the module docstring).
 
     ``impacts`` bounds the impacts per toss (an undecided toss after that many is marked −1); ``progress`` is
@@ -370,6 +374,9 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
         Called with the number of tosses done after each chunk.
     slide : bool
         Follow tosses that slide on a smooth floor above their barrier until they lift off (slow).
+    device : {"cpu", "gpu"}
+        Where the tosses run: the CPU's threads, or a CUDA GPU, one toss per thread
+        (:func:`.field.field_run_many`).
 
     Returns
     -------
@@ -400,26 +407,15 @@ def basin_map(table: FieldTable, v0, omega0, height: float, theta0: float | None
     >>> basins.names, basins.outcome.tolist()
     (['tails', 'heads'], [[1, 0, 0, 1], [1, 0, 1, 0], [1, 0, 0, 1]])
     """
-    if not isinstance(table, FieldTable):
-        raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
-    if table.g <= 0:
-        raise InvalidArgument("a toss needs a field: `g` must be positive")
     impacts = check_count("impacts", impacts)
     v = _grid("v0", v0)
     w = _grid("omega0", omega0)
-    land = table.landscape
-    if land.names and np.all(np.isinf(land.barriers)):
-        # one valley without a barrier: the wall is flat (a disc), every orientation is a rest state, and the
-        # outcome named after its one "minimum" would be made up
-        raise InvalidArgument(f"wall {table.wall.description!r} has no valleys (b is constant within rounding): a "
-                              "body resting on it can rest at any angle, so a toss has no outcome")
-    theta0 = _default_theta0(table) if theta0 is None else float(theta0)
     V, W = np.meshgrid(v, w)
-    states = launch_states(table, V, W, height, theta0)
-    outcome, bounces, status = _outcomes(table, states, impacts, catch, workers, progress, slide)
+    states = launch_states(table, V, W, height, theta0)  # (refuses a wall without valleys)
+    outcome, bounces, status = _outcomes(table, states, impacts, catch, workers, progress, slide, device)
     shape = V.shape
     return BasinMap(v, w, outcome.reshape(shape), bounces.reshape(shape), status.reshape(shape),
-                    list(table.landscape.names), table, float(height), theta0, bool(catch))
+                    list(table.landscape.names), table, float(height), float(states[0, 0]), bool(catch))
 
 
 @dataclass(frozen=True, repr=False)
@@ -589,7 +585,7 @@ class Tosses:
 
 
 def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | None = None, impacts: int = 10_000,
-                  workers=None, progress=None) -> Tosses:
+                  workers=None, progress=None, device: str = "cpu") -> Tosses:
     """The outcome of each launch ``(v0[i], omega0[i])``: its rest state by name, or why it has none.
 
     Vectorised (all launches in the compiled kernel's parallel loop) and deterministic: the same launches give
@@ -610,7 +606,9 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
     workers : int, optional
         Threads of the compiled kernel.
     progress : callable, optional
-        Called with the number of launches done after each chunk of 4096.
+        Called with the number of launches done after each chunk (4096; 2^18 on a GPU).
+    device : {"cpu", "gpu"}
+        All CPU cores, or a CUDA GPU, one toss per thread (:func:`.field.field_run_many`).
 
     Returns
     -------
@@ -619,7 +617,8 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
     Raises
     ------
     InvalidArgument
-        For a table without a field, a wall without valleys, a launch into the floor, bad counts.
+        For a table without a field, a wall without valleys, a launch into the floor, bad counts, an unknown device
+        or ``device="gpu"`` without a usable GPU.
 
     Examples
     --------
@@ -631,13 +630,9 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
     >>> sorted(set(result.name) - {"heads", "tails"})
     []
     """
-    if not isinstance(table, FieldTable):
-        raise InvalidArgument(f"`table` must be a FieldTable, got {type(table).__name__}")
-    if table.g <= 0:
-        raise InvalidArgument("a toss needs a field: `g` must be positive")
     impacts = check_count("impacts", impacts)
     states = launch_states(table, v0, omega0, height, theta0)
-    out = _run_chunks(table, states, impacts, False, workers, progress)
+    out = _run_chunks(table, states, impacts, False, workers, progress, device=device)
     decided = np.isin(out["status"], (1, 3))
     outcome = np.where(decided, out["valley"], UNDECIDED)
     # at rest with friction: where it rests (on a face, or held by the rolling resistance); else its valley's minimum
@@ -651,7 +646,7 @@ def toss_outcomes(table: FieldTable, v0, omega0, height: float, theta0: float | 
 
 def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int = 10_000, theta0=None, seed=None,
                    impacts: int = 10_000, catch: bool = False, workers=None, progress=None,
-                   slide: bool = False) -> Spread:
+                   slide: bool = False, device: str = "cpu") -> Spread:
     """Outcome fractions and their standard errors for launches ``(v0, ω0) ~ N(mean, diag(sigma²))``.
 
     Parameters
@@ -664,7 +659,7 @@ def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int =
         Launch height of the centre of mass (κ).
     samples : int
         Launches.
-    theta0, impacts, catch, workers, progress, slide
+    theta0, impacts, catch, workers, progress, slide, device
         As for :func:`basin_map`.
     seed : int, optional
         The seed of the launches.
@@ -677,7 +672,7 @@ def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int =
     Raises
     ------
     InvalidArgument
-        For a spread, count or launch that is not one.
+        For a spread, count or launch that is not one, or a device that cannot run.
 
     Examples
     --------
@@ -690,11 +685,8 @@ def heads_fraction(table: FieldTable, mean, sigma, height: float, samples: int =
     samples = check_count("samples", samples)
     v, w = launch_spread(mean, sigma, samples, seed)
     states = launch_states(table, v, w, height, theta0)
-    outcome, _, status = _outcomes(table, states, impacts, catch, workers, progress, slide)
-    fractions = {}
-    for name, p in _shares(outcome, table.landscape.names).items():
-        if name == "undecided" and p == 0.0:
-            continue
-        fractions[name] = (p, math.sqrt(p * (1 - p) / samples))
+    outcome, _, status = _outcomes(table, states, impacts, catch, workers, progress, slide, device)
+    fractions = {name: (p, math.sqrt(p * (1 - p) / samples)) for name, p in _shares(outcome, table.landscape.names).items()
+                 if name != "undecided" or p > 0.0}
     return Spread(tuple(float(x) for x in mean), tuple(float(x) for x in sigma), samples, fractions, seed,
                   undecided_counts(status))

@@ -118,7 +118,7 @@ def _fit(eps, frac, n):
 
 def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=(1e-2, 3e-3, 1e-3, 3e-4),
                          samples: int = 20_000, theta0=None, seed=0, impacts: int = 10_000, catch: bool = False,
-                         workers=None) -> Uncertainty:
+                         workers=None, device: str = "cpu") -> Uncertainty:
     """The uncertainty exponent of the toss's outcome over the launch box ``v0 × omega0`` (module docstring).
 
     Parameters
@@ -133,8 +133,8 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         ε as fractions of the box's sides, in (0, 0.1].
     samples : int
         Launches per ε (three tosses each).
-    theta0, impacts, catch, workers
-        As for :func:`.toss.basin_map`.
+    theta0, impacts, catch, workers, device
+        As for :func:`.toss.basin_map` (``device="gpu"``: the tosses on a CUDA GPU).
     seed : int
         Seed of the launches and directions.
 
@@ -159,6 +159,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
     >>> result.counts.tolist(), result.samples
     ([33, 22], 100)
     """
+    from ..billiard.gpu import check_device
     from .toss import _outcomes, launch_states
 
     if not isinstance(table, FieldTable):
@@ -167,6 +168,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         raise InvalidArgument("a toss needs a field: `g` must be positive")
     samples = check_count("samples", samples)
     impacts = check_count("impacts", impacts)
+    check_device(device)  # (before any work)
     box = []
     for name, pair in (("v0", v0), ("omega0", omega0)):
         try:
@@ -191,7 +193,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         v = vlo + (vhi - vlo) * pts[:, 0]
         w = wlo + (whi - wlo) * pts[:, 1]
         states = launch_states(table, v, w, height, theta0)
-        outcome, _, _ = _outcomes(table, states, impacts, catch, workers, None)
+        outcome, _, _ = _outcomes(table, states, impacts, catch, workers, None, device=device)
         mid, low, high = outcome[:samples], outcome[samples:2 * samples], outcome[2 * samples:]
         counts[i] = int(np.sum((low != mid) | (high != mid)))
     fractions = counts / samples

@@ -12,7 +12,6 @@ second).
 from __future__ import annotations
 
 import doctest
-import math
 
 import numpy as np
 import pytest
@@ -200,44 +199,6 @@ def test_reference_method_stays_on_the_cpu():
     table = TABLES["fourier"]
     with pytest.raises(InvalidArgument, match="reference"):
         ensemble(table, random_states(table, 1, seed=0), 3, method="reference", device="gpu")
-
-
-# the field kernel's launcher: thread k runs the field kernel's _run on state k, summaries only (as its _run_many)
-FIELD_LAUNCHER = """
-
-@cuda.jit
-def _run_gpu(states, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol, valleys,
-             dummy_f, dummy_i, done, status, summary):
-    k = cuda.grid(1)
-    if k < states.shape[0]:
-        d, s = _run(states[k], 0, -1, n, H, b0, g, e, ceiling, catch, chatter, c, cells, lookup, wmin, wmax, tol,
-                    valleys, False, dummy_f, dummy_f, dummy_f, dummy_f, dummy_f, dummy_i, summary[k])
-        done[k] = d
-        status[k] = s
-"""
-
-
-def test_field_kernel_text_compiles_for_the_gpu_the_same_way():
-    # the mechanism is not the billiard's alone: the field kernel's text (gravity, floor, restitution), joined to
-    # the same header with a launcher of its own, gives the CPU field kernel's summaries
-    from coinwall.forward.dynamics.floor import field
-
-    table = field.FieldTable(Wall.from_expression(ELLIPSE, {"eps": 3.0}), g=1.0, e=0.6)
-    rng = np.random.default_rng(5)
-    m, n = 4, 12
-    states = np.column_stack([rng.uniform(0, 2 * math.pi, m), rng.uniform(2.0, 3.0, m), rng.normal(0, 3, m),
-                              rng.normal(0, 1, m)])
-    want = field.field_run_many(table, states, n)
-    comp = field._kernel(table)
-    module = gpu.gpu_module(table.wall, field.FIELD_SOURCE, FIELD_LAUNCHER, "coinwall_gpu_field")
-    done, status, summary = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64), np.zeros((m, 8))
-    # what field_run_many(..., device="gpu") would do: per-orbit arrays in groups, shared arrays sent once
-    gpu.launch(module._run_gpu, [gpu.Orbits(states), n, *comp.args(table), False, table.chatter, *comp.wall_args(table),
-                                 np.empty(1), np.empty(1, dtype=np.int8), gpu.Orbits(done, out=True),
-                                 gpu.Orbits(status, out=True), gpu.Orbits(summary, out=True)])
-    assert np.array_equal(status, want["status"]) and np.array_equal(done, want["impacts"])
-    assert np.allclose(summary[:, [0, 2, 3, 4]], want["final"], rtol=0, atol=0 if SIMULATOR else 1e-6)
-    assert np.allclose(summary[:, 5], want["time"], rtol=0, atol=0 if SIMULATOR else 1e-6)
 
 
 def test_docstring_examples():
