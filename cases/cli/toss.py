@@ -159,7 +159,8 @@ def _cmd_toss(args):
 
     from coinwall.forward.dynamics.billiard.gpu import check_device
     from coinwall.forward.dynamics.floor.field import FieldTable
-    from coinwall.forward.dynamics.floor.toss import basin_map, heads_fraction, launch_states
+    from coinwall.forward.dynamics.floor.hand import heads_fraction
+    from coinwall.forward.dynamics.floor.toss import basin_map, launch_states
     from coinwall.forward.errors import InvalidArgument
     from coinwall.forward.formats.figure import FIGURE_FORMATS, figure_bytes
     from coinwall.forward.formats.output import check_paths, write_all

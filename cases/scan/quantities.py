@@ -12,7 +12,7 @@ returns a dict of floats.  The same arguments give the same numbers on any worke
 ``tau``                      the decay time τ of P(n) (:func:`coinwall.forward.dynamics.analysis.correlation.correlation`)
 ``splitting``                the lowest heads–tails doublet's splitting
                              (:func:`coinwall.forward.quantum.doublet_splitting`); not random
-``toss``                     the toss that lands on a floor (:func:`coinwall.forward.dynamics.floor.toss.heads_fraction`):
+``toss``                     the toss that lands on a floor (:func:`coinwall.forward.dynamics.floor.hand.heads_fraction`):
                              outcome shares under a Gaussian hand about (``v0``, ``omega0``), relative spread
                              ``spread``, launched from the height H (κ), restitution from a ``restitution`` axis;
                              the toss energy level is ``H + (v0² + ω0²)/(2g)``

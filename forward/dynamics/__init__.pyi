@@ -28,7 +28,8 @@ from .coin3d.rigid3d import Rigid3D, Trajectory3D, simulate_3d
 from .coin3d.top import TopFlight, TopTable, top_run
 from .floor.fairness import Fairness, fairness, fairness_curve
 from .floor.field import FieldTable, Flight, field_run, field_run_many
-from .floor.toss import BasinMap, Tosses, basin_map, heads_fraction, launch_spread, toss_outcomes
+from .floor.hand import Tosses, heads_fraction, launch_spread, toss_outcomes
+from .floor.toss import BasinMap, basin_map
 from .floor.uncertainty import Uncertainty, uncertainty_exponent
 from .floor.wedge import WedgeLyapunov, wedge_lyapunov
 

@@ -59,7 +59,8 @@ def _tables():
 
 
 def _states(table, height, mean, n, seed):
-    from coinwall.forward.dynamics.floor.toss import launch_spread, launch_states
+    from coinwall.forward.dynamics.floor.hand import launch_spread
+    from coinwall.forward.dynamics.floor.toss import launch_states
 
     v0, omega0 = launch_spread(mean, (0.5, 2.0), n, seed=seed)
     return launch_states(table, v0, omega0, height)

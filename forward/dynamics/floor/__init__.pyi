@@ -3,7 +3,8 @@
 from .fairness import Fairness, fairness, fairness_curve
 from .field import FieldTable, Flight, field_run, field_run_many
 from .landscape import Landscape, landscape
-from .toss import BasinMap, Tosses, basin_map, heads_fraction, launch_spread, toss_outcomes
+from .hand import Tosses, heads_fraction, launch_spread, toss_outcomes
+from .toss import BasinMap, basin_map
 from .uncertainty import Uncertainty, uncertainty_exponent
 from .wedge import WedgeLyapunov, wedge_lyapunov
 

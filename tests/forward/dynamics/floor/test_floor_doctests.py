@@ -8,7 +8,7 @@ import importlib
 import pytest
 
 MODULES = ["coinwall.forward.dynamics.floor.field", "coinwall.forward.dynamics.floor.landscape",
-           "coinwall.forward.dynamics.floor.toss", "coinwall.forward.dynamics.billiard.rigidbody"]
+           "coinwall.forward.dynamics.floor.toss", "coinwall.forward.dynamics.floor.hand", "coinwall.forward.dynamics.billiard.rigidbody"]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -15,7 +15,8 @@ import pytest
 from coinwall.cases.cli.main import main
 from coinwall.forward import Wall
 from coinwall.forward.dynamics.floor.field import STATUS, FieldTable
-from coinwall.forward.dynamics.floor.toss import basin_map, launch_spread, toss_outcomes
+from coinwall.forward.dynamics.floor.hand import launch_spread, toss_outcomes
+from coinwall.forward.dynamics.floor.toss import basin_map
 
 EGG = {"a0": 1.0, "cos": [0.05, 0.06], "sin": [0.0, 0.0, 0.04]}
 COIN = "sqrt((1+eps*cos(t)**2)/(1+eps))"

@@ -254,7 +254,7 @@ def test_toss_scan_cells_are_heads_fraction(tmp_path):
     pytest.importorskip("zarr")
     from coinwall.cases.scan import TableSpec, scan
     from coinwall.cases.scan.grid import cell_seed
-    from coinwall.forward.dynamics.floor.toss import heads_fraction
+    from coinwall.forward.dynamics.floor.hand import heads_fraction
 
     spec = TableSpec(COIN, (("eps", 99.0),))
     store = str(tmp_path / "toss.zarr")
@@ -309,7 +309,7 @@ def test_toss_scan_checks_its_grid_before_any_store_and_records_e(tmp_path, caps
 
     from coinwall.cases.cli.main import main
     from coinwall.cases.scan.table import DEFAULT_RESTITUTION
-    from coinwall.forward.dynamics.floor.toss import heads_fraction
+    from coinwall.forward.dynamics.floor.hand import heads_fraction
 
     base = ["scan", "toss", COIN, "--param", "eps=99", "--tosses", "50", "--scheduler", "synchronous"]
     for extra, needle in [(["--param", "restitution=0.5,1.5", "--H", "1.2"], "restitution must be in (0, 1]"),

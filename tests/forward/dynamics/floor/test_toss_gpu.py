@@ -19,7 +19,8 @@ from coinwall.forward import Wall
 from coinwall.forward.dynamics.billiard import gpu
 from coinwall.forward.dynamics.floor import field
 from coinwall.forward.dynamics.floor.fieldgpu import run_gpu
-from coinwall.forward.dynamics.floor.toss import basin_map, heads_fraction, launch_states, toss_outcomes
+from coinwall.forward.dynamics.floor.hand import heads_fraction, toss_outcomes
+from coinwall.forward.dynamics.floor.toss import basin_map, launch_states
 from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
 from coinwall.forward.errors import InvalidArgument
 
