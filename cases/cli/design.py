@@ -99,7 +99,8 @@ def register(subparsers):
     parser.add_argument("--spin", type=number, default=None,
                         help="bounce3d: standard deviation of each lab component of the angular velocity, rad/s "
                              "(default 3)")
-    parser.add_argument("--impacts", type=count, default=None, help="Monte Carlo: impacts per toss at most (10000)")
+    parser.add_argument("--impacts", type=count, default=None,
+                        help="Monte Carlo: impacts (with --mu, and contact events) per toss at most (10000)")
     parser.add_argument("--tolerance", type=number, default=None,
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
     parser.add_argument("--confidence", type=number, default=None,
@@ -202,6 +203,9 @@ def _model(args):
 
     for flag, (default, models) in _FLAGS.items():
         value = getattr(args, flag)
+        if value is not None and args.model == "bounce3d" and flag in ("mu", "rolling", "vx"):
+            raise InvalidArgument(f"--{flag}: the bounce3d toss has a frictionless floor (friction is in the planar "
+                                  "bounce toss)")
         if value is not None and args.model not in models:
             raise InvalidArgument(f"--{flag.replace('_', '-')} does nothing in the {args.model} toss; leave it out")
         if value is None:

@@ -137,7 +137,7 @@ def toss(wall, states, *, e: float, mu: float = 0.0, rolling: float = 0.0, g: fl
     g, b0 : float
         The field (κ/s²) and the wall's offset.
     impacts : int
-        Impacts per toss at most.
+        Impacts (and, with friction, contact events) per toss at most.
     workers : int, optional
         Threads.
 
@@ -194,7 +194,7 @@ class Bounce:
     launch : Launch, optional
         The hand (default :class:`Launch`'s defaults); a horizontal velocity ``vx`` needs ``mu`` > 0.
     impacts : int
-        Impacts per toss at most.
+        Impacts (and, with friction, contact events) per toss at most.
     workers : int, optional
         Threads of the compiled toss.
 

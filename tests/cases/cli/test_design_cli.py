@@ -86,6 +86,7 @@ def test_bounce_design_with_friction(capsys):
     (["--model", "bounce", "--rolling", "0.01"], "--rolling must be a rolling resistance in [0, 1]"),
     (["--model", "bounce", "--vx", "1,0"], "a horizontal launch velocity --vx does nothing on a frictionless floor"),
     (["--mu", "0.3"], "--mu does nothing in the drop toss"),
+    (["--model", "bounce3d", "--mu", "0.3"], "--mu: the bounce3d toss has a frictionless floor"),
     (["--e", "0.5"], "--e does nothing in the drop toss"),
     (["--target", "side=0.2"], "unknown outcome 'side'"),
     (["--target", "edge=1/0"], "must be a number or a fraction"),
