@@ -24,7 +24,8 @@ Toss models (--model):
             exact from the outline (angle measure; solid angle for a cylinder)
   flip      turning about a horizontal axis with a uniform phase, --ratio v/ω (0: vigorous); exact
   bounce    the planar toss: a random hand (--height, --v0, --omega, --theta0) in the field --g,
-            restitution --e on a frictionless floor (--mu 0); Monte Carlo
+            restitution --e, Coulomb friction --mu on the floor (default 0: frictionless) with
+            --rolling resistance and a horizontal launch velocity --vx; Monte Carlo
   bounce3d  the cylinder dropped tumbling (--spin) on a frictionless floor; Monte Carlo
 Exact models are solved by root finding to 1e-10; Monte Carlo models by a stochastic root finder
 (or weighted least squares for several targets or parameters) with common random numbers, until
@@ -34,10 +35,13 @@ free parameter) the odds of the one body are printed.  docs/design.md has the mo
 EXAMPLE = ('coinwall design "abs(cos(t)) + h*abs(sin(t))" --param h=0.05:3 --target edge=1/3 --model drop --json\n'
            'coinwall design cylinder --param thickness=0.1:3 --target edge=1/3 --model drop -o coin.svg\n'
            'coinwall design "abs(cos(t)) + h*abs(sin(t))" --param h=0.2:2 --target edge=1/3 --model bounce --e 0.5 '
-           '--figure odds.png')
+           '--figure odds.png\n'
+           'coinwall design "abs(cos(t)) + h*abs(sin(t))" --param h=0.2:2 --target edge=1/3 --model bounce --e 0.5 '
+           '--mu 0.3 --tolerance 0.02')
 
 #: model-specific flags: their defaults, and the models that read them (given to another: refused)
 _FLAGS = {"ratio": ((0.0, ("flip",))), "e": (0.6, ("bounce", "bounce3d")), "mu": (0.0, ("bounce",)),
+          "rolling": (0.0, ("bounce",)), "vx": ((0.0, 0.0), ("bounce",)),
           "g": (1.0, ("bounce", "bounce3d")), "height": (2.0, ("bounce", "bounce3d")),
           "v0": ((0.0, 0.0), ("bounce", "bounce3d")), "omega": ((0.0, 3.0), ("bounce",)),
           "theta0": (None, ("bounce",)), "spin": (3.0, ("bounce3d",)), "impacts": (10_000, ("bounce", "bounce3d")),
@@ -74,7 +78,15 @@ def register(subparsers):
     parser.add_argument("--ratio", type=number, default=None,
                         help="flip: fall speed over spin v/ω, κ/rad (default 0)")
     parser.add_argument("--e", type=number, default=None, help="bounce, bounce3d: restitution in (0, 1] (default 0.6)")
-    parser.add_argument("--mu", type=number, default=None, help="bounce: friction at the floor (only 0 for now)")
+    parser.add_argument("--mu", type=number, default=None,
+                        help="bounce: Coulomb's coefficient of friction of the floor (default 0: frictionless)")
+    parser.add_argument("--rolling", type=number, default=None, metavar="DELTA",
+                        help="bounce, with --mu: rolling resistance, the lever arm (units of κ, in [0, 1]) of the "
+                             "floor's push that opposes rolling (default 0: a body rolling without slipping keeps "
+                             "its energy)")
+    parser.add_argument("--vx", type=_pair, default=None, metavar="MEAN,SD",
+                        help="bounce, with --mu: horizontal launch velocity of the centre of mass, κ/s, mean and "
+                             "standard deviation (default 0,0)")
     parser.add_argument("--g", type=number, default=None,
                         help="bounce: field, κ/s² (bounce3d: length unit/s²; default 1)")
     parser.add_argument("--height", type=number, default=None,
@@ -88,7 +100,8 @@ def register(subparsers):
     parser.add_argument("--spin", type=number, default=None,
                         help="bounce3d: standard deviation of each lab component of the angular velocity, rad/s "
                              "(default 3)")
-    parser.add_argument("--impacts", type=count, default=None, help="Monte Carlo: impacts per toss at most (10000)")
+    parser.add_argument("--impacts", type=count, default=None,
+                        help="Monte Carlo: impacts (with --mu, and contact events) per toss at most (10000)")
     parser.add_argument("--tolerance", type=number, default=None,
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
     parser.add_argument("--confidence", type=number, default=None,
@@ -193,11 +206,14 @@ def _model(args):
 
     for flag, (default, models) in _FLAGS.items():
         value = getattr(args, flag)
+        if value is not None and args.model == "bounce3d" and flag in ("mu", "rolling", "vx"):
+            raise InvalidArgument(f"--{flag}: the bounce3d toss has a frictionless floor (friction is in the planar "
+                                  "bounce toss)")
         if value is not None and args.model not in models:
             raise InvalidArgument(f"--{flag.replace('_', '-')} does nothing in the {args.model} toss; leave it out")
         if value is None:
             setattr(args, flag, default)
-    for flag in ("ratio", "e", "mu", "g", "height", "theta0", "spin", "tolerance", "b0"):
+    for flag in ("ratio", "e", "mu", "rolling", "g", "height", "theta0", "spin", "tolerance", "b0"):
         value = getattr(args, flag)
         if value is not None and not math.isfinite(value):
             raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
@@ -216,9 +232,9 @@ def _model(args):
     if args.model == "flip":
         return Flip(args.ratio)
     if args.model == "bounce":
-        launch = Launch(g=args.g, height=args.height, v0=args.v0, omega=args.omega, theta0=args.theta0)
+        launch = Launch(g=args.g, height=args.height, v0=args.v0, omega=args.omega, theta0=args.theta0, vx=args.vx)
         return Bounce(e=args.e, mu=args.mu, launch=launch, impacts=args.impacts, workers=args.workers,
-                      device=args.device)
+                      rolling=args.rolling, device=args.device)
     launch = Launch3D(g=args.g, height=args.height, v0=args.v0, spin=args.spin)
     return Bounce3D(e=args.e, launch=launch, impacts=args.impacts, workers=args.workers)
 

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["bounce_nickel", "drop_cylinder", "drop_rectangle", "flip_cylinder"]
+__all__ = ["bounce_nickel", "bounce_nickel_friction", "drop_cylinder", "drop_rectangle", "flip_cylinder"]
 
 _RECT = "a*abs(cos(t)) + c*abs(sin(t))"  # a 2a × 2c rectangle, edges (length 2c) at θ = 0, π
 
@@ -94,3 +94,36 @@ def bounce_nickel(resolution, *, diameter: float, thickness: float, restitutions
     return {"p_edge": top, "p_edge_min": min(p for p, _ in per_e.values()), "per_e": per_e, "drop": drop,
             "suppression": drop / top, "ratio_to_6000": top * 6000, "tosses": n,
             "shown": "; ".join(f"e = {e:g}: {p:.2g} ± {s:.1g}" for e, (p, s) in per_e.items())}
+
+
+def bounce_nickel_friction(resolution, *, diameter: float, thickness: float, e: float, frictions,
+                           tosses: int) -> dict:
+    """The nickel of :func:`bounce_nickel` (the same section, scaling and launch) bounced on a floor with Coulomb
+    friction μ (restitution ``e``), per μ: a coin that comes to rest on its rim stays there, one rocking on it
+    is stopped or tipped by friction instead of sliding; against the drop model and Murray & Teare's 1/6000.
+
+    Returns ``p_edge`` (the largest over ``frictions``), ``per_mu`` (μ -> (p, standard error)), ``undecided``
+    (the largest undecided share), ``p_free`` and ``undecided_free`` (the same launches on a frictionless floor),
+    ``drop``, ``suppression`` (drop / largest p_edge), ``ratio_to_6000`` and ``shown``."""
+    from coinwall.forward.revolution import coin
+    from coinwall.inverse.design import Bounce, Drop, Family, odds
+
+    r, h = diameter / 2, thickness
+    body = coin(r, h)
+    k1 = body.kappa1
+    section = Family("planar", _RECT, {}, {"a": r / k1, "c": h / 2 / k1})
+    n = tosses if not resolution.fast else tosses // 4
+    mus = frictions if not resolution.fast else frictions[1:2]
+    per_mu, undecided = {}, 0.0
+    for mu in mus:
+        got = odds(section, Bounce(e=e, mu=mu), names=["edge"], tosses=n, seed=1)
+        p, half = got["edge"]
+        per_mu[float(mu)] = (p, half / 1.959963984540054)
+        undecided = max(undecided, got["undecided"][0])
+    free = odds(section, Bounce(e=e), names=["edge"], tosses=n, seed=1)
+    drop = Drop().odds("cylinder", body, ["edge"])["edge"]
+    top = max(p for p, _ in per_mu.values())
+    return {"p_edge": top, "per_mu": per_mu, "undecided": undecided, "drop": drop, "suppression": drop / top,
+            "ratio_to_6000": top * 6000, "tosses": n, "p_free": free["edge"][0],
+            "undecided_free": free["undecided"][0],
+            "shown": "; ".join(f"μ = {mu:g}: {p:.2g} ± {s:.1g}" for mu, (p, s) in per_mu.items())}

@@ -4,17 +4,21 @@ Units: lengths in κ (the wall's unit, as everywhere in coinwall), time in secon
 
 The launch (:class:`Launch`).  The body leaves the hand with its downward body direction θ0 uniform on the
 circle (or fixed), its lowest point ``height`` above the floor (so its centre is at ``b0 + b(θ0) + height``),
-an upward velocity ``v0 ~ N(mean, sd²)`` and a spin ``θ̇0 ~ N(mean, sd²)``.  The draws are numbers
-independent of the body (a uniform and two standard normals per toss), so the same draws give the same hands
-for every member of a family: the common random numbers of the design solvers.
+an upward velocity ``v0 ~ N(mean, sd²)``, a spin ``θ̇0 ~ N(mean, sd²)`` and, on a floor with friction, a
+horizontal velocity ``vx ~ N(mean, sd²)`` of the centre of mass (κ/s; default 0).  The draws are numbers
+independent of the body (a uniform and two standard normals per toss, a third normal when ``vx`` has a
+spread), so the same draws give the same hands for every member of a family: the common random numbers of
+the design solvers.
 
-The toss (:func:`toss`) is :mod:`coinwall.forward.dynamics.floor.field`'s: gravity, Newton's restitution ``e``
-on the normal velocity at a frictionless floor, until the toss is decided (its energy below the barrier of
-its valley, or at rest there in the chattering limit).  A toss whose bounces die out above its barrier slides
-on the frictionless floor for ever (status ``slides``), and one still bouncing after ``impacts`` impacts is
-undecided too: :class:`Bounce` reports the odds among the decided tosses and the undecided share beside them.
-Friction at the floor (``mu``) is part of the interface and refused for now: the planar toss has a
-frictionless floor.  :func:`toss` is the one place a toss is run (launch states in, outcome per launch out).
+The toss (:func:`toss`) is :mod:`coinwall.forward.dynamics.floor.field`'s: gravity, restitution ``e`` and,
+with ``mu`` > 0, Coulomb friction at the floor (Stronge's impact, then sliding, rolling and rocking until the
+body rests; ``rolling`` adds a rolling resistance), until the toss is decided (its energy below the barrier
+of its valley, or at rest).  On a frictionless floor (``mu`` = 0, Newton's restitution) a toss whose bounces
+die out above its barrier slides for ever (status ``slides``); with friction such tosses settle, and what is
+left undecided is a body that rolls for ever without rolling resistance (``rolls``), an indeterminate
+contact (``painleve``) or a budget reached.  :class:`Bounce` reports the odds among the decided tosses and
+the undecided share beside them.  :func:`toss` is the one place a toss is run (launch states in, outcome per
+launch out).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coinwall.forward.display import safe_repr
+from coinwall.forward.dynamics.floor.field import check_friction
 from coinwall.forward.errors import InvalidArgument
 from coinwall.forward.validation import check_count, check_finite
 
@@ -46,8 +51,11 @@ def _pair(name, value):
 
 @dataclass(frozen=True, repr=False)
 class Launch:
-    """The hand (module docstring): ``g`` (κ/s²), ``height`` of the lowest point (κ), ``v0`` and ``omega`` as
-    (mean, standard deviation) in κ/s and rad/s, ``theta0`` the launch direction (None: uniform).
+    """The hand (module docstring): ``g`` (κ/s²), ``height`` of the lowest point (κ), ``v0``, ``omega`` and ``vx``
+    as (mean, standard deviation) in κ/s, rad/s and κ/s, ``theta0`` the launch direction (None: uniform).
+
+    ``vx``, the horizontal velocity of the centre of mass, matters only on a floor with friction
+    (:class:`Bounce` refuses it on a frictionless one).
 
     Parameters
     ----------
@@ -59,6 +67,8 @@ class Launch:
         Mean and standard deviation of the upward launch velocity (κ/s).
     omega : (float, float)
         Mean and standard deviation of the spin (rad/s).
+    vx : (float, float)
+        Mean and standard deviation of the horizontal velocity of the centre of mass (κ/s); only with friction.
     theta0 : float, optional
         The launch direction (rad); ``None``: uniform.
 
@@ -66,6 +76,8 @@ class Launch:
     --------
     >>> Launch().draw(np.random.default_rng(0), 2).shape
     (2, 3)
+    >>> Launch(vx=(0.0, 1.0)).draw(np.random.default_rng(0), 2).shape
+    (2, 4)
     """
 
     g: float = 1.0
@@ -73,6 +85,7 @@ class Launch:
     v0: tuple = (0.0, 0.0)
     omega: tuple = (0.0, 3.0)
     theta0: float | None = None
+    vx: tuple = (0.0, 0.0)
 
     def __post_init__(self):
         g = check_finite("g", self.g)
@@ -86,44 +99,43 @@ class Launch:
         object.__setattr__(self, "height", height)
         object.__setattr__(self, "v0", _pair("v0", self.v0))
         object.__setattr__(self, "omega", _pair("omega", self.omega))
+        object.__setattr__(self, "vx", _pair("vx", self.vx))
         if self.theta0 is not None:
             object.__setattr__(self, "theta0", check_finite("theta0", self.theta0))
 
-    dimensions = 3
+    @property
+    def dimensions(self) -> int:
+        """Random numbers per toss: 3, and a fourth when ``vx`` has a spread."""
+        return 4 if self.vx[1] > 0 else 3
 
     def draw(self, rng, n: int) -> np.ndarray:
-        """``(n, 3)`` numbers of ``n`` hands: a uniform in [0, 1) and two standard normals each."""
-        return np.column_stack([rng.random(n), rng.standard_normal(n), rng.standard_normal(n)])
+        """``(n, dimensions)`` numbers of ``n`` hands: a uniform in [0, 1) and two (three) standard normals each."""
+        # the fourth column is drawn after the first three, so a hand without a spread in vx draws as before
+        return np.column_stack([rng.random(n)] + [rng.standard_normal(n) for _ in range(self.dimensions - 1)])
 
     def states(self, lower, draws) -> np.ndarray:
-        """Launch states ``[θ0, η0, θ̇0, η̇0]`` of the draws; ``lower(θ)`` is the floor ``b0 + b(θ)``."""
+        """Launch states ``[θ0, η0, θ̇0, η̇0, ξ̇0]`` of the draws; ``lower(θ)`` is the floor ``b0 + b(θ)``."""
         d = np.asarray(draws, dtype=float)
         theta = np.full(d.shape[0], self.theta0) if self.theta0 is not None else 2.0 * math.pi * d[:, 0]
         eta = lower(theta) + self.height
-        return np.column_stack([theta, eta, self.omega[0] + self.omega[1] * d[:, 2], self.v0[0] + self.v0[1] * d[:, 1]])
+        vx = self.vx[0] + self.vx[1] * d[:, 3] if self.vx[1] > 0 else np.full(d.shape[0], self.vx[0])
+        return np.column_stack([theta, eta, self.omega[0] + self.omega[1] * d[:, 2], self.v0[0] + self.v0[1] * d[:, 1],
+                                vx])
 
     def to_dict(self) -> dict:
         return {"g": self.g, "height": self.height, "v0": list(self.v0), "omega": list(self.omega),
-                "theta0": self.theta0}
+                "vx": list(self.vx), "theta0": self.theta0}
 
     @safe_repr
     def __repr__(self):
         start = "uniform" if self.theta0 is None else f"{self.theta0:g}"
+        horizontal = f", vx={self.vx[0]:g}±{self.vx[1]:g}" if self.vx != (0.0, 0.0) else ""
         return (f"Launch(g={self.g:g}, height={self.height:g}, v0={self.v0[0]:g}±{self.v0[1]:g}, "
-                f"ω0={self.omega[0]:g}±{self.omega[1]:g}, θ0 {start})")
+                f"ω0={self.omega[0]:g}±{self.omega[1]:g}{horizontal}, θ0 {start})")
 
 
-def check_friction(mu) -> float:
-    """``mu`` as a number; anything but 0 is refused (the planar toss's floor is frictionless)."""
-    mu = check_finite("mu", mu)
-    if mu != 0.0:
-        raise InvalidArgument(f"`mu` = {mu:g}: the planar bounce has a frictionless floor (mu = 0) for now; "
-                              "friction at the floor is not available in this toss yet")
-    return mu
-
-
-def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, impacts: int = 10_000,
-         workers=None, device: str = "cpu"):
+def toss(wall, states, *, e: float, mu: float = 0.0, rolling: float = 0.0, g: float, b0: float = 0.0,
+         impacts: int = 10_000, workers=None, device: str = "cpu"):
     """The outcome of each launch: the one place the planar toss is run (:mod:`coinwall.forward.dynamics.floor.field`,
     compiled, parallel over launches).
 
@@ -131,14 +143,16 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     ----------
     wall : Wall
         The body's wall (units of κ).
-    states : array (n, 4)
-        Launch states ``[θ, η, θ̇, η̇]`` (:meth:`Launch.states`), strictly above the floor.
-    e, mu : float
-        Restitution in (0, 1]; friction at the floor (0 only, :func:`check_friction`).
+    states : array (n, 4) or (n, 5)
+        Launch states ``[θ, η, θ̇, η̇(, ξ̇)]`` (:meth:`Launch.states`), strictly above the floor; ξ̇ the horizontal
+        velocity of the centre of mass (κ/s, 0 when not given).
+    e, mu, rolling : float
+        Restitution in (0, 1]; Coulomb's friction at the floor (≥ 0; 0: frictionless) and the rolling
+        resistance (units of κ, in [0, 1], with ``mu`` > 0), as in :class:`~coinwall.forward.dynamics.floor.FieldTable`.
     g, b0 : float
         The field (κ/s²) and the wall's offset.
     impacts : int
-        Impacts per toss at most.
+        Impacts (and, with friction, contact events) per toss at most.
     workers : int, optional
         Threads.
     device : {"cpu", "gpu"}
@@ -154,7 +168,7 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     Raises
     ------
     InvalidArgument
-        ``mu`` ≠ 0, a wall with a single valley, a state not inside the table.
+        ``mu`` or ``rolling`` out of range, a wall with a single valley, a state not inside the table.
 
     Examples
     --------
@@ -163,11 +177,13 @@ def toss(wall, states, *, e: float, mu: float = 0.0, g: float, b0: float = 0.0, 
     >>> index, valleys, _ = toss(wall, [[4.7, 2.6, 0.0, 0.0]], e=0.5, g=1.0)
     >>> int(index[0]), len(valleys)
     (2, 4)
+    >>> index, _, _ = toss(wall, [[4.7, 2.6, 0.0, 0.0, 0.3]], e=0.5, mu=0.3, g=1.0)
+    >>> int(index[0])
+    2
     """
     from coinwall.forward.dynamics.floor.field import FieldTable, field_run_many
 
-    check_friction(mu)
-    table = FieldTable(wall, g=g, e=e, b0=b0)
+    table = FieldTable(wall, g=g, e=e, b0=b0, mu=mu, rolling=rolling)
     land = table.landscape
     if land.names and np.all(np.isinf(land.barriers)):
         raise InvalidArgument(f"wall {wall.description!r} has a single valley: the body rests on one face whatever "
@@ -189,37 +205,50 @@ class Bounce:
     e : float
         Restitution in (0, 1].
     mu : float
-        Friction at the floor: 0 only, for now (anything else raises InvalidArgument).
+        Coulomb's coefficient of friction of the floor, ≥ 0 (0: frictionless, Newton's restitution).
+    rolling : float
+        Rolling resistance with friction: the lever arm (units of κ, in [0, 1]) of the floor's push that
+        opposes rolling (0: none; a near-round body may then roll for ever, undecided).
     launch : Launch, optional
-        The hand (default :class:`Launch`'s defaults).
+        The hand (default :class:`Launch`'s defaults); a horizontal velocity ``vx`` needs ``mu`` > 0.
     impacts : int
-        Impacts per toss at most.
+        Impacts (and, with friction, contact events) per toss at most.
     workers : int, optional
         Threads of the compiled toss.
     device : {"cpu", "gpu"}
         Where the tosses run: all CPU cores, or a CUDA GPU (:func:`toss`).
 
+    Raises
+    ------
+    InvalidArgument
+        For ``e``, ``mu`` or ``rolling`` out of range, or a horizontal launch velocity on a frictionless floor.
+
     Examples
     --------
     >>> Bounce(e=0.5).name
     'bounce'
+    >>> Bounce(e=0.5, mu=0.3)
+    Bounce(e=0.5, mu=0.3, Launch(g=1, height=2, v0=0±0, ω0=0±3, θ0 uniform))
     """
 
     name = "bounce"
     exact = False
 
     def __init__(self, e: float = 0.6, mu: float = 0.0, launch: Launch | None = None, impacts: int = 10_000,
-                 workers=None, device: str = "cpu"):
+                 workers=None, rolling: float = 0.0, device: str = "cpu"):
         from coinwall.forward.dynamics.billiard.gpu import check_device
 
         e = check_finite("e", e)
         if not 0.0 < e <= 1.0:
             raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1], got {e:g}")
         self.e = e
-        self.mu = check_friction(mu)
+        self.mu, self.rolling = check_friction(mu, rolling)
         self.launch = launch if launch is not None else Launch()
         if not isinstance(self.launch, Launch):
             raise InvalidArgument(f"`launch` must be a Launch, got {type(self.launch).__name__}")
+        if self.mu == 0.0 and self.launch.vx != (0.0, 0.0):
+            raise InvalidArgument("a horizontal launch velocity `vx` does nothing on a frictionless floor (`mu` = 0): "
+                                  "give `mu` > 0 or leave it out")
         self.impacts = check_count("impacts", impacts, maximum=10 ** 9)
         self.workers = workers
         self.device = check_device(device)
@@ -236,14 +265,15 @@ class Bounce:
         if kind != "planar":
             raise InvalidArgument("the bounce toss is planar; a body of revolution bounces in the bounce3d toss")
         states = self.launch.states(lambda th: b0 + body(th), draws)
-        index, valleys, _ = toss(body, states, e=self.e, mu=self.mu, g=self.launch.g, b0=b0, impacts=self.impacts,
-                                 workers=self.workers, device=self.device)
+        index, valleys, _ = toss(body, states, e=self.e, mu=self.mu, rolling=self.rolling, g=self.launch.g, b0=b0,
+                                 impacts=self.impacts, workers=self.workers, device=self.device)
         return valley_hits(index, outcome_sets(valleys, names, kind)), index < 0
 
     def to_dict(self) -> dict:
-        return {"model": self.name, "e": self.e, "mu": self.mu, "impacts": self.impacts,
+        return {"model": self.name, "e": self.e, "mu": self.mu, "rolling": self.rolling, "impacts": self.impacts,
                 "launch": self.launch.to_dict()}
 
     @safe_repr
     def __repr__(self):
-        return f"Bounce(e={self.e:g}, mu={self.mu:g}, {self.launch!r})"
+        rolling = f", rolling={self.rolling:g}" if self.rolling else ""
+        return f"Bounce(e={self.e:g}, mu={self.mu:g}{rolling}, {self.launch!r})"

@@ -503,6 +503,7 @@ def plot_design(result: Design, curves):
         ax.set_ylim(-0.02, 1.02)
         ax.legend(fontsize=8)
     where = result.family.describe()
-    fig.suptitle(f"{result.model.name} toss: {where}", fontsize=9)
+    friction = f" on a floor with friction μ = {result.model.mu:g}" if getattr(result.model, "mu", 0.0) else ""
+    fig.suptitle(f"{result.model.name} toss{friction}: {where}", fontsize=9)
     return fig
 

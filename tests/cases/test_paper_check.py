@@ -22,6 +22,7 @@ RECORDED = {
     "external-fields": "yes", "casino": "partly", "quantum-tunnelling": "yes", "three-d-billiard": "partly",
     "caught-coin-flips": "yes", "design-drop-rectangle": "yes", "design-drop-cylinder": "yes",
     "design-flip-cylinder": "yes", "design-bounce-nickel": "partly",
+    "design-bounce-nickel-friction": "partly",
 }
 CONDITIONS = (Below, Above, Within, Equals)
 

@@ -67,7 +67,7 @@ from .fieldkernel import _kernel
 from .landscape import Landscape, landscape
 
 __all__ = ["CHATTER_HEIGHT", "EVENTS", "FIELD_NOTES", "STATUS", "UNDECIDED_STATUSES", "FieldTable", "Flight",
-           "field_run", "field_run_many"]
+           "check_friction", "field_run", "field_run_many"]
 
 #: a floor impact after which the gap opens slower than √(2 g δ), δ = CHATTER_HEIGHT·max(1, scale) κ, is rest
 CHATTER_HEIGHT = 1e-9
@@ -106,6 +106,29 @@ def _number(name, value):
     if isinstance(value, bool) or not math.isfinite(number):
         raise InvalidArgument(f"`{name}` must be a finite number, got {value!r}")
     return number
+
+
+def check_friction(mu, rolling=0.0) -> tuple:
+    """``(mu, rolling)`` as numbers, checked: Coulomb's μ in [0, 1e6], the rolling resistance in [0, 1] κ and 0
+    unless μ > 0.
+
+    Raises
+    ------
+    InvalidArgument
+        For a value that is not a number or out of its range.
+
+    Examples
+    --------
+    >>> check_friction(0.3, 0.01)
+    (0.3, 0.01)
+    """
+    mu, rolling = _number("mu", mu), _number("rolling", rolling)
+    if not 0.0 <= mu <= 1e6:
+        raise InvalidArgument(f"`mu` must be a coefficient of friction between 0 and 1e6, got {mu!r}")
+    if not 0.0 <= rolling <= 1.0 or (rolling > 0.0 and mu == 0.0):
+        raise InvalidArgument(f"`rolling` must be a rolling resistance in [0, 1] (units of κ) on a floor with "
+                              f"friction (`mu` > 0), got {rolling!r}")
+    return mu, rolling
 
 
 # ---------------------------------------------------------------------------------------------------- table
@@ -181,13 +204,9 @@ class FieldTable:
         if not 0.0 <= self.e <= 1.0 or (self.e == 0.0 and (self.H is not None or self.g == 0.0)):
             raise InvalidArgument(f"`e` must be a coefficient of restitution in (0, 1] (0, perfectly plastic, with a "
                                   f"field and a floor only), got {self.e!r}")
-        if not 0.0 <= self.mu <= 1e6:
-            raise InvalidArgument(f"`mu` must be a coefficient of friction between 0 and 1e6, got {self.mu!r}")
+        check_friction(self.mu, self.rolling)
         if self.mu > 0.0 and self.g == 0.0:
             raise InvalidArgument("friction (`mu` > 0) acts on a floor in a field: give `g` > 0")
-        if not 0.0 <= self.rolling <= 1.0 or (self.rolling > 0.0 and self.mu == 0.0):
-            raise InvalidArgument(f"`rolling` must be a rolling resistance in [0, 1] (units of κ) on a floor with "
-                                  f"friction (`mu` > 0), got {self.rolling!r}")
         if not abs(self.b0) <= HEIGHT_MAX:
             raise InvalidArgument(f"`b0` must be between {-HEIGHT_MAX:g} and {HEIGHT_MAX:g}, got {self.b0!r}")
         if not self.wall.scale <= HEIGHT_MAX:

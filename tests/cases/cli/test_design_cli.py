@@ -70,8 +70,23 @@ def test_bounce_design_json(capsys):
     assert not any(w.startswith("the independent") for w in doc["warnings"])  # the re-simulation agrees
 
 
+def test_bounce_design_with_friction(capsys):
+    """--mu reaches the toss: the model in the JSON, and no toss left undecided (the same hands slide for ever on a
+    frictionless floor, test_bounce_design_json)."""
+    status = main(["design", RECT, "--param", "h=0.5:1.2", "--target", "edge=1/3", "--model", "bounce", "--e", "0.5",
+                   "--mu", "0.3", "--rolling", "0.001", "--tolerance", "0.03", "--max-tosses", "1024", "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert status == 0 and doc["warnings"] == []
+    assert doc["model"]["mu"] == 0.3 and doc["model"]["rolling"] == 0.001
+    assert doc["undecided"]["p"] == 0 and abs(doc["outcomes"]["edge"]["p"] - 1 / 3) <= 0.03
+
+
 @pytest.mark.parametrize("args,message", [
-    (["--model", "bounce", "--mu", "0.3"], "--mu = 0.3: the planar bounce has a frictionless floor"),
+    (["--model", "bounce", "--mu", "-0.3"], "--mu must be a coefficient of friction between 0 and 1e6, got -0.3"),
+    (["--model", "bounce", "--rolling", "0.01"], "--rolling must be a rolling resistance in [0, 1]"),
+    (["--model", "bounce", "--vx", "1,0"], "a horizontal launch velocity --vx does nothing on a frictionless floor"),
+    (["--mu", "0.3"], "--mu does nothing in the drop toss"),
+    (["--model", "bounce3d", "--mu", "0.3"], "--mu: the bounce3d toss has a frictionless floor"),
     (["--e", "0.5"], "--e does nothing in the drop toss"),
     (["--target", "side=0.2"], "unknown outcome 'side'"),
     (["--target", "edge=1/0"], "must be a number or a fraction"),

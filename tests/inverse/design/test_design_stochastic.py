@@ -11,7 +11,6 @@ import math
 import numpy as np
 import pytest
 
-from coinwall.forward.errors import InvalidArgument
 from coinwall.inverse.design import Bounce, Family, Launch, design, resimulate
 from coinwall.inverse.design.solvers import Ensemble, stochastic_least_squares, stochastic_root, z_value
 
@@ -114,11 +113,6 @@ def test_fair_bounce_die_three_parameters():
     assert all(d.probabilities[k][1] <= 0.01 for k in targets)
     check = resimulate(d, 100_000, seed=5)
     assert all(abs(check.z[k]) <= Z for k in targets), check
-
-
-def test_friction_is_refused_in_one_line():
-    with pytest.raises(InvalidArgument, match=r"^`mu` = 0.3: the planar bounce has a frictionless floor"):
-        Bounce(e=0.5, mu=0.3)
 
 
 def test_bounce_launch_is_common_to_the_family():
