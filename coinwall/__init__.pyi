@@ -6,7 +6,8 @@ same lines (go-to-definition).
 
 __version__: str
 from .cases.catalog import all_cases, get_case
-from .forward.dynamics.billiard.table import Billiard, Trajectory, ensemble, random_states, simulate
+from .forward.dynamics.billiard.table import Billiard, ensemble, random_states, simulate
+from .forward.dynamics.billiard.trajectory import Trajectory
 from .forward.dynamics.analysis.correlation import correlation
 from .forward.dynamics.analysis.kam import kam_boundary
 from .forward.dynamics.analysis.lyapunov import chaotic_fraction, lyapunov

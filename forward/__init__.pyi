@@ -4,7 +4,8 @@ Each name is imported from the module named here on first use; editors and type 
 same lines (go-to-definition).
 """
 
-from .dynamics.billiard.table import Billiard, Trajectory, ensemble, random_states, simulate
+from .dynamics.billiard.table import Billiard, ensemble, random_states, simulate
+from .dynamics.billiard.trajectory import Trajectory
 from .dynamics.analysis.correlation import Correlation, TauLaw, correlation, fit_tau_law, heads
 from .dynamics.analysis.islands import paper_boundary
 from .dynamics.analysis.kam import KamBoundary, kam_boundary

@@ -19,7 +19,8 @@ from .billiard.rigidbody import (
     body_to_billiard,
     simulate_rigid_body,
 )
-from .billiard.table import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
+from .billiard.table import Billiard, compile_kernel, ensemble, random_states, simulate
+from .billiard.trajectory import Trajectory
 from .coin3d.bounced import BounceStudy, same_side_by_bounce
 from .coin3d.caught import PsiFit, dhm_same_side, fit_psi, simulate_caught
 from .coin3d.correlation3d import side_correlation

@@ -8,7 +8,8 @@ import importlib
 import pytest
 
 MODULES = ["coinwall.forward.sampledata", "coinwall.inverse.band", "coinwall.inverse.certify",
-           "coinwall.inverse.discrete", "coinwall.inverse.noise", "coinwall.inverse.fit"]
+           "coinwall.inverse.criticalbound", "coinwall.inverse.discrete", "coinwall.inverse.noise",
+           "coinwall.inverse.fit"]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -9,7 +9,8 @@ from .rigidbody import (
     body_to_billiard,
     simulate_rigid_body,
 )
-from .table import Billiard, Trajectory, compile_kernel, ensemble, random_states, simulate
+from .table import Billiard, compile_kernel, ensemble, random_states, simulate
+from .trajectory import Trajectory
 
 __all__ = [
     "Billiard",
