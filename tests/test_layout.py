@@ -95,22 +95,12 @@ def test_a_cycle_would_be_found():
 
 #: the most lines a module of the package may have (docs/architecture.md)
 MAX_LINES = 600
-#: modules allowed over MAX_LINES for now, each with why.  The test requires each to be still over the limit,
-#: so an entry goes once its module is split and the list can only shrink; never add to it.
-OVER_LIMIT = {
-    "coinwall.forward.dynamics.floor.toss": "being split by the lead",
-}
-
 
 def test_no_module_is_over_600_lines():
-    """Every module of the package (as ``wc -l`` counts) is at most MAX_LINES long, but those of OVER_LIMIT,
-    which must still be over it (the allowed one being over is also the check that long modules are seen)."""
+    """Every module of the package (as ``wc -l`` counts) is at most MAX_LINES long."""
     lengths = {name: len(path.read_bytes().splitlines()) for name, path in _modules().items()}
-    over = [f"{name} ({n} lines)" for name, n in sorted(lengths.items()) if n > MAX_LINES and name not in OVER_LIMIT]
+    over = [f"{name} ({n} lines)" for name, n in sorted(lengths.items()) if n > MAX_LINES]
     assert not over, f"modules over {MAX_LINES} lines (split them along a seam): {', '.join(over)}"
-    stale = [f"{name} ({lengths.get(name, 'no such module')})" for name in sorted(OVER_LIMIT)
-             if not lengths.get(name, 0) > MAX_LINES]
-    assert not stale, f"OVER_LIMIT names modules that are not over {MAX_LINES} lines, take them out: {stale}"
 
 
 def _stub(path):
