@@ -96,6 +96,7 @@ def test_a_cycle_would_be_found():
 #: the most lines a module of the package may have (docs/architecture.md)
 MAX_LINES = 600
 
+
 def test_no_module_is_over_600_lines():
     """Every module of the package (as ``wc -l`` counts) is at most MAX_LINES long."""
     lengths = {name: len(path.read_bytes().splitlines()) for name, path in _modules().items()}
