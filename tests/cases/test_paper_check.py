@@ -94,7 +94,7 @@ def test_fast_run_keeps_every_verdict(fast_report):
     assert {r.key: r.agreement for r in fast_report.rows} == {key: REGISTRY[key].expected for key in CLAIMS}
     assert all(r.unchanged for r in fast_report.rows)
     assert fast_report.ok
-    assert fast_report.counts() == {"yes": 24, "partly": 7, "no": 5}
+    assert fast_report.counts() == {"yes": 24, "partly": 8, "no": 5}
 
 
 def test_report_to_dict_and_repr(fast_report):
@@ -102,7 +102,7 @@ def test_report_to_dict_and_repr(fast_report):
     assert doc["ok"] is True and doc["fast"] is True and doc["figures"] == list(fast_report.figures)
     assert [row["key"] for row in doc["rows"]] == list(CLAIMS)
     assert set(doc["rows"][0]) == {"key", "claim", "source", "paper", "computed", "agreement", "expected", "detail"}
-    assert "36 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
+    assert "37 claims" in repr(fast_report) and "every verdict as recorded" in repr(fast_report)
     assert repr(Report(rows=None)) == "Report(<unprintable>)"
 
 
