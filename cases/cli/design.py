@@ -275,7 +275,7 @@ def run(args):
             return _print_odds(args, family, model, table)
         result = design(family, targets, model, tolerance=args.tolerance, confidence=args.confidence, seed=args.seed,
                         max_tosses=args.max_tosses, progress=tick)
-        check = resimulate(result, args.resimulate, seed=None, progress=tick) if args.resimulate else None
+        check = resimulate(result, args.resimulate, seed=args.seed, progress=tick) if args.resimulate else None
         curves = design_curves(result, progress=tick) if args.figure else None
     finally:
         if bar is not None:
@@ -333,10 +333,13 @@ def _print_odds(args, family, model, table):
     rows = {k: {"p": p, "interval": [max(0.0, p - h), min(1.0, p + h)]} for k, (p, h) in table.items()}
     if args.json:
         print(json.dumps({"family": family.to_dict(), "model": model.to_dict(), "outcomes": rows,
+                          "seed": None if model.exact else args.seed,
                           "confidence": args.confidence}, indent=1, allow_nan=False))
         return 0
     print(f"family     {family.describe()}")
     print(f"model      {model!r}")
+    if not model.exact:
+        print(f"seed       {args.seed}")
     for name, (p, h) in table.items():
         shown = f"{p:.5f} ± {h:.2g} ({100 * args.confidence:g}%)" if h else f"{p:.12g}"
         print(f"outcome    {name:<10} P = {shown}")
@@ -346,6 +349,8 @@ def _print_odds(args, family, model, table):
 def _print_design(result, body, physical, check):
     print(f"family     {result.family.describe()}")
     print(f"model      {result.model!r}")
+    if result.tosses:  # a Monte Carlo model: the seed of its launches (the re-simulation draws a stream apart)
+        print(f"seed       {result.seed}")
     kind = f"{100 * result.confidence:g}%" if result.model.exact is False else "bracket of the root"
     for name, v, (a, b) in zip(result.family.names, result.x, result.interval):
         print(f"design     {name} = {v:.12g} in [{a:.12g}, {b:.12g}] ({kind}; {result.method})")

@@ -8,7 +8,7 @@ import shlex
 import sys
 
 from .budget import add_allow_long, check_time
-from .common import LibraryChoices, add_command, count, number, progress_bar, written_lines
+from .common import LibraryChoices, add_command, count, number, progress_bar, seed_argument, written_lines
 
 __all__ = ["register"]
 
@@ -78,7 +78,7 @@ def register(subparsers):
     group.add_argument("--device", choices=["cpu", "gpu"], default=None,
                        help="where the billiard's orbits run (chaotic-fraction, lyapunov, tau; default cpu): gpu "
                             "computes each cell's orbits on a CUDA GPU (coinwall[gpu]), one local worker by default")
-    scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
+    seed_argument(scan, "the scan (each cell's seed is drawn from it and the cell's coordinates)")
     scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",
                       help="'local' (default): a local cluster made for this scan; 'synchronous': every cell in this "
                            "process, one after the other; or a running scheduler")

@@ -8,13 +8,16 @@ import os
 
 from .budget import add_allow_long, check_time
 from .common import (
+    DEFAULT_SEED,
     add_command,
     count,
     load_wall,
     number,
     progress_bar,
+    seed_argument,
     wall_arguments,
     wall_options,
+    wall_params,
     written_lines,
 )
 
@@ -76,6 +79,9 @@ def _epsilons(text: str):
 
 
 _grid.__name__ = "grid LO:HI:N or range LO:HI (N up to 4096)"
+#: the units of the numbers in the JSON (the shape `coin3d bounce` gives): units of κ, also with --kappa (which
+#: converts --g from m/s²)
+UNITS = {"length": "kappa", "field": "kappa/s^2"}
 #: draws of --spread and --uncertainty by default (the basin map, a grid, takes none)
 _SAMPLES = 10_000
 _epsilons.__name__ = "epsilons LO:HI:N (0 < LO < HI <= 0.1, 2 <= N <= 50)"
@@ -121,7 +127,7 @@ def register(subparsers):
                              "from N log-spaced ε between LO and HI (fractions of the box's sides)")
     parser.add_argument("--samples", type=count, default=_SAMPLES,
                         help="draws for --spread, launches per ε for --uncertainty (default 10000)")
-    parser.add_argument("--seed", type=count, default=None, help="seed of the --spread or --uncertainty draws")
+    seed_argument(parser, "the --spread or --uncertainty draws")
     parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                         help="basin map: figure (.png, .svg, .pdf), .csv (v0,omega0,outcome,name,bounces) or .json "
@@ -168,7 +174,7 @@ def _cmd_toss(args):
     if args.uncertainty is not None and (args.output or args.spread is not None):
         raise InvalidArgument("--uncertainty prints the exponent only: drop -o and --spread")
     # flags the basin map does not read are refused, not ignored
-    if args.spread is None and args.uncertainty is None and (args.samples != _SAMPLES or args.seed is not None):
+    if args.spread is None and args.uncertainty is None and (args.samples != _SAMPLES or args.seed != DEFAULT_SEED):
         raise InvalidArgument("--samples and --seed are for --spread and --uncertainty; the basin map is a grid "
                               "(--v0, --omega)")
     if args.catch and args.slide:
@@ -211,7 +217,8 @@ def _cmd_toss(args):
         finally:
             if bar is not None:
                 bar.close()
-        summary = dict(spread.to_dict(), wall=args.wall, g=g, e=args.e, mu=args.mu, rolling=args.rolling,
+        summary = dict(spread.to_dict(), wall=args.wall, params=wall_params(wall), seed=args.seed, units=UNITS, g=g,
+                       e=args.e, mu=args.mu, rolling=args.rolling,
                        height=height)
         from coinwall.forward.estimates import MIN_SAMPLES, require
 
@@ -223,12 +230,12 @@ def _cmd_toss(args):
         else:
             print(f"table      {table!r}")
             print(f"spread     {spread!r}")
-            print(f"draws      {args.samples} ({decided} decided within --impacts {args.impacts}); ± is the binomial "
-                  "standard error")
+            print(f"draws      {args.samples} ({decided} decided within --impacts {args.impacts}), seed {args.seed}; ± "
+                  "is the binomial standard error")
             _print_undecided(spread.undecided, args.samples)
         return 0
     if args.uncertainty is not None:
-        return _uncertainty(args, table, height, g)
+        return _uncertainty(args, table, height, g, wall_params(wall))
     v = np.linspace(*args.v0[:2], args.v0[2])
     w = np.linspace(*args.omega[:2], args.omega[2])
     bar = progress_bar(args, v.size * w.size, "toss")
@@ -247,10 +254,10 @@ def _cmd_toss(args):
         elif ext == ".csv":
             files[path] = result.to_csv().encode()
         else:
-            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param),
+            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=wall_params(wall)),
                                      allow_nan=False).encode()
     written = write_all(files)
-    summary = {"wall": args.wall, "params": args.param, "g": g, "e": args.e, "mu": args.mu, "rolling": args.rolling,
+    summary = {"wall": args.wall, "params": wall_params(wall), "units": UNITS, "g": g, "e": args.e, "mu": args.mu, "rolling": args.rolling,
                "height": height, "theta0": result.theta0, "grid": [int(w.size), int(v.size)],
                "names": list(result.names), "fractions": result.fractions(), "status": result.status_counts(),
                "undecided": result.undecided_counts(), "mean_bounces": float(np.mean(result.bounces)),
@@ -275,7 +282,7 @@ def _print_undecided(counts, total):
         print(f"undecided  {line}")
 
 
-def _uncertainty(args, table, height, g):
+def _uncertainty(args, table, height, g, params):
     import numpy as np
 
     from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
@@ -287,7 +294,7 @@ def _uncertainty(args, table, height, g):
     lo, hi, n = args.uncertainty
     eps = np.geomspace(lo, hi, n)
     result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
-                                  theta0=args.theta0, seed=args.seed if args.seed is not None else 0,
+                                  theta0=args.theta0, seed=args.seed,
                                   impacts=args.impacts, catch=args.catch, workers=args.workers)
     from coinwall.forward.estimates import require
 
@@ -296,11 +303,13 @@ def _uncertainty(args, table, height, g):
     require(usable, 2, "the uncertainty exponent", f"uncertain launches {list(map(int, result.counts))} of "
             f"{args.samples} per ε: raise --samples or widen the ε range", unit="ε values with 10 uncertain launches")
     if args.json:
-        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param, g=g, height=height),
+        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=params, seed=args.seed, units=UNITS, g=g,
+                                    height=height),
                          indent=1, allow_nan=False))
         return 0
     print(f"table      {table!r}")
     print(f"exponent   {result!r}")
+    print(f"draws      {result.samples} launches per ε, seed {args.seed}")
     print("epsilon        uncertain fraction")
     for e, f, c in zip(result.epsilons, result.fractions, result.counts):
         print(f"{e:<14.4g} {f:.5f}  ({c} of {result.samples})")

@@ -1,0 +1,127 @@
+"""One convention across the commands (docs/cli.md, "Conventions"), one test per rule:
+
+* seeds: every command that draws at random takes ``--seed N`` with the same default (0), so that a command run
+  twice without it prints the same numbers, and prints the seed it used, in its text and in its JSON (``"seed"``);
+* parameters: every command that reads a WALL gives ``"wall"`` (as written) and ``"params"`` in its JSON, with one
+  shape, ``{name: value}`` (the case's own for ``case:NAME``);
+* units: the commands with a field (``toss``, ``coin3d bounce``) state the units of their numbers in one shape
+  (``"units": {"length", "field"}``).
+
+The runs are small (a second or two each, the kernels' compile aside)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from coinwall.cases.cli.common import DEFAULT_SEED
+from coinwall.cases.cli.main import main
+from coinwall.cases.cli.parser import build_parser
+
+ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
+
+#: the commands that draw at random, each with a small run (argv without --seed and --json)
+RANDOM = {
+    "simulate": ["simulate", ELLIPSE, "--param", "eps=0.5", "--H", "3", "--collisions", "2000"],
+    "simulate --orbits": ["simulate", ELLIPSE, "--param", "eps=0.5", "--H", "3", "--collisions", "500",
+                          "--orbits", "4"],
+    "section": ["section", ELLIPSE, "--param", "eps=0.5", "--H", "3", "--orbits", "3", "--collisions", "200"],
+    "correlation": ["correlation", ELLIPSE, "--param", "eps=0.5", "--H", "3", "--bounces", "20000", "--max-lag", "5",
+                    "--orbits", "4"],
+    "toss --spread": ["toss", ELLIPSE, "--param", "eps=99", "--spread", "2,5,0.05,0.2", "--samples", "200"],
+    "toss --uncertainty": ["toss", ELLIPSE, "--param", "eps=99", "--v0", "0:3", "--omega", "0:8", "--uncertainty",
+                           "1e-3:1e-2:2", "--samples", "300"],
+    "coin3d caught": ["coin3d", "caught", "--psi", "70", "--samples", "1000"],
+    "coin3d bounce": ["coin3d", "bounce", "--samples", "100", "--bounces", "2"],
+    "kam": ["kam", "--H", "3", "--steps", "1", "--orbits", "2", "--collisions", "200"],
+    "design": ["design", "abs(cos(t)) + h*abs(sin(t))", "--param", "h=1", "--model", "bounce", "--tolerance", "0.05"],
+}
+#: what varies from run to run by nature (timings), left out of the comparison
+TIMINGS = ("seconds", "collisions_per_second", "compile_seconds", "estimated_seconds")
+
+
+def _run(argv, capsys):
+    capsys.readouterr()
+    code = main(argv)
+    out = capsys.readouterr().out
+    assert code == 0, f"coinwall {' '.join(argv)}: exit {code}\n{out}"
+    return out
+
+
+def _json(argv, capsys):
+    doc = json.loads(_run(argv + ["--json"], capsys))
+    for key in TIMINGS:
+        doc.pop(key, None)
+    return doc
+
+
+def test_one_seed_flag():
+    """The same flag, type and default wherever a command draws at random (design resolves its model-specific
+    flags' None to their defaults: 0)."""
+    from coinwall.cases.cli import design
+
+    parser = build_parser()
+    commands = {argv[0] for argv in RANDOM.values()} | {"scan"}
+    for name in sorted(commands):
+        action = next(a for a in parser.commands[name]._actions if "--seed" in a.option_strings)
+        default = design._FLAGS["seed"][0] if name == "design" else action.default
+        assert default == DEFAULT_SEED == 0, name
+        assert action.type(" 7 ") == 7, name
+    others = set(parser.commands) - commands
+    for name in others:  # a command that draws nothing takes no seed
+        assert not any("--seed" in a.option_strings for a in parser.commands[name]._actions), name
+
+
+@pytest.mark.parametrize("name", RANDOM)
+def test_runs_repeat_and_print_their_seed(name, tmp_path, monkeypatch, capsys):
+    """Twice without --seed: the same JSON (timings aside), with "seed": 0; --seed 0 is the same run; the text
+    output prints the seed."""
+    monkeypatch.chdir(tmp_path)
+    argv = RANDOM[name]
+    first, second = _json(argv, capsys), _json(argv, capsys)
+    assert first == second
+    assert first["seed"] == DEFAULT_SEED
+    assert _json(argv + ["--seed", "0"], capsys) == first
+    assert f"seed {DEFAULT_SEED}" in _run(argv, capsys).replace("seed       ", "seed ")
+
+
+def test_another_seed_draws_again(capsys):
+    """The seed is used: another one gives other draws (and says so)."""
+    argv = RANDOM["coin3d caught"]
+    other = _json(argv + ["--seed", "5"], capsys)
+    assert other["seed"] == 5 and other["same_side"] != _json(argv, capsys)["same_side"]
+
+
+#: the commands that read a WALL, with the wall given as ELLIPSE --param eps=VALUE (99, a coin, for the toss)
+WALLS = {
+    "solve": ["solve", ELLIPSE, "--param", "eps=0.5", "--points", "128", "--no-cross-check"],
+    "critical": ["critical", ELLIPSE, "--param", "eps=0.5"],
+    "quantum": ["quantum", ELLIPSE, "--param", "eps=0.5", "--H", "3", "--levels", "2"],
+    **{name: argv for name, argv in RANDOM.items()
+       if argv[0] in ("simulate", "section", "correlation", "toss")},
+    "toss": ["toss", ELLIPSE, "--param", "eps=99", "--v0", "0:3:4", "--omega", "0:8:4"],
+}
+
+
+@pytest.mark.parametrize("name", WALLS)
+def test_params_have_one_shape(name, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    doc = _json(WALLS[name], capsys)
+    assert doc["wall"] == ELLIPSE
+    value = float(WALLS[name][WALLS[name].index("--param") + 1].split("=")[1])
+    assert doc["params"] == {"eps": value}
+
+
+def test_params_of_a_case(capsys):
+    """A case gives its own parameters, as a dict too (section gave the empty list of --param before)."""
+    doc = _json(["section", "case:ellipse-0.55", "--H", "1.9", "--orbits", "2", "--collisions", "100"], capsys)
+    assert doc["wall"] == "case:ellipse-0.55" and doc["params"] == {"eps": 0.55}
+
+
+@pytest.mark.parametrize("name", ["toss --spread", "coin3d bounce", "toss"])
+def test_units_have_one_shape(name, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    doc = _json(RANDOM.get(name) or WALLS[name], capsys)
+    assert set(doc["units"]) == {"length", "field"}
+    assert doc["units"]["field"] == doc["units"]["length"] + "/s^2"
