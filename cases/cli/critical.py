@@ -48,7 +48,8 @@ def run(args):
     result = critical_offset(wall)
     finite = math.isfinite(result.b_c)
     if args.json:
-        doc = {"wall": args.wall, "params": wall_params(wall), "b_c": result.b_c if finite else None, "b_c_infinite": not finite,
+        doc = {"wall": args.wall, "params": wall_params(wall),
+               "b_c": result.b_c if finite else None, "b_c_infinite": not finite,
                "b_c_tolerance": result.b_c_tolerance,
                "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
         if result.lower is not None:

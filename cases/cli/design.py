@@ -92,7 +92,8 @@ def register(subparsers):
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
     parser.add_argument("--confidence", type=number, default=None,
                         help="of the Monte Carlo intervals and of --resimulate's comparison (default 0.95)")
-    parser.add_argument("--seed", type=count, default=None, help="Monte Carlo: seed of the launches (default 0)")
+    parser.add_argument("--seed", type=count, default=None, metavar="N",
+                        help="Monte Carlo: seed of the launches (default 0)")
     parser.add_argument("--max-tosses", type=count, default=None,
                         help="Monte Carlo: the most launches per evaluation (default 1e7)")
     parser.add_argument("--workers", type=count, default=None, help="Monte Carlo: threads (default: every core)")
