@@ -293,9 +293,14 @@ def _uncertainty(args, table, height, g, params):
                               f"{args.v0[0]:g}:{args.v0[1]:g} and {args.omega[0]:g}:{args.omega[1]:g}")
     lo, hi, n = args.uncertainty
     eps = np.geomspace(lo, hi, n)
-    result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
-                                  theta0=args.theta0, seed=args.seed,
-                                  impacts=args.impacts, catch=args.catch, workers=args.workers)
+    bar = progress_bar(args, 3 * args.samples * n, "toss")  # each launch and its two ε-neighbours
+    try:
+        result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
+                                      theta0=args.theta0, seed=args.seed, impacts=args.impacts, catch=args.catch,
+                                      workers=args.workers, progress=bar.update if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
     from coinwall.forward.estimates import require
 
     # a point of the fit is log f(ε) with relative error 1/√count: it needs 10 uncertain launches at least

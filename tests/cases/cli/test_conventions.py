@@ -125,3 +125,55 @@ def test_units_have_one_shape(name, tmp_path, monkeypatch, capsys):
     doc = _json(RANDOM.get(name) or WALLS[name], capsys)
     assert set(doc["units"]) == {"length", "field"}
     assert doc["units"]["field"] == doc["units"]["length"] + "/s^2"
+
+
+class _CountingBar:
+    """Stands in for the tqdm bar of :func:`coinwall.cases.cli.common.progress_bar`: the total and every step
+    must be whole numbers (a float shows as ``7.00/45.0``)."""
+
+    made = []
+
+    def __init__(self, total, unit):
+        import numbers
+
+        assert total is None or (isinstance(total, numbers.Integral) and not isinstance(total, bool)), total
+        self.total, self.unit, self.n, self.steps = total, unit, 0, 0
+        _CountingBar.made.append(self)
+
+    def update(self, step=1):
+        import numbers
+
+        assert isinstance(step, numbers.Integral) and not isinstance(step, bool), f"{self.unit}: step {step!r}"
+        self.n += step
+        self.steps += 1
+
+    def set_description(self, text):
+        pass
+
+    def close(self):
+        assert self.total is None or self.n <= self.total, f"{self.unit}: {self.n} of {self.total}"
+
+
+#: the long commands, each with a bar (the RANDOM runs above, and the basin map and the spectrum)
+BARS = {**{name: argv for name, argv in RANDOM.items() if name not in ("coin3d caught", "simulate")},
+        "simulate": RANDOM["simulate"][:-1] + ["400000"],  # one orbit has a bar above 200,000 collisions
+        "toss": WALLS["toss"], "quantum": WALLS["quantum"]}
+
+
+@pytest.mark.parametrize("name", BARS)
+def test_progress_bars_count_whole_numbers(name, tmp_path, monkeypatch, capsys):
+    """Every command's bar counts whole tosses, orbits, collisions, cells (without a terminal the commands draw
+    none, so the bar is replaced by one that checks what it is given; tests/cases/cli/test_progress.py draws
+    real ones on a pseudo-terminal)."""
+    import importlib
+
+    from coinwall.cases.cli.parser import SUBCOMMANDS
+
+    monkeypatch.chdir(tmp_path)
+    _CountingBar.made.clear()
+    for module in SUBCOMMANDS.values():
+        if hasattr(module, "progress_bar"):
+            monkeypatch.setattr(module, "progress_bar", lambda args, total, unit: _CountingBar(total, unit))
+    importlib.import_module("coinwall.cases.cli.common")
+    _run(BARS[name], capsys)
+    assert _CountingBar.made and any(bar.steps for bar in _CountingBar.made), f"{name}: no bar was moved"
