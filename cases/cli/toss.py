@@ -26,7 +26,7 @@ __all__ = ["register"]
 DESCRIPTION = """\
 The toss that lands: the body is launched from a rest orientation with its centre of mass at
 --height (units of κ) above the floor, with upward velocity v0 and spin ω0 (θ̇), in the field --g
-(κ/s², or m/s² with --kappa in metres), and bounces on the floor with restitution --e and Coulomb
+(κ/s²; with --kappa in metres every length, speed and the field are in SI), and bounces on the floor with restitution --e and Coulomb
 friction --mu (0: frictionless impacts, Newton's restitution on the normal velocity) until its
 outcome is decided: its energy below the barrier of the floor's valley it is in, or at rest.  With
 friction a body whose bounces die out slides, rolls and rocks on the floor (with --rolling, against
@@ -79,8 +79,8 @@ def _epsilons(text: str):
 
 
 _grid.__name__ = "grid LO:HI:N or range LO:HI (N up to 4096)"
-#: the units of the numbers in the JSON (the shape `coin3d bounce` gives): units of κ, also with --kappa (which
-#: converts --g from m/s²)
+#: the units of the numbers in the JSON (the shape `coin3d bounce` gives): units of κ, also with --kappa (which reads
+#: the inputs in SI)
 UNITS = {"length": "kappa", "field": "kappa/s^2"}
 #: draws of --spread and --uncertainty by default (the basin map, a grid, takes none)
 _SAMPLES = 10_000
@@ -107,7 +107,8 @@ def register(subparsers):
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--H", type=number, default=None, help="a ceiling at this height (κ; default: none)")
     parser.add_argument("--kappa", type=number, default=None, metavar="METRES",
-                        help="radius of gyration in metres: --g is then in m/s² and is divided by it")
+                        help="radius of gyration in metres: the wall, --b0, --H, --height, --rolling and the launch "
+                             "speeds (--v0, --spread) are then in m and m/s and --g in m/s² (results in units of κ)")
     parser.add_argument("--theta0", type=number, default=None,
                         help="launch orientation (rad; default: heads' rest angle for a coin, else the first)")
     parser.add_argument("--v0", type=_grid, default=(0.0, 3.0, 120), metavar="LO:HI:N",
@@ -191,10 +192,14 @@ def _cmd_toss(args):
         raise InvalidArgument(f"--g must be a positive field, got {args.g}")
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
-    g = args.g / args.kappa if args.kappa is not None else args.g
+    if args.kappa is not None:
+        _to_kappa_units(args)
+    g = args.g
     _check_work(args, args.samples if args.spread is not None else
                 2 * args.samples * args.uncertainty[2] if args.uncertainty is not None else args.v0[2] * args.omega[2])
     wall = load_wall(args.wall, args.param, **wall_options(args))
+    if args.kappa is not None:  # the wall in metres, like --b0 (as the billiard commands read --kappa)
+        wall = wall.scaled(1.0 / args.kappa)
     table = FieldTable(wall, g=g, e=args.e, b0=args.b0, H=args.H, mu=args.mu, rolling=args.rolling)
     height = args.height
     if height is None:
@@ -272,6 +277,19 @@ def _cmd_toss(args):
         for line in written_lines(written, written.replaced):
             print(line)
     return 0
+
+
+def _to_kappa_units(args) -> None:
+    """``--kappa METRES``: the lengths, speeds and the field given in SI (m, m/s, m/s²) -> units of κ, in which the
+    toss is computed and reported (the wall is scaled where it is read)."""
+    k = args.kappa
+    args.g, args.b0, args.rolling = args.g / k, args.b0 / k, args.rolling / k
+    args.H = None if args.H is None else args.H / k
+    args.height = None if args.height is None else args.height / k
+    args.v0 = (args.v0[0] / k, args.v0[1] / k, args.v0[2])
+    if args.spread is not None:
+        v0, omega0, sigma_v0, sigma_omega0 = args.spread
+        args.spread = [v0 / k, omega0, sigma_v0 / k, sigma_omega0]
 
 
 def _print_undecided(counts, total):

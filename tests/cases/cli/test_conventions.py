@@ -177,3 +177,17 @@ def test_progress_bars_count_whole_numbers(name, tmp_path, monkeypatch, capsys):
     importlib.import_module("coinwall.cases.cli.common")
     _run(BARS[name], capsys)
     assert _CountingBar.made and any(bar.steps for bar in _CountingBar.made), f"{name}: no bar was moved"
+
+
+def test_kappa_reads_si_and_reports_in_kappa(capsys):
+    """`toss --kappa METRES` reads the wall, --b0, --H, --height and the launch speeds in metres (m/s) and --g in
+    m/s², like the billiard commands: a body of κ = 0.5 m given in SI tosses as the same body given in units of κ
+    (g = 0.5 m/s² is 1 κ/s², v0 up to 1.5 m/s is 3 κ/s, a height of 1.1 m is 2.2 κ)."""
+    in_kappa = ["toss", "sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=99", "--b0", "0.1", "--g", "1",
+                "--height", "2.2", "--v0", "0:3:5", "--omega", "0:8:5"]
+    in_si = ["toss", "0.5*sqrt((1+eps*cos(t)**2)/(1+eps))", "--param", "eps=99", "--b0", "0.05", "--kappa", "0.5",
+             "--g", "0.5", "--height", "1.1", "--v0", "0:1.5:5", "--omega", "0:8:5"]
+    a, b = _json(in_kappa, capsys), _json(in_si, capsys)
+    assert b["units"] == a["units"] == {"length": "kappa", "field": "kappa/s^2"}
+    for key in ("g", "height", "fractions", "status", "mean_bounces", "grid"):
+        assert b[key] == pytest.approx(a[key], rel=1e-12), key
