@@ -289,6 +289,19 @@ def seed_argument(parser, what: str):
         The subcommand's parser.
     what : str
         What is drawn, for the help ("the random start states").
+
+    Returns
+    -------
+    None
+        The flag is added to ``parser`` (``args.seed``, an ``int``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser()
+    >>> seed_argument(parser, "the draws")
+    >>> parser.parse_args([]).seed, parser.parse_args(["--seed", "7"]).seed
+    (0, 7)
     """
     parser.add_argument("--seed", type=count, default=DEFAULT_SEED, metavar="N",
                         help=f"seed of {what} (default {DEFAULT_SEED}: a run repeats; printed with the results)")
@@ -296,7 +309,26 @@ def seed_argument(parser, what: str):
 
 def wall_params(wall) -> dict:
     """The parameters of a wall as every command's JSON gives them: ``{name: value}`` (empty for a file or a
-    formula without parameters; a ``case:NAME`` gives the case's own)."""
+    formula without parameters; a ``case:NAME`` gives the case's own).
+
+    Parameters
+    ----------
+    wall : coinwall.forward.Wall
+        The wall a command read.
+
+    Returns
+    -------
+    dict
+        ``{name: float}``.
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> wall_params(Wall.from_expression("1 + a*cos(2*t)", {"a": 0.1}))
+    {'a': 0.1}
+    >>> wall_params(load_wall("case:coin", []))
+    {'eps': 99.0}
+    """
     return {str(name): float(value) for name, value in dict(getattr(wall, "params", None) or {}).items()}
 
 
