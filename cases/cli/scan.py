@@ -214,11 +214,13 @@ def _cmd_scan(args):
         print(f"coinwall: warning: {result.refused} of {result.cells} cells refused (NaN in the store; the reasons "
               f"are in {'the JSON' if args.json else 'the notes'})", file=sys.stderr)
     if args.json:
-        print(json.dumps(dict(result.to_dict(), figures=list(args.figure)), indent=1, allow_nan=False))
+        # the fixed parameters as {name: value}, as every command gives them (the scanned ones are the grid's axes)
+        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=dict(table.params), seed=args.seed,
+                              figures=list(args.figure)), indent=1, allow_nan=False))
         return status
     print(f"store      {os.path.abspath(result.path)}")
     print(f"cells      {result.cells}: {result.computed} computed now, {result.resumed} already in the store, "
-          f"{result.refused} refused")
+          f"{result.refused} refused; seed {args.seed}")
     if result.computed:
         print(f"time       {result.seconds:.1f} s on {result.workers} workers "
               f"({result.computed / max(result.seconds, 1e-9):.3g} cells/s)")

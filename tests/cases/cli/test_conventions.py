@@ -191,3 +191,15 @@ def test_kappa_reads_si_and_reports_in_kappa(capsys):
     assert b["units"] == a["units"] == {"length": "kappa", "field": "kappa/s^2"}
     for key in ("g", "height", "fractions", "status", "mean_bounces", "grid"):
         assert b[key] == pytest.approx(a[key], rel=1e-12), key
+
+
+def test_scan_gives_its_seed_and_params(tmp_path, monkeypatch, capsys):
+    """scan (a store, so not run twice here: a second run resumes it) gives the seed and the fixed parameters in
+    the same shape as the other commands; scan's own tests check that a rerun gives identical arrays."""
+    pytest.importorskip("dask.distributed")
+    monkeypatch.chdir(tmp_path)
+    argv = ["scan", "chaotic-fraction", "sqrt((1+eps*cos(t)**2)/(1+eps)) + a*cos(3*t)", "--param", "eps=0.5,4",
+            "--param", "a=0.01", "--H", "2,3", "--orbits", "4", "--collisions", "200", "--scheduler", "synchronous"]
+    doc = _json(argv + ["-o", "one.zarr"], capsys)
+    assert doc["seed"] == DEFAULT_SEED and doc["params"] == {"a": 0.01}
+    assert f"seed {DEFAULT_SEED}" in _run(argv + ["-o", "two.zarr"], capsys)
