@@ -2,7 +2,7 @@
 hostile inputs they are given.
 
 Used by ``tests/cases/cli/test_fuzz_cli.py`` (the default run, bounded) and ``tests/benchmarks/fuzz_cli.py`` (a
-larger run outside it, whose counts are recorded in docs/cli.md ("Fuzz tests")).
+larger run outside it, whose counts are recorded in docs/cli-limits.md ("Fuzz tests")).
 
 Why a worker process: a command that crashes the interpreter (a segmentation fault in compiled code) or
 hangs must fail one example, not the test session, and starting Python plus numpy for every one of

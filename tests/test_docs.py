@@ -27,7 +27,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = ("README.md", "docs/api.md", "docs/cli.md", "docs/theory.md", "docs/quantum.md", "docs/explore.md",
+DOCS = ("README.md", "docs/api.md", "docs/cli.md", "docs/cli-limits.md", "docs/theory.md", "docs/quantum.md", "docs/explore.md",
         "docs/scan.md", "docs/design.md")
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
 _STATUS = re.compile(r"^\[exit status (\d+)\]$")

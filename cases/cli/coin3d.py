@@ -6,12 +6,12 @@ import json
 import math
 
 from .budget import add_allow_long
-from .common import add_command, count, number, progress_bar, written_lines
+from .common import DEFAULT_SEED, add_command, count, number, progress_bar, seed_argument, written_lines
 
 __all__ = ["register"]
 
 #: the defaults of the flags some modes read, and which mode reads which (a flag given to another is refused)
-_DEFAULTS = {"psi": None, "samples": 20_000, "seed": None, "e": 0.6, "bounces": 10, "g": 9.81, "ceiling": None,
+_DEFAULTS = {"psi": None, "samples": 20_000, "seed": DEFAULT_SEED, "e": 0.6, "bounces": 10, "g": 9.81, "ceiling": None,
              "height": 1.0}
 _READS = {"caught": {"psi", "samples", "seed"}, "fit": set(), "bounce": set(_DEFAULTS)}
 
@@ -44,7 +44,7 @@ def register(subparsers):
                         help="angle between angular momentum and normal, degrees (caught: required; bounce: default "
                              "the value fitted to the real flips)")
     parser.add_argument("--samples", type=count, default=_DEFAULTS["samples"], help="tosses simulated (default 20000)")
-    parser.add_argument("--seed", type=count, default=_DEFAULTS["seed"], help="seed of the draws")
+    seed_argument(parser, "the draws (caught, bounce)")
     parser.add_argument("--e", type=number, default=_DEFAULTS["e"], help="bounce: restitution in (0, 1] (default 0.6)")
     parser.add_argument("--bounces", type=count, default=_DEFAULTS["bounces"],
                         help="bounce: floor impacts followed (default 10)")
@@ -115,7 +115,7 @@ def _caught(args):
     if args.json:
         print(json.dumps(out, indent=1, allow_nan=False))
     else:
-        print(f"caught     ψ = {args.psi:g}°: P(same side) = {one.text('tosses', 5)}")
+        print(f"caught     ψ = {args.psi:g}°: P(same side) = {one.text('tosses', 5)}, seed {args.seed}")
         difference = f"difference {z:+.2f} standard errors" if z is not None else f"difference {p - dhm:+.5f}"
         print(f"DHM        ½ + arcsin(cot²ψ)/π = {dhm:.5f}  ({difference})")
     return 0
@@ -157,6 +157,10 @@ def _fit(args):
         print(line)
     return 0
 
+
+#: bounce: the units of its lengths and field (JSON ``units``, the shape ``toss`` gives): the coin is the real coin of
+#: the experiment, so SI, as any command is with ``--kappa`` in metres
+UNITS = {"length": "m", "field": "m/s^2"}
 
 #: bounce: the measured cost of following one toss to one bounce (2 shared cores: 20,000 tosses × 10 bounces in
 #: about 6 s, 30 µs, at the default height and field), counted as 100 µs per second of the first flight (at least
@@ -223,14 +227,15 @@ def _bounce(args):
             f"of {args.samples} tosses {int(study.reached[0]) if study.reached.size else 0} reached the first bounce "
             f"(status: {', '.join(f'{k}: {v}' for k, v in study.status.items())})")
     if args.json:
-        print(json.dumps(study.to_dict(), indent=1, allow_nan=False))
+        print(json.dumps(dict(study.to_dict(), seed=args.seed, units=UNITS), indent=1, allow_nan=False))
         return 1 if failed > 0.01 * args.samples else 0
     import numpy as np
 
     where = f"a ceiling {args.ceiling:g} m above the floor" if args.ceiling is not None else "a floor"
     print(f"toss       ψ = {psi:.2f}°{' (fitted to the real flips)' if fitted else ''}, e = {args.e:g}, "
           f"g = {args.g:g} m/s², {where}, launched from {args.height:g} m; {args.samples} tosses, "
-          f"seed {args.seed if args.seed is not None else 'random'}")
+          f"seed {args.seed}")
+    print("units      SI: the coin of the experiment (radius 12 mm, thickness 1.75 mm), lengths in m, g in m/s²")
     print(f"settled    {study.settled:.3f} of the tosses by bounce {study.same.size} (energy below the equator's "
           "barrier: the side can no longer change)")
     # how each toss's run ended (the kernel's status); "impact budget reached": followed to the last bounce

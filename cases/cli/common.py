@@ -24,10 +24,16 @@ __all__ = [
     "parse_com",
     "parse_params",
     "progress_bar",
+    "seed_argument",
     "table_arguments",
     "wall_arguments",
+    "wall_params",
     "written_lines",
 ]
+
+#: the seed of every command that draws at random when no ``--seed`` is given: a command run twice prints the same
+#: numbers, and the seed it used is printed (text and JSON) so that a run can be repeated or varied
+DEFAULT_SEED = 0
 
 # what a number flag accepts: ASCII decimal notation as in --param (not 0x10, 1_000 or Arabic-Indic digits, which
 # float() takes), and inf/nan, so that the check that follows refuses them with its reason instead of argparse
@@ -272,6 +278,58 @@ def progress_bar(args, total, unit):
     size = {} if columns > 0 and lines > 0 else {"ncols": 80, "nrows": 24}
     # unit_scale=False: counts are whole numbers ("7/45 toss"), not SI-scaled floats ("7.00/45.0")
     return tqdm(total=total, unit=unit, unit_scale=False, file=sys.stderr, leave=False, **size)
+
+
+def seed_argument(parser, what: str):
+    """``--seed N``, the one seed flag of the commands that draw at random (default :data:`DEFAULT_SEED`).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The subcommand's parser.
+    what : str
+        What is drawn, for the help ("the random start states").
+
+    Returns
+    -------
+    None
+        The flag is added to ``parser`` (``args.seed``, an ``int``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser()
+    >>> seed_argument(parser, "the draws")
+    >>> parser.parse_args([]).seed, parser.parse_args(["--seed", "7"]).seed
+    (0, 7)
+    """
+    parser.add_argument("--seed", type=count, default=DEFAULT_SEED, metavar="N",
+                        help=f"seed of {what} (default {DEFAULT_SEED}: a run repeats; printed with the results)")
+
+
+def wall_params(wall) -> dict:
+    """The parameters of a wall as every command's JSON gives them: ``{name: value}`` (empty for a file or a
+    formula without parameters; a ``case:NAME`` gives the case's own).
+
+    Parameters
+    ----------
+    wall : coinwall.forward.Wall
+        The wall a command read.
+
+    Returns
+    -------
+    dict
+        ``{name: float}``.
+
+    Examples
+    --------
+    >>> from coinwall import Wall
+    >>> wall_params(Wall.from_expression("1 + a*cos(2*t)", {"a": 0.1}))
+    {'a': 0.1}
+    >>> wall_params(load_wall("case:coin", []))
+    {'eps': 99.0}
+    """
+    return {str(name): float(value) for name, value in dict(getattr(wall, "params", None) or {}).items()}
 
 
 def device_argument(parser):

@@ -12,7 +12,9 @@ from .common import (
     device_argument,
     load_table,
     progress_bar,
+    seed_argument,
     table_arguments,
+    wall_params,
     written_lines,
 )
 
@@ -41,7 +43,7 @@ def register(subparsers):
     corr.add_argument("--orbits", type=count, default=100, help="independent orbits (default 100)")
     corr.add_argument("--count", choices=["bottom", "all"], default="bottom",
                       help="n counts bottom collisions (default) or collisions with either wall")
-    corr.add_argument("--seed", type=count, default=None, help="seed of the random start states")
+    seed_argument(corr, "the random start states")
     corr.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                       help="figure (.png, .svg, .pdf) or .json (repeatable)")
     corr.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
@@ -64,7 +66,7 @@ def _cmd_correlation(args):
     check_time(args, args.bounces * per_bounce * NS_PER_COLLISION["kernel"] * 1e-9,
                f"--bounces {args.bounces} (about {per_bounce} collision(s) each, {NS_PER_COLLISION['kernel']:g} ns "
                "per collision)", "fewer --bounces")
-    _, table = load_table(args)
+    wall, table = load_table(args)
     bar = progress_bar(args, args.bounces, "bounce")
     try:
         result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
@@ -73,7 +75,7 @@ def _cmd_correlation(args):
     finally:
         if bar is not None:
             bar.close()
-    doc = dict(result.to_dict(), wall=args.wall, params=args.param, kappa=args.kappa)
+    doc = dict(result.to_dict(), wall=args.wall, params=wall_params(wall), kappa=args.kappa)
     files = {}
     for path in args.output:
         if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:

@@ -42,13 +42,14 @@ def run(args):
     from coinwall.inverse import critical_offset
     from coinwall.inverse.critical import format_critical_angles
 
-    from .common import load_wall, wall_options
+    from .common import load_wall, wall_options, wall_params
 
     wall = load_wall(args.wall, args.param, **wall_options(args))
     result = critical_offset(wall)
     finite = math.isfinite(result.b_c)
     if args.json:
-        doc = {"b_c": result.b_c if finite else None, "b_c_infinite": not finite,
+        doc = {"wall": args.wall, "params": wall_params(wall),
+               "b_c": result.b_c if finite else None, "b_c_infinite": not finite,
                "b_c_tolerance": result.b_c_tolerance,
                "angles": list(result.angles), "intervals": [list(i) for i in result.intervals]}
         if result.lower is not None:

@@ -106,7 +106,8 @@ def register(subparsers):
                         help="Monte Carlo: half-width of each target probability's interval (default 0.005)")
     parser.add_argument("--confidence", type=number, default=None,
                         help="of the Monte Carlo intervals and of --resimulate's comparison (default 0.95)")
-    parser.add_argument("--seed", type=count, default=None, help="Monte Carlo: seed of the launches (default 0)")
+    parser.add_argument("--seed", type=count, default=None, metavar="N",
+                        help="Monte Carlo: seed of the launches (default 0)")
     parser.add_argument("--max-tosses", type=count, default=None,
                         help="Monte Carlo: the most launches per evaluation (default 1e7)")
     parser.add_argument("--workers", type=count, default=None, help="Monte Carlo: threads (default: every core)")
@@ -297,7 +298,7 @@ def run(args):
             return _print_odds(args, family, model, table)
         result = design(family, targets, model, tolerance=args.tolerance, confidence=args.confidence, seed=args.seed,
                         max_tosses=args.max_tosses, progress=tick)
-        check = resimulate(result, args.resimulate, seed=None, progress=tick) if args.resimulate else None
+        check = resimulate(result, args.resimulate, seed=args.seed, progress=tick) if args.resimulate else None
         curves = design_curves(result, progress=tick) if args.figure else None
     finally:
         if bar is not None:
@@ -355,10 +356,13 @@ def _print_odds(args, family, model, table):
     rows = {k: {"p": p, "interval": [max(0.0, p - h), min(1.0, p + h)]} for k, (p, h) in table.items()}
     if args.json:
         print(json.dumps({"family": family.to_dict(), "model": model.to_dict(), "outcomes": rows,
+                          "seed": None if model.exact else args.seed,
                           "confidence": args.confidence}, indent=1, allow_nan=False))
         return 0
     print(f"family     {family.describe()}")
     print(f"model      {model!r}")
+    if not model.exact:
+        print(f"seed       {args.seed}")
     for name, (p, h) in table.items():
         shown = f"{p:.5f} ± {h:.2g} ({100 * args.confidence:g}%)" if h else f"{p:.12g}"
         print(f"outcome    {name:<10} P = {shown}")
@@ -368,6 +372,8 @@ def _print_odds(args, family, model, table):
 def _print_design(result, body, physical, check):
     print(f"family     {result.family.describe()}")
     print(f"model      {result.model!r}")
+    if result.tosses:  # a Monte Carlo model: the seed of its launches (the re-simulation draws a stream apart)
+        print(f"seed       {result.seed}")
     kind = f"{100 * result.confidence:g}%" if result.model.exact is False else "bracket of the root"
     for name, v, (a, b) in zip(result.family.names, result.x, result.interval):
         print(f"design     {name} = {v:.12g} in [{a:.12g}, {b:.12g}] ({kind}; {result.method})")

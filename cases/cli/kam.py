@@ -12,6 +12,7 @@ from .common import (
     device_argument,
     number,
     progress_bar,
+    seed_argument,
     written_lines,
 )
 
@@ -42,7 +43,7 @@ def register(subparsers):
     kam.add_argument("--steps", type=count, default=7, help="bisection steps in log ε (default 7)")
     kam.add_argument("--regular-max", type=number, default=0.01, help="criterion: regular fraction below this (0.01)")
     kam.add_argument("--bracket", default="0.05,50", metavar="LOW,HIGH", help="initial ε bracket (default 0.05,50)")
-    kam.add_argument("--seed", type=count, default=0, help="seed (default 0)")
+    seed_argument(kam, "the random start states")
     kam.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                      help="figure (.png, .svg, .pdf) or .json (repeatable)")
     kam.add_argument("--json", action="store_true", help="print the result as JSON (no progress bar)")
@@ -77,18 +78,18 @@ def _cmd_kam(args):
         if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:
             files[path] = figure_bytes(result.plot().figure, path)
         else:
-            files[path] = json.dumps(result.to_dict()).encode()
+            files[path] = json.dumps(dict(result.to_dict(), seed=args.seed)).encode()
     written = write_all(files)
     missing = result.not_found()
     status = 1 if missing else 0  # a bracket without the boundary is no answer: said, and exit status 1
     if args.json:
-        print(json.dumps(result.to_dict(), indent=1, allow_nan=False))
+        print(json.dumps(dict(result.to_dict(), seed=args.seed), indent=1, allow_nan=False))
         for line in missing:
             print(f"warning: {line} (--bracket)", file=sys.stderr)
         return status
     print(result.table())
     print(f"criterion  regular fraction < {result.regular_max:g} among {result.orbits} orbits × {result.collisions} "
-          f"collisions (orbit regular if λ/collision ≤ 3 ln N / N)")
+          f"collisions, seed {args.seed} (orbit regular if λ/collision ≤ 3 ln N / N)")
     print("caveat     near the boundary the regular region is small islands (~1 %) and not monotonic in ε: "
           "ε_c moves with --seed and --orbits (docs/dynamics.md, 'Criterion sensitivity')")
     if args.output:

@@ -8,7 +8,7 @@ import shlex
 import sys
 
 from .budget import add_allow_long, check_time
-from .common import LibraryChoices, add_command, count, number, progress_bar, written_lines
+from .common import LibraryChoices, add_command, count, number, progress_bar, seed_argument, written_lines
 
 __all__ = ["register"]
 
@@ -78,7 +78,7 @@ def register(subparsers):
     group.add_argument("--device", choices=["cpu", "gpu"], default=None,
                        help="where the orbits run (chaotic-fraction, lyapunov, tau, toss; default cpu): gpu "
                             "computes each cell's orbits on a CUDA GPU (coinwall[gpu]), one local worker by default")
-    scan.add_argument("--seed", type=count, default=0, help="the scan's seed (default 0)")
+    seed_argument(scan, "the scan (each cell's seed is drawn from it and the cell's coordinates)")
     scan.add_argument("--scheduler", default="local", metavar="local|synchronous|tcp://HOST:PORT",
                       help="'local' (default): a local cluster made for this scan; 'synchronous': every cell in this "
                            "process, one after the other; or a running scheduler")
@@ -214,11 +214,13 @@ def _cmd_scan(args):
         print(f"coinwall: warning: {result.refused} of {result.cells} cells refused (NaN in the store; the reasons "
               f"are in {'the JSON' if args.json else 'the notes'})", file=sys.stderr)
     if args.json:
-        print(json.dumps(dict(result.to_dict(), figures=list(args.figure)), indent=1, allow_nan=False))
+        # the fixed parameters as {name: value}, as every command gives them (the scanned ones are the grid's axes)
+        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=dict(table.params), seed=args.seed,
+                              figures=list(args.figure)), indent=1, allow_nan=False))
         return status
     print(f"store      {os.path.abspath(result.path)}")
     print(f"cells      {result.cells}: {result.computed} computed now, {result.resumed} already in the store, "
-          f"{result.refused} refused")
+          f"{result.refused} refused; seed {args.seed}")
     if result.computed:
         print(f"time       {result.seconds:.1f} s on {result.workers} workers "
               f"({result.computed / max(result.seconds, 1e-9):.3g} cells/s)")

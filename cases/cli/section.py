@@ -12,7 +12,9 @@ from .common import (
     device_argument,
     load_table,
     progress_bar,
+    seed_argument,
     table_arguments,
+    wall_params,
     written_lines,
 )
 
@@ -37,7 +39,7 @@ def register(subparsers):
     table_arguments(section)
     section.add_argument("--orbits", type=count, default=60, help="number of orbits (default 60)")
     section.add_argument("--collisions", type=count, default=2000, help="collisions per orbit (default 2000)")
-    section.add_argument("--seed", type=count, default=None, help="seed of the random start states")
+    seed_argument(section, "the random start states")
     section.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                          help="figure (.png, .svg, .pdf), .csv (theta_c,phi_c,orbit) or .json (repeatable)")
     section.add_argument("--json", action="store_true", help="print a JSON summary (no progress bar)")
@@ -59,7 +61,7 @@ def _cmd_section(args):
     check_time(args, args.orbits * args.collisions * NS_PER_COLLISION["kernel"] * 1e-9,
                f"--orbits {args.orbits} × --collisions {args.collisions} ({NS_PER_COLLISION['kernel']:g} ns per "
                "collision)", "fewer --orbits or --collisions")
-    _, table = load_table(args)
+    wall, table = load_table(args)
     bar = progress_bar(args, args.orbits, "orbit")
     try:
         result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
@@ -77,15 +79,16 @@ def _cmd_section(args):
         elif ext == ".csv":
             files[path] = result.to_csv().encode()
         else:
-            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param)).encode()
+            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=wall_params(wall), seed=args.seed)).encode()
     written = write_all(files)
-    summary = {"wall": args.wall, "params": args.param, "kappa": args.kappa, "H": table.H, "orbits": result.orbits,
+    summary = {"wall": args.wall, "params": wall_params(wall), "kappa": args.kappa, "H": table.H, "seed": args.seed,
+               "orbits": result.orbits,
                "collisions": result.collisions, "points": int(result.theta.size), "notes": list(result.notes),
                "outputs": args.output}
     if args.json:
         print(json.dumps(summary, indent=1))
     else:
-        print(f"section    {result!r}")
+        print(f"section    {result!r}, seed {args.seed}")
         if args.output:
             for line in written_lines(written, written.replaced):
                 print(line)

@@ -6,7 +6,16 @@ import json
 import time
 
 from .budget import MAX_SECONDS, add_allow_long, check_time, duration
-from .common import add_command, count, device_argument, load_table, progress_bar, table_arguments
+from .common import (
+    add_command,
+    count,
+    device_argument,
+    load_table,
+    progress_bar,
+    seed_argument,
+    table_arguments,
+    wall_params,
+)
 
 __all__ = ["MAX_SECONDS", "NS_PER_COLLISION", "register"]
 
@@ -39,7 +48,7 @@ def register(subparsers):
     parser.add_argument("--collisions", type=count, default=100_000,
                         help="number of collisions (per orbit with --orbits; default 100000)")
     parser.add_argument("--orbits", type=count, default=1, help="number of Liouville-random orbits (default 1)")
-    parser.add_argument("--seed", type=count, default=None, help="seed of the random start state (Liouville measure)")
+    seed_argument(parser, "the random start states (Liouville measure)")
     parser.add_argument("--method", choices=["kernel", "reference"], default="kernel",
                         help="numba kernel (default) or the slow plain-numpy reference stepper")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON (no progress bar)")
@@ -81,7 +90,7 @@ def _cmd_simulate(args):
     seconds = time.perf_counter() - start
     done = stats.collisions
     summary = {
-        "wall": args.wall, "params": dict(wall.params), "kappa": args.kappa, "H": table.H, "b0": table.b0,
+        "wall": args.wall, "params": wall_params(wall), "kappa": args.kappa, "H": table.H, "b0": table.b0,
         "seed": args.seed,
         "method": args.method, "collisions": done, "seconds": seconds,
         "collisions_per_second": done / seconds if seconds > 0 else None,
@@ -140,7 +149,7 @@ def _simulate_ensemble(args):
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - start
-    summary = dict(stats.to_dict(), wall=args.wall, params=dict(wall.params), kappa=args.kappa, seed=args.seed,
+    summary = dict(stats.to_dict(), wall=args.wall, params=wall_params(wall), kappa=args.kappa, seed=args.seed,
                    method="kernel", seconds=seconds,
                    collisions_per_second=stats.collisions / seconds if seconds > 0 else None,
                    compile_seconds=compile_seconds)

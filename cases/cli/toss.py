@@ -8,14 +8,17 @@ import os
 
 from .budget import add_allow_long, check_time
 from .common import (
+    DEFAULT_SEED,
     add_command,
     count,
     device_argument,
     load_wall,
     number,
     progress_bar,
+    seed_argument,
     wall_arguments,
     wall_options,
+    wall_params,
     written_lines,
 )
 
@@ -24,7 +27,7 @@ __all__ = ["register"]
 DESCRIPTION = """\
 The toss that lands: the body is launched from a rest orientation with its centre of mass at
 --height (units of κ) above the floor, with upward velocity v0 and spin ω0 (θ̇), in the field --g
-(κ/s², or m/s² with --kappa in metres), and bounces on the floor with restitution --e and Coulomb
+(κ/s²; with --kappa in metres every length, speed and the field are in SI), and bounces on the floor with restitution --e and Coulomb
 friction --mu (0: frictionless impacts, Newton's restitution on the normal velocity) until its
 outcome is decided: its energy below the barrier of the floor's valley it is in, or at rest.  With
 friction a body whose bounces die out slides, rolls and rocks on the floor (with --rolling, against
@@ -78,6 +81,9 @@ def _epsilons(text: str):
 
 
 _grid.__name__ = "grid LO:HI:N or range LO:HI (N up to 4096)"
+#: the units of the numbers in the JSON (the shape `coin3d bounce` gives): units of κ, also with --kappa (which reads
+#: the inputs in SI)
+UNITS = {"length": "kappa", "field": "kappa/s^2"}
 #: draws of --spread and --uncertainty by default (the basin map, a grid, takes none)
 _SAMPLES = 10_000
 _epsilons.__name__ = "epsilons LO:HI:N (0 < LO < HI <= 0.1, 2 <= N <= 50)"
@@ -103,7 +109,8 @@ def register(subparsers):
     parser.add_argument("--b0", type=number, default=0.0, help="offset added to the wall (default 0)")
     parser.add_argument("--H", type=number, default=None, help="a ceiling at this height (κ; default: none)")
     parser.add_argument("--kappa", type=number, default=None, metavar="METRES",
-                        help="radius of gyration in metres: --g is then in m/s² and is divided by it")
+                        help="radius of gyration in metres: the wall, --b0, --H, --height, --rolling and the launch "
+                             "speeds (--v0, --spread) are then in m and m/s and --g in m/s² (results in units of κ)")
     parser.add_argument("--theta0", type=number, default=None,
                         help="launch orientation (rad; default: heads' rest angle for a coin, else the first)")
     parser.add_argument("--v0", type=_grid, default=(0.0, 3.0, 120), metavar="LO:HI:N",
@@ -123,7 +130,7 @@ def register(subparsers):
                              "from N log-spaced ε between LO and HI (fractions of the box's sides)")
     parser.add_argument("--samples", type=count, default=_SAMPLES,
                         help="draws for --spread, launches per ε for --uncertainty (default 10000)")
-    parser.add_argument("--seed", type=count, default=None, help="seed of the --spread or --uncertainty draws")
+    seed_argument(parser, "the --spread or --uncertainty draws")
     parser.add_argument("--workers", type=count, default=None, help="threads (default: all cores)")
     device_argument(parser)
     parser.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
@@ -174,7 +181,7 @@ def _cmd_toss(args):
     if args.uncertainty is not None and (args.output or args.spread is not None):
         raise InvalidArgument("--uncertainty prints the exponent only: drop -o and --spread")
     # flags the basin map does not read are refused, not ignored
-    if args.spread is None and args.uncertainty is None and (args.samples != _SAMPLES or args.seed is not None):
+    if args.spread is None and args.uncertainty is None and (args.samples != _SAMPLES or args.seed != DEFAULT_SEED):
         raise InvalidArgument("--samples and --seed are for --spread and --uncertainty; the basin map is a grid "
                               "(--v0, --omega)")
     if args.catch and args.slide:
@@ -191,13 +198,17 @@ def _cmd_toss(args):
         raise InvalidArgument(f"--g must be a positive field, got {args.g}")
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
-    g = args.g / args.kappa if args.kappa is not None else args.g
+    if args.kappa is not None:
+        _to_kappa_units(args)
+    g = args.g
     if args.device == "gpu" and args.workers is not None:
         raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     check_device(args.device)  # before any work
     _check_work(args, args.samples if args.spread is not None else
                 2 * args.samples * args.uncertainty[2] if args.uncertainty is not None else args.v0[2] * args.omega[2])
     wall = load_wall(args.wall, args.param, **wall_options(args))
+    if args.kappa is not None:  # the wall in metres, like --b0 (as the billiard commands read --kappa)
+        wall = wall.scaled(1.0 / args.kappa)
     table = FieldTable(wall, g=g, e=args.e, b0=args.b0, H=args.H, mu=args.mu, rolling=args.rolling)
     height = args.height
     if height is None:
@@ -221,7 +232,8 @@ def _cmd_toss(args):
         finally:
             if bar is not None:
                 bar.close()
-        summary = dict(spread.to_dict(), wall=args.wall, g=g, e=args.e, mu=args.mu, rolling=args.rolling,
+        summary = dict(spread.to_dict(), wall=args.wall, params=wall_params(wall), seed=args.seed, units=UNITS, g=g,
+                       e=args.e, mu=args.mu, rolling=args.rolling,
                        height=height)
         from coinwall.forward.estimates import MIN_SAMPLES, require
 
@@ -233,12 +245,12 @@ def _cmd_toss(args):
         else:
             print(f"table      {table!r}")
             print(f"spread     {spread!r}")
-            print(f"draws      {args.samples} ({decided} decided within --impacts {args.impacts}); ± is the binomial "
-                  "standard error")
+            print(f"draws      {args.samples} ({decided} decided within --impacts {args.impacts}), seed {args.seed}; ± "
+                  "is the binomial standard error")
             _print_undecided(spread.undecided, args.samples)
         return 0
     if args.uncertainty is not None:
-        return _uncertainty(args, table, height, g)
+        return _uncertainty(args, table, height, g, wall_params(wall))
     v = np.linspace(*args.v0[:2], args.v0[2])
     w = np.linspace(*args.omega[:2], args.omega[2])
     bar = progress_bar(args, v.size * w.size, "toss")
@@ -258,10 +270,10 @@ def _cmd_toss(args):
         elif ext == ".csv":
             files[path] = result.to_csv().encode()
         else:
-            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param),
+            files[path] = json.dumps(dict(result.to_dict(), wall=args.wall, params=wall_params(wall)),
                                      allow_nan=False).encode()
     written = write_all(files)
-    summary = {"wall": args.wall, "params": args.param, "g": g, "e": args.e, "mu": args.mu, "rolling": args.rolling,
+    summary = {"wall": args.wall, "params": wall_params(wall), "units": UNITS, "g": g, "e": args.e, "mu": args.mu, "rolling": args.rolling,
                "height": height, "theta0": result.theta0, "grid": [int(w.size), int(v.size)],
                "names": list(result.names), "fractions": result.fractions(), "status": result.status_counts(),
                "undecided": result.undecided_counts(), "mean_bounces": float(np.mean(result.bounces)),
@@ -278,6 +290,19 @@ def _cmd_toss(args):
     return 0
 
 
+def _to_kappa_units(args) -> None:
+    """``--kappa METRES``: the lengths, speeds and the field given in SI (m, m/s, m/s²) -> units of κ, in which the
+    toss is computed and reported (the wall is scaled where it is read)."""
+    k = args.kappa
+    args.g, args.b0, args.rolling = args.g / k, args.b0 / k, args.rolling / k
+    args.H = None if args.H is None else args.H / k
+    args.height = None if args.height is None else args.height / k
+    args.v0 = (args.v0[0] / k, args.v0[1] / k, args.v0[2])
+    if args.spread is not None:
+        v0, omega0, sigma_v0, sigma_omega0 = args.spread
+        args.spread = [v0 / k, omega0, sigma_v0 / k, sigma_omega0]
+
+
 def _print_undecided(counts, total):
     """Each reason for an undecided toss on its own line: its count, share and meaning."""
     from coinwall.forward.dynamics.floor.toss import reason_lines
@@ -286,7 +311,7 @@ def _print_undecided(counts, total):
         print(f"undecided  {line}")
 
 
-def _uncertainty(args, table, height, g):
+def _uncertainty(args, table, height, g, params):
     import numpy as np
 
     from coinwall.forward.dynamics.floor.uncertainty import uncertainty_exponent
@@ -297,9 +322,15 @@ def _uncertainty(args, table, height, g):
                               f"{args.v0[0]:g}:{args.v0[1]:g} and {args.omega[0]:g}:{args.omega[1]:g}")
     lo, hi, n = args.uncertainty
     eps = np.geomspace(lo, hi, n)
-    result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
-                                  theta0=args.theta0, seed=args.seed if args.seed is not None else 0,
-                                  impacts=args.impacts, catch=args.catch, workers=args.workers, device=args.device)
+    bar = progress_bar(args, 3 * args.samples * n, "toss")  # each launch and its two ε-neighbours
+    try:
+        result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
+                                      theta0=args.theta0, seed=args.seed, impacts=args.impacts, catch=args.catch,
+                                      workers=args.workers, progress=bar.update if bar is not None else None,
+                                      device=args.device)
+    finally:
+        if bar is not None:
+            bar.close()
     from coinwall.forward.estimates import require
 
     # a point of the fit is log f(ε) with relative error 1/√count: it needs 10 uncertain launches at least
@@ -307,11 +338,13 @@ def _uncertainty(args, table, height, g):
     require(usable, 2, "the uncertainty exponent", f"uncertain launches {list(map(int, result.counts))} of "
             f"{args.samples} per ε: raise --samples or widen the ε range", unit="ε values with 10 uncertain launches")
     if args.json:
-        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=args.param, g=g, height=height),
+        print(json.dumps(dict(result.to_dict(), wall=args.wall, params=params, seed=args.seed, units=UNITS, g=g,
+                                    height=height),
                          indent=1, allow_nan=False))
         return 0
     print(f"table      {table!r}")
     print(f"exponent   {result!r}")
+    print(f"draws      {result.samples} launches per ε, seed {args.seed}")
     print("epsilon        uncertain fraction")
     for e, f, c in zip(result.epsilons, result.fractions, result.counts):
         print(f"{e:<14.4g} {f:.5f}  ({c} of {result.samples})")

@@ -40,7 +40,7 @@ FLATNESS = 1e-8
 #: points per curve at most (a huge curvature bound must not exhaust memory)
 MAX_POINTS_PER_CURVE = 200_000
 #: flattened points per drawing at most (a full circle is ~22 000 points at FLATNESS): the reader, the hull
-#: and the union keep a few copies of them, ~0.5 GB at this bound (docs/cli.md)
+#: and the union keep a few copies of them, ~0.5 GB at this bound (docs/cli-limits.md)
 MAX_POINTS = 2_000_000
 #: closed shapes and open curves per drawing at most (each is compared with the largest one's hull)
 MAX_SHAPES = 5_000

@@ -11,7 +11,7 @@ reads its file through :func:`read_bytes` or :func:`read_text`, so that
 * text that is not in its encoding is one line naming the file and the offset of the first bad byte.
 
 The limits (:data:`MAX_BYTES`) follow from what the parsers hold in memory and time, measured on this
-project's readers (docs/cli.md has the numbers): the readers keep the file, its parse tree and the
+project's readers (docs/cli-limits.md has the numbers): the readers keep the file, its parse tree and the
 points of every curve in memory, a few times the file's size; the counts that bound the work once the
 file is parsed (rows, path segments, DXF entities, flattened points) are checked by the readers.
 """

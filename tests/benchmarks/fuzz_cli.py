@@ -5,7 +5,7 @@ flag, bad and odd walls, random expression text, hostile files, valid files brok
 that must be refused) and
 checks each against the same contract (``tests/cli_fuzz.py``).  Prints, per category, the inputs tried
 and those handled cleanly, and lists every failure; the counts of the last run are in
-docs/cli.md ("Fuzz tests").
+docs/cli-limits.md ("Fuzz tests").
 
 Run::
 

@@ -240,7 +240,7 @@ def test_cli_exit_2_with_one_line(argv, tmp_path):
     assert not out.exists()
 
 
-# --------------------------------------------------------------------- found by the large fuzz run (docs/cli.md)
+# --------------------------------------------------------------------- found by the large fuzz run (docs/cli-limits.md)
 
 def _square_support(theta, corners):
     """Support function of the convex polygon ``corners`` about the origin: max over its vertices of x·n(θ)."""

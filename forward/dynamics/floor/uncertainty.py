@@ -118,7 +118,7 @@ def _fit(eps, frac, n):
 
 def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=(1e-2, 3e-3, 1e-3, 3e-4),
                          samples: int = 20_000, theta0=None, seed=0, impacts: int = 10_000, catch: bool = False,
-                         workers=None, device: str = "cpu") -> Uncertainty:
+                         workers=None, progress=None, device: str = "cpu") -> Uncertainty:
     """The uncertainty exponent of the toss's outcome over the launch box ``v0 × omega0`` (module docstring).
 
     Parameters
@@ -137,10 +137,14 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         As for :func:`.toss.basin_map` (``device="gpu"``: the tosses on a CUDA GPU).
     seed : int
         Seed of the launches and directions.
+    progress : callable, optional
+        Called with the number of tosses done after each batch (``3 * samples`` tosses per ε in all); the result
+        does not depend on it.
 
     Returns
     -------
     Uncertainty
+        f(ε) for each ε, with the fitted exponent α and its standard error.
 
     Raises
     ------
@@ -193,7 +197,7 @@ def uncertainty_exponent(table: FieldTable, v0, omega0, height: float, epsilons=
         v = vlo + (vhi - vlo) * pts[:, 0]
         w = wlo + (whi - wlo) * pts[:, 1]
         states = launch_states(table, v, w, height, theta0)
-        outcome, _, _ = _outcomes(table, states, impacts, catch, workers, None, device=device)
+        outcome, _, _ = _outcomes(table, states, impacts, catch, workers, progress, device=device)
         mid, low, high = outcome[:samples], outcome[samples:2 * samples], outcome[2 * samples:]
         counts[i] = int(np.sum((low != mid) | (high != mid)))
     fractions = counts / samples

@@ -4,7 +4,7 @@ The contract (``tests/cli_fuzz.py``): exit status 2 for input that is certainly 
 stderr lines, no traceback or raw warning, no file created or replaced; for input that may or may not
 be valid (mutated files, odd walls), never a crash, a hang or a traceback.  Examples are derandomized so
 the default run is reproducible and bounded (about a minute); ``tests/benchmarks/fuzz_cli.py`` runs a
-larger, random sample and reports its counts (docs/cli.md ("Fuzz tests")).
+larger, random sample and reports its counts (docs/cli-limits.md ("Fuzz tests")).
 """
 
 from __future__ import annotations
