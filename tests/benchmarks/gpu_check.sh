@@ -16,7 +16,8 @@
 # versions.txt, bench_gpu.txt, bench_gpu.json, pytest.txt.  The whole run keeps within GPU_CHECK_SECONDS (default
 # 230 s: the numba compiles included, ~13 s each on an H200's host; the benchmark is given what is left but 55 s,
 # the tests the rest) and stops at the first missing piece with one line "gpu_check: FAILED: ...".  Exit status: 0
-# when every step passed, 1 otherwise.  GPU_CHECK_DRY_RUN=1 runs the script itself in numba's CUDA simulator at
+# when every step passed, 1 otherwise.  GPU_CHECK_BENCH_ARGS adds options to bench_gpu.py (e.g. "--variants nofma"
+# to leave out the variants' compiles when the device time is short).  GPU_CHECK_DRY_RUN=1 runs the script itself in numba's CUDA simulator at
 # the benchmark's --smoke size (to check the script, not a GPU).
 set -uo pipefail
 OUT="${OUT:-/tmp/gpu-check}"
@@ -90,7 +91,8 @@ EOF
 [ "${PIPESTATUS[0]}" = 0 ] || fail "the device is not usable from numba-cuda (versions.txt)"
 
 step "bench_gpu.py: collisions/s, GPU against all CPU cores, with the invariants"
-timeout $(( $(left) - 55 )) python3 -P tests/benchmarks/bench_gpu.py "${size[@]}" --json "$OUT/bench_gpu.json" 2>&1 \
+# shellcheck disable=SC2086
+timeout $(( $(left) - 55 )) python3 -P tests/benchmarks/bench_gpu.py "${size[@]}" ${GPU_CHECK_BENCH_ARGS:-} --json "$OUT/bench_gpu.json" 2>&1 \
     | tee "$OUT/bench_gpu.txt"
 bench=${PIPESTATUS[0]}
 [ "$bench" = 124 ] && echo "gpu_check: bench_gpu.py ran out of its time"
