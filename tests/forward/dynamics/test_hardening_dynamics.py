@@ -180,8 +180,13 @@ def test_the_package_kernels_cache_in_the_private_folder_too(cache, monkeypatch)
     assert all(f._cache.cache_path == folder and f._cache._cache_file._source_stamp == digest for f in functions)
 
 
+@pytest.mark.slow
 def test_kernel_in_memory_gives_the_same_numbers(tmp_path, monkeypatch, capsys):
-    """The real kernel compiled in memory (untrusted cache folder) gives the numbers of the cached one."""
+    """The real kernel compiled in memory (untrusted cache folder) gives the numbers of the cached one.
+
+    In the slow tier: it compiles the whole billiard kernel once more (about 6 s of CPU alone, 25 s on a loaded
+    machine).  The default run checks the in-memory path itself with a small module
+    (``test_untrusted_folders_are_not_used``: compiled in memory, nothing written, the one note)."""
     table = Billiard(FOURIER, 3.0)
     state = random_states(table, 1, seed=11)[0]
     cached = simulate(table, state, 300)

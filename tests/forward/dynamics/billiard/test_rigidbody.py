@@ -300,9 +300,12 @@ def test_rigid_body_equals_billiard(name, H, start, collisions, restart, method)
         assert time_err < 1e-12
 
 
+# b(−θ) of WALLS' triangle and egg, written in the same structure as WALLS' (each sin term's coefficient negated as a
+# number), so that they share its compiled kernel (a kernel is compiled per expression structure; the numbers are its
+# constants)
 MIRRORED = {
-    "triangle": ("max(max(0.9*cos(t)-0.1*sin(t), -0.5*cos(t)-0.7*sin(t)), -0.4*cos(t)+0.8*sin(t))", {}),
-    "egg": ("sqrt(cos(t)**2 + 0.81*sin(t)**2) + 0.05*cos(t) + 0.03*sin(t)", {}),
+    "triangle": ("max(max(0.9*cos(t)+(-0.1)*sin(t), -0.5*cos(t)+(-0.7)*sin(t)), -0.4*cos(t)-(-0.8)*sin(t))", {}),
+    "egg": ("sqrt(cos(t)**2 + 0.81*sin(t)**2) + 0.05*cos(t) - (-0.03)*sin(t)", {}),
 }
 
 
