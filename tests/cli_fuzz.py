@@ -102,17 +102,18 @@ class Worker:
                                      stderr=subprocess.DEVNULL, text=True, preexec_fn=limit, env=env,
                                      encoding="utf-8", errors="surrogateescape")
 
-    def run(self, argv, cwd) -> dict:
+    def run(self, argv, cwd, timeout: float | None = None) -> dict:
         """Run ``coinwall ARGV`` in folder ``cwd``; returns ``{"rc", "stdout", "stderr"}``.
 
-        ``rc`` is ``"timeout"`` when the request outlived the timeout and ``"crash: N"`` when the worker
-        died (a signal, an abort); the worker is restarted for the next request in both cases.
+        ``rc`` is ``"timeout"`` when the request outlived the timeout (``timeout``, default the worker's) and
+        ``"crash: N"`` when the worker died (a signal, an abort); the worker is restarted for the next request in
+        both cases.
         """
         if self.proc is None or self.proc.poll() is not None:
             self._start()
         self.proc.stdin.write(json.dumps({"argv": list(argv), "cwd": str(cwd)}) + "\n")
         self.proc.stdin.flush()
-        ready, _, _ = select.select([self.proc.stdout], [], [], self.timeout)
+        ready, _, _ = select.select([self.proc.stdout], [], [], self.timeout if timeout is None else timeout)
         if not ready:
             self.close()
             return {"rc": "timeout", "stdout": "", "stderr": ""}
