@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("PIL")
+pytest.importorskip("sphinx_gallery", reason="the gallery's scraper is sphinx-gallery's: pip install -e \".[docs]\"")
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((ROOT / "examples").glob("plot_*.py"))
