@@ -195,8 +195,8 @@ def parse_density(text: str, params=None):
     clash = sorted(set(values) & set(DENSITY_VARIABLES))
     if clash:
         raise InvalidParameter(f"parameter {clash[0]!r} is a density variable; rename it")
+    ex.check_ascii(text, "density")  # before strip(), which would drop a non-ASCII space (see check_ascii)
     source = text.strip()
-    ex.check_ascii(source, "density")  # lookalike letters are refused, not folded to ASCII (see check_ascii)
     ex.check_one_line(source, "density")
     if len(source) > ex.MAX_LENGTH:
         raise InvalidExpression(f"density expression is too long ({len(source)} characters, at most {ex.MAX_LENGTH})")

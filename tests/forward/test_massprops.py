@@ -110,6 +110,9 @@ def test_bad_density():
         mass_properties(disc, "__import__('os')")
     with pytest.raises(InvalidExpression, match="density variable"):
         mass_properties(disc, "1 + t")
+    for spaced in ("2\u2009", "\u00a01 + r"):  # non-ASCII spaces are refused as in a wall, even at the ends
+        with pytest.raises(InvalidExpression, match="not allowed; use plain ASCII"):
+            mass_properties(disc, spaced)
     with pytest.raises(InvalidOutline):
         mass_properties(Outline.from_polygon([[-1, 0], [1, 0]]))
 
