@@ -20,8 +20,24 @@ CHUNK = 200_000  # collisions per kernel call: memory bounded by 41·CHUNK bytes
 MAX_COLLISIONS = 10 ** 13
 
 
+class _Shares:
+    """What one orbit's statistics and an ensemble's share: Santaló's mean free time of the table and the share of
+    bottom collisions (from ``table``, ``bottom`` and ``collisions``)."""
+
+    @property
+    def santalo_mean_free_time(self) -> float:
+        """Santaló's mean free time ``π·Area/Perimeter`` of the table (what an ergodic orbit's mean tends to)."""
+        area, perimeter = self.table.area_perimeter()
+        return math.pi * area / perimeter
+
+    @property
+    def bottom_fraction(self) -> float:
+        """Share of the collisions that hit the bottom wall (nan without collisions)."""
+        return self.bottom / self.collisions if self.collisions else math.nan
+
+
 @dataclass(frozen=True, repr=False)
-class OrbitStatistics:
+class OrbitStatistics(_Shares):
     """What one orbit of ``collisions`` collisions did, without keeping its collisions.
 
     Attributes
@@ -69,17 +85,6 @@ class OrbitStatistics:
     def mean_free_time(self) -> float:
         """Mean time between collisions (nan without collisions)."""
         return self.total_time / self.collisions if self.collisions else math.nan
-
-    @property
-    def santalo_mean_free_time(self) -> float:
-        """Santaló's mean free time ``π·Area/Perimeter`` of the table (what an ergodic orbit's mean tends to)."""
-        area, perimeter = self.table.area_perimeter()
-        return math.pi * area / perimeter
-
-    @property
-    def bottom_fraction(self) -> float:
-        """Share of the collisions that hit the bottom wall (nan without collisions)."""
-        return self.bottom / self.collisions if self.collisions else math.nan
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (nan becomes None)."""
@@ -154,7 +159,7 @@ def orbit_statistics(table: Billiard, state, collisions: int, method: str = "ker
 
 
 @dataclass(frozen=True, repr=False)
-class EnsembleStatistics:
+class EnsembleStatistics(_Shares):
     """What many orbits of ``collisions`` collisions each did, without keeping their collisions.
 
     The mean free time of an ensemble is estimated so that it tends to Santaló's ``π·Area/Perimeter`` for any
@@ -204,17 +209,6 @@ class EnsembleStatistics:
     mean_free_time: float
     mean_free_time_stderr: float
     notes: tuple = ()
-
-    @property
-    def santalo_mean_free_time(self) -> float:
-        """Santaló's mean free time ``π·Area/Perimeter`` of the table."""
-        area, perimeter = self.table.area_perimeter()
-        return math.pi * area / perimeter
-
-    @property
-    def bottom_fraction(self) -> float:
-        """Share of the collisions that hit the bottom wall (nan without collisions)."""
-        return self.bottom / self.collisions if self.collisions else math.nan
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (nan becomes None)."""
