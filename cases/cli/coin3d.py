@@ -133,7 +133,15 @@ def _fit(args):
         if args.tosser not in fits.tossers:
             raise InvalidArgument(f"--tosser must be one of T01 … T{len(fits.tossers):02d}, got {args.tosser!r}")
         one = fits.tossers[args.tosser]
-        print(json.dumps(one.to_dict(), indent=1) if args.json else f"{args.tosser}  {one!r}")
+        if args.json:
+            print(json.dumps(one.to_dict(), indent=1))
+            return 0
+        below = (f" (the model's P(same) is at least ½: the share seen, {one.p:.5f}, lies below its interval)"
+                 if one.p < one.p_low else "")
+        print(f"{args.tosser}  {one.same:,} same side of {one.flips:,}: {one.p:.5f} [{one.p_low:.5f}, "
+              f"{one.p_high:.5f}] (95 %, one binomial, likelihood ratio){below}")
+        print(f"     ψ = {one.psi:.2f}° [{one.psi_low:.2f}, {one.psi_high:.2f}]; spread σ = {one.sigma:.2f}° "
+              f"[{one.sigma_low:.2f}, {one.sigma_high:.2f}]")
         return 0
     files = {path: figure_bytes(plot_bartos(fits), path) for path in args.output}
     written = write_all(files)

@@ -97,6 +97,22 @@ def test_cli_coin3d_refuses_bad_input_in_one_line(tmp_path, capsys):
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.txt").exists()
 
 
+def test_cli_one_tossers_fit_reads_like_the_table(capsys):
+    """`coin3d fit --tosser` prints the counts, the share and its interval as the table does; a share below ½
+    (T07: 7458 of 15012) lies below the interval, which the model bounds to [½, 1], and the line says so."""
+    run = _cli(capsys)
+    counts = bartos_counts()
+    for name in ("T07", "T40"):
+        row = counts["tosser"].index(name)
+        same, flips = int(counts["same"][row]), int(counts["flips"][row])
+        code, out, err = run("fit", "--tosser", name)
+        assert code == 0 and err == ""
+        first = out.splitlines()[0]
+        assert first.startswith(f"{name}  {same:,} same side of {flips:,}: {same / flips:.5f} [")
+        assert ("lies below its interval" in first) == (same / flips < 0.5)
+        assert "PsiFit(" not in out and "ψ = " in out
+
+
 @pytest.mark.slow
 def test_cli_coin3d_runs(tmp_path, capsys):
     import json
