@@ -1,4 +1,4 @@
-"""Benchmark: the time to P(n) ± 0.002 for n ≤ 40 at H = 1.2 D, ε = 99 coin (issue 5).
+"""Benchmark: the time to P(n) ± 0.002 for n ≤ 40 at H = 1.2 D, ε = 99 coin.
 
 Run:  python tests/benchmarks/bench_correlation.py [--quick] [--orbits 100] [--seeds 10] [--repeat 3]
 

@@ -1,4 +1,4 @@
-"""Benchmark and accuracy study: walls from data (issue 11).
+"""Benchmark and accuracy study: walls from data.
 
 Run:  python tests/benchmarks/bench_data.py [--figures docs/figures]
 

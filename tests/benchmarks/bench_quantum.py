@@ -1,8 +1,8 @@
-"""Benchmark and figures of the quantum coin (issue 13; docs/quantum.md, docs/performance.md).
+"""Benchmark and figures of the quantum coin (docs/quantum.md, docs/performance.md).
 
-Run:  OMP_NUM_THREADS=1 python tests/benchmarks/bench_quantum.py [--part NAME ...] [--quick]
+Run:  OMP_NUM_THREADS=1 python tests/benchmarks/bench_quantum.py [--part NAME ...] [--quick] [--figures DIR]
 
-Parts (all by default):
+Parts (all but ``figures`` by default):
 
 accuracy    The lowest 100 eigenvalues of the ε = 0.55 ellipse at H = 2.5.  Reference: P4 with 44 cells across
             (its own error, from the P4 sequence's h^8 rate, is ~1e-10 relative).  Error (largest relative over
@@ -14,7 +14,8 @@ transition  Poisson → GOE along the ellipse family at H = 2.5: Brody q and KS 
             beside the classical chaotic fraction (coinwall.forward.dynamics.analysis.lyapunov.chaotic_fraction,
             100 orbits × 2000 collisions).
 splitting   The lowest doublet's splitting Δλ(H) of the ε = 0.55 ellipse as H → D = 2: direct, flux, WKB.
-figures     docs/figures/quantum-*.png.
+figures     quantum-*.png into the folder given by ``--figures DIR`` (``--figures docs/figures`` redraws the
+            docs' figures; without it the part is not run, so that a benchmark run changes no tracked file).
 
 Results are printed and written to /tmp/bench_quantum.json (one key per part).
 
@@ -35,7 +36,6 @@ import numpy as np
 
 ELLIPSE = "sqrt((1+eps*cos(t)**2)/(1+eps))"
 RESULTS = "/tmp/bench_quantum.json"
-FIGURES = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "figures")
 
 
 def ellipse(eps):
@@ -114,16 +114,16 @@ def part_splitting(quick):
     return rows
 
 
-def part_figures(quick, results):
+def part_figures(quick, results, folder):
     from coinwall.forward.formats.figure import new_figure
     from coinwall.forward.quantum import quantum_spectrum
     from coinwall.forward.quantum.figures import plot_density, plot_orientation, plot_splittings
     from coinwall.forward.quantum.tunnelling import Splitting
 
-    os.makedirs(FIGURES, exist_ok=True)
+    os.makedirs(folder, exist_ok=True)
 
     def save(fig, name):
-        fig.savefig(os.path.join(FIGURES, name), dpi=110)
+        fig.savefig(os.path.join(folder, name), dpi=110)
         print("wrote", name)
 
     spectrum = quantum_spectrum(ellipse(0.55), 2.5, levels=400, order=4)
@@ -197,12 +197,15 @@ def main():
     parser.add_argument("--part", action="append", choices=["accuracy", "thousand", "transition", "splitting",
                                                             "figures"])
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--figures", metavar="DIR", default=None, help="draw the figures into DIR (the figures part)")
     parser.add_argument("--smoke", action="store_true", help="tiny sizes, no files: checks the script")
     args = parser.parse_args()
     if args.smoke:
         _smoke()
         return
-    parts = args.part or ["accuracy", "thousand", "transition", "splitting", "figures"]
+    parts = args.part or ["accuracy", "thousand", "transition", "splitting"] + (["figures"] if args.figures else [])
+    if "figures" in parts and not args.figures:
+        parser.error("--part figures needs --figures DIR (docs/figures redraws the docs' figures)")
     results = {}
     if os.path.exists(RESULTS):
         with open(RESULTS) as handle:
@@ -210,7 +213,7 @@ def main():
     for name in parts:
         start = time.perf_counter()
         if name == "figures":
-            part_figures(args.quick, results)
+            part_figures(args.quick, results, args.figures)
         else:
             results[name] = globals()[f"part_{name}"](args.quick)
         print(f"[{name}: {time.perf_counter() - start:.1f} s]")

@@ -1,4 +1,4 @@
-"""Benchmark of ``coinwall scan`` (issue 15): per-cell overhead against kernel time, and 1 → 2 local workers.
+"""Benchmark of ``coinwall scan``: per-cell overhead against kernel time, and 1 → 2 local workers.
 
 Run:  python tests/benchmarks/bench_scan.py [--quick | --smoke] [--json bench_scan.json]
 

@@ -1,4 +1,4 @@
-"""How much the measured KAM boundary ε_c(H) of the elliptic billiard depends on its criterion (issue 5).
+"""How much the measured KAM boundary ε_c(H) of the elliptic billiard depends on its criterion.
 
 Run:  python tests/benchmarks/kam_sensitivity.py [--quick] [--H 2,3]
           [--figure docs/figures/kam_islands_H2.png] [--json kam_sensitivity.json]
