@@ -222,14 +222,10 @@ def _bounce(args):
     check_time(args, args.samples * args.bounces * US_PER_BOUNCE_SECOND * 1e-6 * max(1.0, seconds),
                f"--samples {args.samples} × --bounces {args.bounces} (a first flight of {seconds:.3g} s)",
                "fewer --samples or --bounces")
-    bar = progress_bar(args, args.samples, "toss")
-    try:
+    with progress_bar(args, args.samples, "toss") as bar:
         study = same_side_by_bounce(psi, args.e, samples=args.samples, bounces=args.bounces, seed=args.seed, g=args.g,
                                     height=args.height, ceiling=args.ceiling, speed=speed, spin=spin,
                                     progress=bar.update if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     failed = study.failed
     require(int(study.reached.max(initial=0)), MIN_SAMPLES, "P(same side) at any bounce",
             f"of {args.samples} tosses {int(study.reached[0]) if study.reached.size else 0} reached the first bounce "

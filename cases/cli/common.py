@@ -4,6 +4,7 @@ the progress bar, ``--com``, numbers as a reader sees them, and the lines that r
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import re
@@ -26,6 +27,7 @@ __all__ = [
     "progress_bar",
     "seed_argument",
     "table_arguments",
+    "terminal_bar",
     "wall_arguments",
     "wall_params",
     "written_lines",
@@ -263,7 +265,19 @@ def load_wall(text, params, degrees=False, b_halfwidth=0.0, theta_halfwidth=0.0,
                           b_sd=b_sd, theta_sd=theta_sd)
 
 
-def progress_bar(args, total, unit):
+@contextlib.contextmanager
+def progress_bar(args, total, unit, show=True):
+    """``with progress_bar(args, total, unit) as bar:`` :func:`terminal_bar` (None where there is none, or where
+    ``show`` is false), closed on the way out however the block ends."""
+    bar = terminal_bar(args, total, unit) if show else None
+    try:
+        yield bar
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def terminal_bar(args, total, unit):
     """A tqdm progress bar on stderr when stderr is a terminal and the output is not JSON, else None."""
     if args.json or not sys.stderr.isatty():
         return None

@@ -67,14 +67,10 @@ def _cmd_correlation(args):
                f"--bounces {args.bounces} (about {per_bounce} collision(s) each, {NS_PER_COLLISION['kernel']:g} ns "
                "per collision)", "fewer --bounces")
     wall, table = load_table(args)
-    bar = progress_bar(args, args.bounces, "bounce")
-    try:
+    with progress_bar(args, args.bounces, "bounce") as bar:
         result = correlation(table, args.bounces, args.max_lag, orbits=args.orbits, count=args.count, seed=args.seed,
                              device=args.device,
                              progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     doc = dict(result.to_dict(), wall=args.wall, params=wall_params(wall), kappa=args.kappa)
     files = {}
     for path in args.output:

@@ -280,9 +280,8 @@ def run(args):
     check_paths(args.output, sorted(exporters()))
     check_outputs(args.output)
     check_paths(args.figure, FIGURE_FORMATS)
-    bar = None if model.exact else progress_bar(args, None, "toss")
-    tick = bar.update if bar is not None else None
-    try:
+    with progress_bar(args, None, "toss", show=not model.exact) as bar:
+        tick = bar.update if bar is not None else None
         if not targets:
             if family.free:
                 raise InvalidArgument("give a --target for each outcome to design for (or fix every parameter to "
@@ -300,9 +299,6 @@ def run(args):
                         max_tosses=args.max_tosses, progress=tick)
         check = resimulate(result, args.resimulate, seed=args.seed, progress=tick) if args.resimulate else None
         curves = design_curves(result, progress=tick) if args.figure else None
-    finally:
-        if bar is not None:
-            bar.close()
     warnings = list(result.warnings)
     body = physical = None
     if args.output or family.kind == "planar":

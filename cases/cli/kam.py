@@ -65,14 +65,10 @@ def _cmd_kam(args):
     H = _floats(args.H, "--H")
     bracket = _floats(args.bracket, "--bracket")
     check_paths(args.output, FIGURE_FORMATS + (".json",))
-    bar = progress_bar(args, len(H) * (args.steps + 2), "eval")
-    try:
+    with progress_bar(args, len(H) * (args.steps + 2), "eval") as bar:
         result = kam_boundary(H, bracket=tuple(bracket), steps=args.steps, orbits=args.orbits,
                               collisions=args.collisions, regular_max=args.regular_max, seed=args.seed,
                               device=args.device, progress=(lambda: bar.update(1)) if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     files = {}
     for path in args.output:
         if os.path.splitext(path)[1].lower() in FIGURE_FORMATS:

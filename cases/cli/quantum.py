@@ -213,12 +213,8 @@ def _cmd_quantum(args):
         raise InvalidArgument("--splittings (and a scan of several --H) need --method fem: Herring's flux formula "
                               "uses the eigenvectors")
     wall = load_wall(args.wall, args.param, **wall_options(args))
-    bar = progress_bar(args, None, "class")
-    try:
+    with progress_bar(args, None, "class") as bar:
         solved = [_solve(args, wall, H, bar) for H in heights]
-    finally:
-        if bar is not None:
-            bar.close()
     results = [(spectrum, splittings) for spectrum, splittings, _ in solved]
     summaries = [_summary(*r, body) for r in solved]
     document = summaries[0] if len(summaries) == 1 else {"scan": summaries}

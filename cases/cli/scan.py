@@ -8,7 +8,7 @@ import shlex
 import sys
 
 from .budget import add_allow_long, check_time
-from .common import LibraryChoices, add_command, count, number, progress_bar, seed_argument, written_lines
+from .common import LibraryChoices, add_command, count, number, seed_argument, terminal_bar, written_lines
 
 __all__ = ["register"]
 
@@ -183,7 +183,7 @@ def _cmd_scan(args):
     def progress(done, todo):
         nonlocal bar
         if bar is None:
-            bar = progress_bar(args, todo, "cell")
+            bar = terminal_bar(args, todo, "cell")
             if bar is None:
                 return
         bar.update(done - bar.n)

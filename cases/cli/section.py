@@ -62,14 +62,10 @@ def _cmd_section(args):
                f"--orbits {args.orbits} × --collisions {args.collisions} ({NS_PER_COLLISION['kernel']:g} ns per "
                "collision)", "fewer --orbits or --collisions")
     wall, table = load_table(args)
-    bar = progress_bar(args, args.orbits, "orbit")
-    try:
+    with progress_bar(args, args.orbits, "orbit") as bar:
         result = poincare_section(table, args.orbits, args.collisions, seed=args.seed,
                                   device=args.device,
                                   progress=(lambda done: bar.update(done - bar.n)) if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     files = {}
     for path in args.output:
         ext = os.path.splitext(path)[1].lower()

@@ -77,16 +77,12 @@ def _cmd_simulate(args):
     wall, table = load_table(args)
     state = random_states(table, 1, args.seed)[0]
     compile_seconds = compile_kernel(table) if args.method == "kernel" else 0.0
-    bar = progress_bar(args, args.collisions, "coll") if args.collisions > CHUNK else None
-    if bar is not None:
-        bar.set_description(f"estimate {duration(estimate)}")
-    start = time.perf_counter()
-    try:
+    with progress_bar(args, args.collisions, "coll", show=args.collisions > CHUNK) as bar:
+        if bar is not None:
+            bar.set_description(f"estimate {duration(estimate)}")
+        start = time.perf_counter()
         stats = orbit_statistics(table, state, args.collisions, method=args.method,
                                  progress=bar.update if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     seconds = time.perf_counter() - start
     done = stats.collisions
     summary = {
@@ -140,14 +136,10 @@ def _simulate_ensemble(args):
     wall, table = load_table(args)
     states = random_states(table, args.orbits, args.seed)
     compile_seconds = compile_kernel(table, device=args.device)
-    bar = progress_bar(args, total, "coll")
-    start = time.perf_counter()
-    try:
+    with progress_bar(args, total, "coll") as bar:
+        start = time.perf_counter()
         stats = ensemble_statistics(table, states, args.collisions, device=args.device,
                                     progress=bar.update if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
     seconds = time.perf_counter() - start
     summary = dict(stats.to_dict(), wall=args.wall, params=wall_params(wall), kappa=args.kappa, seed=args.seed,
                    method="kernel", seconds=seconds,

@@ -223,15 +223,11 @@ def _cmd_toss(args):
                                   f"fit: {exc}; give --height") from None
     if args.spread is not None:
         mean, sigma = args.spread[:2], args.spread[2:]
-        bar = progress_bar(args, args.samples, "toss")
-        try:
+        with progress_bar(args, args.samples, "toss") as bar:
             spread = heads_fraction(table, mean, sigma, height, samples=args.samples, theta0=args.theta0,
                                     seed=args.seed, impacts=args.impacts, catch=args.catch, workers=args.workers,
                                     progress=bar.update if bar is not None else None, slide=args.slide,
                                     device=args.device)
-        finally:
-            if bar is not None:
-                bar.close()
         summary = dict(spread.to_dict(), wall=args.wall, params=wall_params(wall), seed=args.seed, units=UNITS, g=g,
                        e=args.e, mu=args.mu, rolling=args.rolling,
                        height=height)
@@ -253,14 +249,10 @@ def _cmd_toss(args):
         return _uncertainty(args, table, height, g, wall_params(wall))
     v = np.linspace(*args.v0[:2], args.v0[2])
     w = np.linspace(*args.omega[:2], args.omega[2])
-    bar = progress_bar(args, v.size * w.size, "toss")
-    try:
+    with progress_bar(args, v.size * w.size, "toss") as bar:
         result = basin_map(table, v, w, height, theta0=args.theta0, impacts=args.impacts, catch=args.catch,
                            workers=args.workers, progress=bar.update if bar is not None else None, slide=args.slide,
                            device=args.device)
-    finally:
-        if bar is not None:
-            bar.close()
     files = {}
     for path in args.output:
         ext = os.path.splitext(path)[1].lower()
@@ -322,15 +314,11 @@ def _uncertainty(args, table, height, g, params):
                               f"{args.v0[0]:g}:{args.v0[1]:g} and {args.omega[0]:g}:{args.omega[1]:g}")
     lo, hi, n = args.uncertainty
     eps = np.geomspace(lo, hi, n)
-    bar = progress_bar(args, 3 * args.samples * n, "toss")  # each launch and its two ε-neighbours
-    try:
+    with progress_bar(args, 3 * args.samples * n, "toss") as bar:  # each launch and its two ε-neighbours
         result = uncertainty_exponent(table, args.v0[:2], args.omega[:2], height, epsilons=eps, samples=args.samples,
                                       theta0=args.theta0, seed=args.seed, impacts=args.impacts, catch=args.catch,
                                       workers=args.workers, progress=bar.update if bar is not None else None,
                                       device=args.device)
-    finally:
-        if bar is not None:
-            bar.close()
     from coinwall.forward.estimates import require
 
     # a point of the fit is log f(ε) with relative error 1/√count: it needs 10 uncertain launches at least

@@ -128,7 +128,7 @@ def test_units_have_one_shape(name, tmp_path, monkeypatch, capsys):
 
 
 class _CountingBar:
-    """Stands in for the tqdm bar of :func:`coinwall.cases.cli.common.progress_bar`: the total and every step
+    """Stands in for the tqdm bar of :func:`coinwall.cases.cli.common.terminal_bar`: the total and every step
     must be whole numbers (a float shows as ``7.00/45.0``)."""
 
     made = []
@@ -171,10 +171,10 @@ def test_progress_bars_count_whole_numbers(name, tmp_path, monkeypatch, capsys):
 
     monkeypatch.chdir(tmp_path)
     _CountingBar.made.clear()
-    for module in SUBCOMMANDS.values():
-        if hasattr(module, "progress_bar"):
-            monkeypatch.setattr(module, "progress_bar", lambda args, total, unit: _CountingBar(total, unit))
-    importlib.import_module("coinwall.cases.cli.common")
+    # progress_bar opens common.terminal_bar; scan opens its own lazily, by the name it imported
+    for module in (importlib.import_module("coinwall.cases.cli.common"), *SUBCOMMANDS.values()):
+        if hasattr(module, "terminal_bar"):
+            monkeypatch.setattr(module, "terminal_bar", lambda args, total, unit: _CountingBar(total, unit))
     _run(BARS[name], capsys)
     assert _CountingBar.made and any(bar.steps for bar in _CountingBar.made), f"{name}: no bar was moved"
 
