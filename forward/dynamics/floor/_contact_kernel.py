@@ -15,14 +15,18 @@ kinks at the ends of the piece.  Every step is at most as long as the events all
 over the step (conservative advancement, as the flight's search): over the step ``|θ̇| ≤ W``; the wall's
 derivatives are bounded from their values at θ and the cell's bound of |b'''| (the cell table's, sampled with
 a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of each event
-function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero.  θ̇ and the distances to the
-kinks are met by second-order steps (their second derivatives are bounded by J and A), so a corner is reached in
-a few steps.  An event whose function has just been zero (the slip that just started) is looked for again once
-its function has left a band of 10 tolerances.  The declared approximations are the flight's (cell bounds from
-dense sampling, the contact tolerance) and the integration's: Dormand–Prince 5(4) steps whose local error is at
-most ``STEP_TOL`` (1e-10 of the state's scale; the rolling disc and Housner's block in the tests are within
-1e-10 of their closed forms), the step shortened and repeated where it is not.  The time at which a toss's level
-falls below its barrier is known to within a step (the level is checked at each step; it only falls).
+function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero.  θ̇, the distances to the
+kinks and the slip σu_t are met by second-order steps (the rate now is known, the second derivative bounded over
+the step: by J and A, and for the slip by those of F_n, θ̈ and θ⃛), so a corner or the end of a slip is reached in
+a few steps.  The rates of N and μF_n ∓ F_t hold the wall's third derivative, which the cell table bounds but the
+wall's code does not give: those two are approached by first-order steps, each taking a fixed share of what is
+left (hundreds of steps from a value of order 1 down to EVENT_TOL).  An event whose function has just been zero
+(the slip that just started) is looked for again once its function has left a band of 10 tolerances.  The
+declared approximations are the flight's (cell bounds from dense sampling, the contact tolerance) and the
+integration's: Dormand–Prince 5(4) steps whose local error is at most ``STEP_TOL`` (1e-10 of the state's
+scale; the rolling disc and Housner's block in the tests are within 1e-10 of their closed forms), the step
+shortened and repeated where it is not.  The time at which a toss's level falls below its barrier is known to
+within a step (the level is checked at each step; it only falls).
 
 Lift-off.  The free flight from a lift-off opens its gap only cubically; it is sampled until the gap is 1000
 contact tolerances, each sample close enough to the last that the gap cannot dip more than one tolerance below
@@ -268,7 +272,10 @@ def _contact(x, wraps, j, w, vx, sig, b0, g, e, mu, rr, chatter, tol, lscale, c,
             if LN > 0.0:
                 tau = min(tau, N / LN)
             if armed and Lu > 0.0:
-                tau = min(tau, u / Lu)
+                # u̇ = σ(ξ̈ − B'θ̇² − Bθ̈) now, ü = σ(−μσḞ_n − B''θ̇³ − 3B'θ̇θ̈ − Bθ⃛) bounded over the step: the
+                # second-order step (a zero met in a few steps, not geometrically) or the first-order one
+                Ku = mu * (LN + Fmax * LD) / Dmin + S2 * W * W * W + 3.0 * S1 * W * A + S0 * J
+                tau = min(tau, max(u / Lu, _root_step(u, sig * (fx - s * w * w - B * a), Ku)))
         else:
             # θ̈ = n/m with n = −(s + rr sw)(g + B''θ̇²) − B s θ̇², m = 1 + B² + s(s + rr sw): θ⃛ = (ṅ − θ̈ ṁ)/m
             ndot = (S2 * W * (g + S2 * W * W) + (S1 + rr) * (S3 * W * W * W + 2.0 * S2 * W * A)

@@ -11,6 +11,9 @@ The discs are Fourier walls (one compiled kernel serves every Fourier wall).
 * A disc (b constant) rolling without slipping moves uniformly, ξ̇ = R θ̇, with its energy kept; a disc whose
   centre of mass is off its centre (b = R + d cos θ) rocks with the period of its energy integral,
   t = ∫ dθ / θ̇(θ), θ̇² = 2(E − g B)/(1 + B² + B'²) (quadrature by scipy).
+* An eccentric disc (b = 1 + 0.3 cos θ) sliding with friction comes to rolling when its slip u_t = ξ̇ − Bθ̇
+  reaches 0: the time against scipy's DOP853 with event location on the sliding equations of motion as
+  docs/toss.md states them (a second integrator and root finder).
 * Housner (Bull. Seismol. Soc. Am. 53, 403 (1963)): a uniform rectangular block (half-width w, half-height h,
   tan α = w/h, R² = w² + h² = 3κ²) rocking on a rigid floor without sliding or bouncing keeps the fraction
   1 − (3/2) sin²α of its angular velocity at each impact (angular momentum about the new corner is kept); about
@@ -109,6 +112,52 @@ def test_an_eccentric_disc_rocks_with_the_period_of_its_energy_integral():
     assert flight.energy[-1] == pytest.approx(g * B(theta0), rel=1e-10)  # kept to the steps' errors (1e-12 each)
     back = quad(lambda x: smooth(x) / math.sqrt(x - theta0), end, other, weight="alg", wvar=(0, -0.5))[0]
     assert flight.time[-1] == pytest.approx(3 * half + back, rel=1e-9)
+
+
+def test_a_sliding_eccentric_disc_stops_slipping_when_scipy_says_in_few_steps():
+    """b = 1 + 0.3 cos θ on the floor at θ = 0.5, θ̇ = 0.8, sliding forward at ξ̇ = 2 with μ = 0.3: the slip stops
+    (the 'rolling' record) at the time scipy's DOP853 finds for u_t = 0 (rtol = atol = 1e-13) on the sliding
+    equations D = 1 + s² − μsB, F_n = (g + B''θ̇²)/D, θ̈ = F_n(μB − s), ξ̈ = −μF_n.  The event is met within
+    EVENT_TOL of u's scale (|Δt| ≤ 1e-11 · 3/|u̇| ≈ 4e-11 here) plus the steps' errors: 1e-10 relative.  The
+    slip's zero is approached by second-order steps (its rate now and a bound of its second derivative): the
+    phase takes at most 70 steps, where first-order steps (a bound of the rate alone) take 101."""
+    from scipy.integrate import solve_ivp
+
+    from coinwall.forward.dynamics.floor.fieldkernel import _kernel
+
+    g, mu, d = 1.0, 0.3, 0.3
+    table = FieldTable(Wall.from_fourier(1.0, cos=[d]), g=g, e=0.5, mu=mu, settle=False)
+
+    def B(x):
+        return 1 + d * math.cos(x)
+
+    def s(x):
+        return -d * math.sin(x)
+
+    def rhs(t, y):
+        x, w, _vx = y
+        fn = (g - d * math.cos(x) * w * w) / (1 + s(x) ** 2 - mu * s(x) * B(x))
+        return [w, fn * (mu * B(x) - s(x)), -mu * fn]
+
+    def slip(t, y):
+        return y[2] - B(y[0]) * y[1]
+
+    slip.terminal = True
+    th0, w0, v0 = 0.5, 0.8, 2.0
+    ref = solve_ivp(rhs, (0, 50), [th0, w0, v0], method="DOP853", rtol=1e-13, atol=1e-13, events=slip)
+    t_stop = ref.t_events[0][0]
+    flight = field_run(table, [th0, B(th0), w0, s(th0) * w0, v0], 3)
+    assert flight.side[0] == EV["rolling"]
+    assert flight.time[0] == pytest.approx(t_stop, rel=1e-10)
+    assert flight.theta[0] == pytest.approx(ref.y_events[0][0][0], rel=1e-10)
+    assert flight.v_xi[0] == pytest.approx(ref.y_events[0][0][2], rel=1e-10)
+    comp = _kernel(table)
+    c, cells, lookup, _wmin, _wmax, tol, valleys, lscale = comp.wall_args(table)
+    j = comp.module._cell_of(th0, cells, lookup)
+    phase = comp.module._contact(th0, 0, j, w0, v0, 1, table.b0, g, 0.5, mu, 0.0, table.chatter, tol, lscale, c,
+                                 cells, valleys, False, 1000)
+    assert phase[1] == EV["rolling"] and phase[10] == flight.time[0]
+    assert phase[-1] <= 70
 
 
 @pytest.mark.parametrize("alpha", [0.3, 0.15, 0.6])
