@@ -17,6 +17,15 @@ import pytest
 # device="gpu" runs in numba's CUDA simulator (the GPU code path, executed in Python) unless a run asks for the
 # real device with NUMBA_ENABLE_CUDASIM=0 (tests/benchmarks/gpu_check.sh); set before numba is first imported
 os.environ.setdefault("NUMBA_ENABLE_CUDASIM", "1")
+# `-n auto` gives each worker process a core: BLAS threads on top of that oversubscribe the machine (OpenBLAS
+# threads wait by spinning), so in a worker numpy and scipy run on one thread (numpy is loaded before this file:
+# threadpoolctl sets the loaded libraries), as do the subprocesses it starts (the variables)
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    from threadpoolctl import threadpool_limits
+
+    for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_name, "1")
+    threadpool_limits(1, user_api="blas")
 
 HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:
