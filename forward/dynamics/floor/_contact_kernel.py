@@ -13,14 +13,20 @@ the tangential impact), N = g + B''θ̇² (lift-off while sliding), σu_t (slidi
 more friction than there is), θ̇ (with a rolling resistance: its couple turns round), and the distances to the
 kinks at the ends of the piece.  Every step is at most as long as the events allow, by bounds on their rates
 over the step (conservative advancement, as the flight's search): over the step ``|θ̇| ≤ W``; the wall's
-derivatives are bounded from their values at θ and the cell's bound of |b'''| (the cell table's, sampled with
-a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of each event
-function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero.  θ̇, the distances to the
-kinks and the slip σu_t are met by second-order steps (the rate now is known, the second derivative bounded over
-the step: by J and A, and for the slip by those of F_n, θ̈ and θ⃛), so a corner or the end of a slip is reached in
-a few steps.  The rates of N and μF_n ∓ F_t hold the wall's third derivative, which the cell table bounds but the
-wall's code does not give: those two are approached by first-order steps, each taking a fixed share of what is
-left (hundreds of steps from a value of order 1 down to EVENT_TOL).  An event whose function has just been zero
+derivatives are bounded from their values at θ and the cell's bounds of |b'''| and |b''''| (the cell table's,
+sampled with a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of
+each event function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero (D keeps this step
+at half its value: D ≥ D/2 over the step is what bounds F_n).  The other event functions are met by second-order
+steps: the rate ḣ_k now is known exactly and the second derivative bounded, |ḧ_k| ≤ K_k over the step, so that
+h_k + ḣ_k τ − ½K_k τ² > 0 (``_root_step``) keeps h_k from zero and a zero is reached in a few steps, not by a
+fixed share of what is left at each (the slip, N and μF_n ∓ F_t take the longer of their first- and second-order
+steps).  For θ̇ and the distances to the kinks K is A or J; for the slip σu_t it is built from the bounds of Ḟ_n,
+θ̈ and θ⃛; the rates of N (Ṅ = B'''θ̇³ + 2B''θ̇θ̈) and of μF_n ∓ F_t (through θ⃛ = (ṅ − θ̈ṁ)/m, the rolling
+θ̈ = n/m differentiated) take the wall's b''' at θ (``wall_b3``, generated with the wall's other code), their
+second derivatives the cell's bound of |b''''| (for rolling through a bound of |θ⁗|, from mθ⁗ = n̈ − 2ṁθ⃛ − m̈θ̈).
+On the quadratic continuation of a piece at its kink (the last 1e-12 rad, :func:`._friction_kernel._piece`), and
+for an expression whose b''' has no generated code (``wall_b3`` gives NaN), N and μF_n ∓ F_t take first-order
+steps only.  An event whose function has just been zero
 (the slip that just started) is looked for again once its function has left a band of 10 tolerances.  The
 declared approximations are the flight's (cell bounds from dense sampling, the contact tolerance) and the
 integration's: Dormand–Prince 5(4) steps whose local error is at most ``STEP_TOL`` (1e-10 of the state's
