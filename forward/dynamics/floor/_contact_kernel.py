@@ -108,9 +108,10 @@ OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 def _first_or_second(h, hdot, K, L):
     # a step for which the event function h > 0 keeps its sign: |ḣ| ≤ L over it (first order), or ḣ now and
     # |ḧ| ≤ K over it (second order, a zero met in a few steps): the longer; first order where ḣ is unknown (NaN)
-    if hdot == hdot:
-        return max(h / L, _root_step(h, hdot, K))
-    return h / L
+    # or K is not finite (the second-order step is NaN then, and no comparison takes it)
+    tau = h / L
+    second = _root_step(h, hdot, K)
+    return second if second > tau else tau
 
 
 @njit(inline='always', **OPTIONS)
