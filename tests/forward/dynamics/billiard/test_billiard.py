@@ -64,6 +64,28 @@ def test_generated_wall_code_matches_wall_derivatives(name):
     np.testing.assert_allclose(got3, d3, rtol=0, atol=1e-6 * np.max(np.abs(d3)))
 
 
+def test_a_third_derivative_without_translation_is_nan_and_leaves_the_rest(monkeypatch):
+    """Where casadi's b''' of an expression holds an operation with no numba translation, ``wall_b3`` is NaN (the
+    contact phases then take first-order steps) and ``wall_b1``/``wall_b2`` are those of the wall as before."""
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.dynamics.billiard import wallcode
+
+    wall = WALLS["coin"][0]
+    before = wallcode.wall_source(wall)
+    translate = wallcode._translate
+
+    def refuse_third(func, name, *args):
+        if name == "wall_b3":
+            raise InvalidWall("no translation")
+        return translate(func, name, *args)
+
+    monkeypatch.setattr(wallcode, "_translate", refuse_third)
+    source, constants = wallcode.wall_source(wall)
+    assert source.startswith(before[0].split("def wall_b3")[0])
+    assert math.isnan(python_wall(wall, order=3)(0.7))
+    np.testing.assert_allclose(python_wall(wall, order=2)(0.7), [float(v) for v in wall.derivatives(0.7)], rtol=1e-13)
+
+
 def _max_diff(a, b, n=None):
     return max(float(np.max(np.abs(getattr(a, f)[:n] - getattr(b, f)[:n]))) for f in FIELDS)
 
