@@ -100,7 +100,7 @@ construction, and in the generated wall code a division by zero gives inf/nan
 as casadi does: a wall sample that is not finite makes the cell bounds refuse the
 wall, and a non-finite gap in the exact stage stops the orbit with a note, so a
 pole between checked angles is never read as "no contact") and without ``fastmath`` (which could reorder the polish and
-the bounds).  All per-cell data is one (m, 20) table.  numba increments and
+the bounds).  All per-cell data is one (m, 21) table.  numba increments and
 decrements the reference count of every array argument with atomic
 instructions on each call; ``_run`` therefore rebuilds its arrays as views
 without a reference count (``numba.carray`` on the data pointer) before the

@@ -43,6 +43,11 @@ def wall_b2(phi, c):
     raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.billiard.kernel")
 
 
+def wall_b3(phi, c):
+    """Stand-in for the generated ``wall_b3(phi, c) -> b'''`` (see :func:`.wallcode.wall_source`)."""
+    raise NotImplementedError("the search runs joined to a wall's generated code: see coinwall.forward.dynamics.billiard.kernel")
+
+
 # ---- search: the text from the line after this one to the end of the file is joined to the wall code ----
 
 TWO_PI = 2.0 * math.pi
@@ -53,7 +58,7 @@ ROUND_T = 1e-15  # a time interval this small (relative) is rounding
 SIXTH = 1.0 / 6.0
 # columns of the cell table (one row per cell, see cellbounds.cell_table)
 (LEFT, RIGHT, BMAX, CMAX, SLOPE_FWD, SLOPE_BWD, P0, P1, P2, P3, P4, P5, PERR, P2MAX, D3MAX, P2ABS,
- RUN_FWD, NEXT_FWD, RUN_BWD, NEXT_BWD) = range(20)
+ RUN_FWD, NEXT_FWD, RUN_BWD, NEXT_BWD, D4MAX) = range(21)
 POS_TOL = 0.01  # a second-order contact is taken unconfirmed when its Taylor remainder is below POS_TOL·tol
 # Budgets (why an orbit may stop instead of looping).  θ is reduced mod 2π after every flight; a flight that
 # carries it beyond MAX_ANGLE (2^44 ≈ 1.8e13 rad, where one ulp is 0.004 rad) leaves nothing of the contact

@@ -2,10 +2,10 @@
 
 The kernel (:mod:`._kernel`) walks a ray cell by cell.  A cell is a piece of the period on which
 the wall is smooth (a uniform grid of :data:`CELLS` cells, cut again at every kink); for each cell
-this module computes an upper bound of b, an upper bound of b'', a bound of |b'''|, the quintic
+this module computes an upper bound of b, an upper bound of b'', bounds of |b'''| and |b''''|, the quintic
 Hermite proxy of b with a bound of its error, and the kinks' one-sided slopes, all from dense
 sampling with a margin that is then checked on a finer shifted grid.  They are packed into one
-(m, 20) table (:func:`cell_table`), the layout the kernel's column constants name.
+(m, 21) table (:func:`cell_table`), the layout the kernel's column constants name.
 """
 
 from __future__ import annotations
@@ -80,7 +80,7 @@ def cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     margin_2 = _widen(margin_2, cmax, d2f.max(axis=1))
     bmax = bmax + margin_b
     cmax = cmax + margin_2
-    d3max = _third_derivative_bound(pts_2, d2, pts_f, d2f)
+    d3max, d4max = _higher_derivative_bounds(pts_2, d2, pts_f, d2f)
     bmin_global = float(np.min(b) - np.max(margin_b))
     slope_left = np.full(m + 1, np.nan)
     slope_right = np.full(m + 1, np.nan)
@@ -95,7 +95,8 @@ def cell_bounds(wall: Wall, cells: int = CELLS, samples: int = SAMPLES):
     proxy, perr, p2max, p2abs = cell_proxies(wall, edges, slope_left, slope_right, samples)
     return {"edges": edges, "bmax": bmax, "cmax": cmax, "slope_left": slope_left, "slope_right": slope_right,
             "lookup": lookup, "nunif": cells, "wmin": bmin_global, "wmax": float(bmax.max()),
-            "proxy": proxy, "perr": perr, "p2max": p2max, "p2abs": p2abs, "d3max": d3max}
+            "proxy": proxy, "perr": perr, "p2max": p2max, "p2abs": p2abs, "d3max": d3max,
+            "d4max": d4max}
 
 
 def _widen(margin, base, check):
@@ -129,19 +130,28 @@ def _require_finite(wall: Wall, points, values):
                               f"finite wall")
 
 
-def _third_derivative_bound(pts, d2, pts_f, d2f):
-    """Per-cell bound of |b'''| from the slopes of sampled b'' (interior points of each cell).
+def _higher_derivative_bounds(pts, d2, pts_f, d2f):
+    """Per-cell bounds of |b'''| and |b''''| from the slopes of sampled b'' (interior points of each cell).
 
-    Twice the largest difference quotient of neighbouring samples plus the
+    |b'''|: twice the largest difference quotient of neighbouring samples plus the
     largest change between neighbouring quotients, then checked against the
-    quotients on the finer shifted grid (doubled where they exceed it).  Used
-    only to decide when a contact found by a second-order step needs no
-    confirming evaluation (the Taylor remainder of that step, see the kernel).
+    quotients on the finer shifted grid (doubled where they exceed it).  |b''''|:
+    the same rule one order up, on the difference quotients of those quotients
+    (between the samples' midpoints), checked likewise.  The search uses the first
+    to decide when a contact found by a second-order step needs no confirming
+    evaluation (the Taylor remainder of that step, see the kernel); the contact
+    phases on the floor use both to bound their event functions over a step.
     """
-    q = np.abs(np.diff(d2, axis=1) / np.diff(pts, axis=1))
-    bound = 2.0 * q.max(axis=1) + np.abs(np.diff(q, axis=1)).max(axis=1) + 1e-9
-    qf = np.abs(np.diff(d2f, axis=1) / np.diff(pts_f, axis=1)).max(axis=1)
-    return _widen(bound, 0.0, qf)
+    def quotients(x, y):
+        return np.diff(y, axis=1) / np.diff(x, axis=1), 0.5 * (x[:, 1:] + x[:, :-1])
+
+    def rule(q):
+        return 2.0 * np.abs(q).max(axis=1) + np.abs(np.diff(q, axis=1)).max(axis=1) + 1e-9
+
+    q3, mid = quotients(pts, d2)
+    q3f, midf = quotients(pts_f, d2f)
+    q4, q4f = quotients(mid, q3)[0], quotients(midf, q3f)[0]
+    return _widen(rule(q3), 0.0, np.abs(q3f).max(axis=1)), _widen(rule(q4), 0.0, np.abs(q4f).max(axis=1))
 
 
 def cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAMPLES):
@@ -213,19 +223,20 @@ def cell_proxies(wall: Wall, edges, slope_left, slope_right, samples: int = SAMP
 
 
 def cell_table(bounds) -> np.ndarray:
-    """The cell bounds as one (m, 20) table for the kernel (one row, two or three cache lines, per cell).
+    """The cell bounds as one (m, 21) table for the kernel (one row, two or three cache lines, per cell).
 
     Columns: left and right edge, bmax, c (bound of b''), the kink slopes seen when
     entering through the left edge (moving forward) and through the right edge
     (moving backward; NaN where the edge is no kink), the quintic proxy c0..c5,
     its error bound e, max p'', the bound of |b'''|, max |p''|, and the *curving-away runs*
     (:func:`concave_runs`): where the run of cells with ``c ≤ 0`` that starts at this cell ends going
-    forward and the cell after it, then the same going backward.  One table instead of a dozen arrays
-    keeps the per-call bookkeeping of numba small.
+    forward and the cell after it, then the same going backward; last the bound of |b''''| (for the contact
+    phases on the floor; after the billiard's columns, whose places it leaves as they were).  One table instead
+    of a dozen arrays keeps the per-call bookkeeping of numba small.
     """
     edges = bounds["edges"]
     m = edges.size - 1
-    table = np.empty((m, 20))
+    table = np.empty((m, 21))
     table[:, 0] = edges[:-1]
     table[:, 1] = edges[1:]
     table[:, 2] = bounds["bmax"]
@@ -238,6 +249,7 @@ def cell_table(bounds) -> np.ndarray:
     table[:, 14] = bounds["d3max"]
     table[:, 15] = bounds["p2abs"]
     table[:, 16:20] = concave_runs(edges, bounds["cmax"], bounds["slope_left"], bounds["slope_right"])
+    table[:, 20] = bounds["d4max"]
     return np.ascontiguousarray(table)
 
 

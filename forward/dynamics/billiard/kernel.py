@@ -105,7 +105,7 @@ class CompiledKernel:
         The wall's constants (the array ``c`` of the generated code).
     bounds : dict
         :func:`.cellbounds.cell_bounds` of the wall.
-    cells : ndarray (m, 20)
+    cells : ndarray (m, 21)
         :func:`.cellbounds.cell_table` of the bounds.
     """
 

@@ -17,8 +17,9 @@ wall as ordinary code.  This module writes that code:
   the coefficients in ``c``.
 
 The source defines ``wall_b1(phi, c) -> (b, db)`` and ``wall_b2(phi, c) -> (b, db, d2b)``
-(the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics.billiard._kernel`);
-it runs as plain Python too
+(the kernel's last evaluation before a contact needs b'', see :mod:`coinwall.forward.dynamics.billiard._kernel`),
+and ``wall_b3(phi, c) -> d3b`` (for the contact phases on the floor; the billiard never calls it, so its compiled
+code does not change); it runs as plain Python too
 (tests compare it with :meth:`Wall.derivatives` without compiling anything).
 
 The second half of the module loads generated source as a module (:func:`load_module`) and gives its
@@ -70,6 +71,20 @@ FOURIER_SOURCE = '''
     # b and b' only (the compiler drops the unused b'' sum)
     b, db, d2b = wall_b2(phi, c)
     return b, db
+
+
+{decorator}def wall_b3(phi, c):
+    # the third derivative alone (for the contact phases' rates of the contact force), by the same recurrence
+    n = int(c[1])
+    c1 = math.cos(phi)
+    s1 = math.sin(phi)
+    ck = c1
+    sk = s1
+    d3b = 0.0
+    for k in range(1, n + 1):
+        d3b += k * k * k * (c[1 + k] * sk - c[1 + n + k] * ck)
+        ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
+    return d3b
 '''
 
 
@@ -136,14 +151,24 @@ def _expression_source(parsed, decorator):
     d1 = ca.jacobian(parsed.expr, t)
     unary, binary = _op_table()
     constants = []  # both functions read one array (their constants one after the other)
+    d2 = ca.jacobian(d1, t)
     sources = [_translate(ca.Function(name, [t], outputs), name, unary, binary, constants, parsed.text)
-               for name, outputs in (("wall_b1", [parsed.expr, d1]),
-                                     ("wall_b2", [parsed.expr, d1, ca.jacobian(d1, t)]))]
+               for name, outputs in (("wall_b1", [parsed.expr, d1]), ("wall_b2", [parsed.expr, d1, d2]))]
+    # b''' after the others, so that their code and constants do not change: only the contact phases call it,
+    # and NaN, where it has no translation, makes them take their first-order steps
+    try:
+        sources.append(_translate(ca.Function("wall_b3", [t], [ca.jacobian(d2, t)]), "wall_b3", unary, binary,
+                                  constants, parsed.text))
+    except InvalidWall:
+        sources.append("def wall_b3(phi, c):\n    return math.nan\n")
     return "\n\n".join(decorator + src for src in sources), np.array(constants or [0.0])
 
 
 def wall_source(wall, decorator: str = ""):
-    """Python source of ``wall_b1(phi, c) -> (b, b')`` and ``wall_b2(phi, c) -> (b, b', b'')``.
+    """Python source of ``wall_b1(phi, c) -> (b, b')``, ``wall_b2(phi, c) -> (b, b', b'')`` and ``wall_b3``.
+
+    ``wall_b3(phi, c) -> b'''`` returns NaN for an expression whose third derivative has an operation without a
+    translation.
 
     Parameters
     ----------
@@ -154,7 +179,7 @@ def wall_source(wall, decorator: str = ""):
     Returns
     -------
     source : str
-        Two function definitions using only :mod:`math` (no imports inside).
+        Three function definitions using only :mod:`math` (no imports inside).
     constants : numpy.ndarray
         The array to pass as ``c`` (to either function).
     """
@@ -170,14 +195,14 @@ def wall_source(wall, decorator: str = ""):
 
 
 def python_wall(wall, order: int = 1):
-    """The generated ``wall_b1`` (``order=1``) or ``wall_b2`` (``order=2``) as a plain Python function of one angle.
+    """The generated ``wall_b1``, ``wall_b2`` or ``wall_b3`` (``order`` 1 to 3) as a plain Python function of an angle.
 
     Uncompiled, for checks against :meth:`Wall.derivatives`.
     """
     source, constants = wall_source(wall)
     namespace = {"math": math}
     exec(compile(source, "<coinwall wall code>", "exec"), namespace)  # noqa: S102 -- our own generated source
-    func = namespace["wall_b1" if order == 1 else "wall_b2"]
+    func = namespace[f"wall_b{order}"]
     return lambda phi: func(float(phi), constants)
 
 

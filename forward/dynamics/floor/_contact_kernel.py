@@ -13,14 +13,20 @@ the tangential impact), N = g + B''θ̇² (lift-off while sliding), σu_t (slidi
 more friction than there is), θ̇ (with a rolling resistance: its couple turns round), and the distances to the
 kinks at the ends of the piece.  Every step is at most as long as the events allow, by bounds on their rates
 over the step (conservative advancement, as the flight's search): over the step ``|θ̇| ≤ W``; the wall's
-derivatives are bounded from their values at θ and the cell's bound of |b'''| (the cell table's, sampled with
-a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of each event
-function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero.  θ̇, the distances to the
-kinks and the slip σu_t are met by second-order steps (the rate now is known, the second derivative bounded over
-the step: by J and A, and for the slip by those of F_n, θ̈ and θ⃛), so a corner or the end of a slip is reached in
-a few steps.  The rates of N and μF_n ∓ F_t hold the wall's third derivative, which the cell table bounds but the
-wall's code does not give: those two are approached by first-order steps, each taking a fixed share of what is
-left (hundreds of steps from a value of order 1 down to EVENT_TOL).  An event whose function has just been zero
+derivatives are bounded from their values at θ and the cell's bounds of |b'''| and |b''''| (the cell table's,
+sampled with a checked margin like the search's other bounds); these bound |θ̈| (A), |θ⃛| (J), the rate L_k of
+each event function and D from below, and a step τ ≤ h_k/L_k cannot carry h_k through zero (D keeps this step
+at half its value: D ≥ D/2 over the step is what bounds F_n).  The other event functions are met by second-order
+steps: the rate ḣ_k now is known exactly and the second derivative bounded, |ḧ_k| ≤ K_k over the step, so that
+h_k + ḣ_k τ − ½K_k τ² > 0 (``_root_step``) keeps h_k from zero and a zero is reached in a few steps, not by a
+fixed share of what is left at each (the slip, N and μF_n ∓ F_t take the longer of their first- and second-order
+steps).  For θ̇ and the distances to the kinks K is A or J; for the slip σu_t it is built from the bounds of Ḟ_n,
+θ̈ and θ⃛; the rates of N (Ṅ = B'''θ̇³ + 2B''θ̇θ̈) and of μF_n ∓ F_t (through θ⃛ = (ṅ − θ̈ṁ)/m, the rolling
+θ̈ = n/m differentiated) take the wall's b''' at θ (``wall_b3``, generated with the wall's other code), their
+second derivatives the cell's bound of |b''''| (for rolling through a bound of |θ⁗|, from mθ⁗ = n̈ − 2ṁθ⃛ − m̈θ̈).
+On the quadratic continuation of a piece at its kink (the last 1e-12 rad, :func:`._friction_kernel._piece`), and
+for an expression whose b''' has no generated code (``wall_b3`` gives NaN), N and μF_n ∓ F_t take first-order
+steps only.  An event whose function has just been zero
 (the slip that just started) is looked for again once its function has left a band of 10 tolerances.  The
 declared approximations are the flight's (cell bounds from dense sampling, the contact tolerance) and the
 integration's: Dormand–Prince 5(4) steps whose local error is at most ``STEP_TOL`` (1e-10 of the state's
@@ -44,7 +50,19 @@ import math
 
 from numba import njit
 
-from ..billiard._search import D3MAX, INF, LEFT, RIGHT, SLOPE_BWD, SLOPE_FWD, TWO_PI, _root_step, wall_b2
+from ..billiard._search import (
+    D3MAX,
+    D4MAX,
+    INF,
+    LEFT,
+    RIGHT,
+    SLOPE_BWD,
+    SLOPE_FWD,
+    TWO_PI,
+    _root_step,
+    wall_b2,
+    wall_b3,
+)
 from ._friction_kernel import (
     C_BUDGET,
     C_EVENT,
@@ -85,6 +103,16 @@ OPTIONS = {'cache': CACHE, 'error_model': 'numpy'}
 
 
 # ---- contact kernel: the text from the line after this one to the end of the file is joined to the field kernel ----
+
+@njit(inline='always', **OPTIONS)
+def _first_or_second(h, hdot, K, L):
+    # a step for which the event function h > 0 keeps its sign: |ḣ| ≤ L over it (first order), or ḣ now and
+    # |ḧ| ≤ K over it (second order, a zero met in a few steps): the longer; first order where ḣ is unknown (NaN)
+    # or K is not finite (the second-order step is NaN then, and no comparison takes it)
+    tau = h / L
+    second = _root_step(h, hdot, K)
+    return second if second > tau else tau
+
 
 @njit(inline='always', **OPTIONS)
 def _side_angle(xk, wraps, jk, m):
@@ -239,12 +267,20 @@ def _contact(x, wraps, j, w, vx, sig, b0, g, e, mu, rr, chatter, tol, lscale, c,
         jb = j - 1 if j > 0 else m - 1
         jf = j + 1 if j + 1 < m else 0
         S3 = cells[j, D3MAX]
+        S4 = cells[j, D4MAX]
         if not kink_lo:
             S3 = max(S3, cells[jb, D3MAX])
+            S4 = max(S4, cells[jb, D4MAX])
             tau = min(tau, (x - lo + (cells[jb, RIGHT] - cells[jb, LEFT])) / W)
         if not kink_hi:
             S3 = max(S3, cells[jf, D3MAX])
+            S4 = max(S4, cells[jf, D4MAX])
             tau = min(tau, (hi - x + (cells[jf, RIGHT] - cells[jf, LEFT])) / W)
+        # B''' now: the wall's, except on the quadratic continuation of a piece at its kink (_piece), where the
+        # rates below are left unknown (NaN: first-order steps)
+        B3 = math.nan
+        if not ((kink_lo and x < lo + KINK_NEAR) or (kink_hi and x > hi - KINK_NEAR)):
+            B3 = wall_b3(x, c)
         delta = W * tau
         aB2 = abs(B2)
         S2 = aB2 + S3 * delta
@@ -270,7 +306,9 @@ def _contact(x, wraps, j, w, vx, sig, b0, g, e, mu, rr, chatter, tol, lscale, c,
             Lu = mu * Fmax + S1 * W * W + S0 * A
             J = (LN + Fmax * LD) / Dmin * (S1 + mu * S0 + rr) + Fmax * (S2 + mu * S1) * W
             if LN > 0.0:
-                tau = min(tau, N / LN)
+                # Ṅ = B'''θ̇³ + 2B''θ̇θ̈ now, N̈ = B''''θ̇⁴ + 5B'''θ̇²θ̈ + 2B''(θ̈² + θ̇θ⃛) bounded over the step
+                KN = S4 * W * W * W * W + 5.0 * S3 * W * W * A + 2.0 * S2 * (A * A + W * J)
+                tau = min(tau, _first_or_second(N, B3 * w * w * w + 2.0 * B2 * w * a, KN, LN))
             if armed and Lu > 0.0:
                 # u̇ = σ(ξ̈ − B'θ̇² − Bθ̈) now, ü = σ(−μσḞ_n − B''θ̇³ − 3B'θ̇θ̈ − Bθ⃛) bounded over the step: the
                 # second-order step (a zero met in a few steps, not geometrically) or the first-order one
@@ -284,7 +322,28 @@ def _contact(x, wraps, j, w, vx, sig, b0, g, e, mu, rr, chatter, tol, lscale, c,
             J = Mi * (ndot + A * mdot)
             Lh = mu * (3.0 * S2 * W * A + S1 * J + S3 * W * W * W) + S2 * W * W * W + 3.0 * S1 * W * A + S0 * J
             if armed and Lh > 0.0:
-                tau = min(tau, min(hp, hm) / Lh)
+                # μF_n ∓ F_t: their rates now, from Ḟ_n = 3B''θ̇θ̈ + B'θ⃛ + B'''θ̇³ and Ḟ_t = B''θ̇³ + 3B'θ̇θ̈ + Bθ⃛
+                # (θ⃛ = (ṅ − θ̈ṁ)/m exactly), and their second derivatives bounded over the step through
+                # |θ⁗| = |n̈ − 2ṁθ⃛ − m̈θ̈|/m ≤ Q: F̈_n = B''''θ̇⁴ + 6B'''θ̇²θ̈ + 3B''θ̈² + 4B''θ̇θ⃛ + B'θ⁗,
+                # F̈_t = B'''θ̇⁴ + 6B''θ̇²θ̈ + 3B'θ̈² + 4B'θ̇θ⃛ + Bθ⁗ (n = −qP − BB'θ̇², P = g + B''θ̇², q = B' + rr sw)
+                q = s + rr * sw
+                P = g + B2 * w * w
+                jn = (-B2 * w * P - q * (B3 * w * w * w + 2.0 * B2 * w * a) - (s * s + B * B2) * w * w * w
+                      - 2.0 * B * s * w * a - a * (2.0 * B * s + B2 * (q + s)) * w) / (1.0 + B * B + s * q)
+                dfn = 3.0 * B2 * w * a + s * jn + B3 * w * w * w
+                dft = B2 * w * w * w + 3.0 * s * w * a + B * jn
+                W4 = W * W * W * W
+                AJ = A * A + W * J
+                n2 = ((S3 * W * W + S2 * A) * (g + S2 * W * W) + 2.0 * S2 * W * (S3 * W * W * W + 2.0 * S2 * W * A)
+                      + (S1 + rr) * (S4 * W4 + 5.0 * S3 * W * W * A + 2.0 * S2 * AJ)
+                      + (3.0 * S1 * S2 + S0 * S3) * W4 + 5.0 * (S1 * S1 + S0 * S2) * W * W * A + 2.0 * S0 * S1 * AJ)
+                m2 = ((2.0 * S1 * S1 + 2.0 * S0 * S2 + 2.0 * S2 * S2 + (2.0 * S1 + rr) * S3) * W * W
+                      + (2.0 * S0 * S1 + (2.0 * S1 + rr) * S2) * A)
+                Q = Mi * (n2 + 2.0 * J * mdot + A * m2)
+                Kh = (mu * (S4 * W4 + 6.0 * S3 * W * W * A + 3.0 * S2 * A * A + 4.0 * S2 * W * J + S1 * Q)
+                      + S3 * W4 + 6.0 * S2 * W * W * A + 3.0 * S1 * A * A + 4.0 * S1 * W * J + S0 * Q)
+                tau = min(tau, _first_or_second(hp, mu * dfn - dft, Kh, Lh),
+                          _first_or_second(hm, mu * dfn + dft, Kh, Lh))
         if rr > 0.0:  # θ̇ must not pass zero inside a step (the resistance turns round there)
             tau = min(tau, _root_step(max(sw * w, 0.0), sw * a, J))
         if kink_hi:

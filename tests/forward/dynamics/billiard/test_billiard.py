@@ -56,6 +56,34 @@ def test_generated_wall_code_matches_wall_derivatives(name):
     np.testing.assert_allclose(got2[:, 0], b, rtol=0, atol=1e-14)
     np.testing.assert_allclose(got2[:, 1], d1, rtol=0, atol=1e-13)
     np.testing.assert_allclose(got2[:, 2], d2, rtol=1e-13, atol=1e-12)
+    # wall_b3 (the contact phases' rates) against the fourth-order central difference of the wall's own b''
+    h = 1e-4
+    d3 = (8 * (wall.derivatives(theta + h)[2] - wall.derivatives(theta - h)[2])
+          - (wall.derivatives(theta + 2 * h)[2] - wall.derivatives(theta - 2 * h)[2])) / (12 * h)
+    got3 = np.array([python_wall(wall, order=3)(x) for x in theta])
+    np.testing.assert_allclose(got3, d3, rtol=0, atol=1e-6 * np.max(np.abs(d3)))
+
+
+def test_a_third_derivative_without_translation_is_nan_and_leaves_the_rest(monkeypatch):
+    """Where casadi's b''' of an expression holds an operation with no numba translation, ``wall_b3`` is NaN (the
+    contact phases then take first-order steps) and ``wall_b1``/``wall_b2`` are those of the wall as before."""
+    from coinwall.forward.errors import InvalidWall
+    from coinwall.forward.dynamics.billiard import wallcode
+
+    wall = WALLS["coin"][0]
+    before = wallcode.wall_source(wall)
+    translate = wallcode._translate
+
+    def refuse_third(func, name, *args):
+        if name == "wall_b3":
+            raise InvalidWall("no translation")
+        return translate(func, name, *args)
+
+    monkeypatch.setattr(wallcode, "_translate", refuse_third)
+    source, constants = wallcode.wall_source(wall)
+    assert source.startswith(before[0].split("def wall_b3")[0])
+    assert math.isnan(python_wall(wall, order=3)(0.7))
+    np.testing.assert_allclose(python_wall(wall, order=2)(0.7), [float(v) for v in wall.derivatives(0.7)], rtol=1e-13)
 
 
 def _max_diff(a, b, n=None):
@@ -403,6 +431,9 @@ def test_cell_proxy_bounds_hold_on_an_independent_grid(name):
     d2 = wall.derivatives((edges[:-1, None] + s_sorted).ravel())[2].reshape(s.shape)
     quotient = np.abs(np.diff(d2, axis=1) / np.diff(s_sorted, axis=1))
     assert np.all(quotient <= bd["d3max"][:, None])
+    # |b''''| <= d4max likewise, from the generated code's exact b''' (not from the sampled b'' it was built on)
+    d3 = np.vectorize(python_wall(wall, order=3))(edges[:-1, None] + s_sorted)
+    assert np.all(np.abs(np.diff(d3, axis=1) / np.diff(s_sorted, axis=1)) <= bd["d4max"][:, None])
     # the proxy is useful: its error is far below the wall's variation over a cell
     assert np.median(bd["perr"]) < 1e-9
 

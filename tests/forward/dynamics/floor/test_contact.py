@@ -13,7 +13,8 @@ The discs are Fourier walls (one compiled kernel serves every Fourier wall).
   t = ∫ dθ / θ̇(θ), θ̇² = 2(E − g B)/(1 + B² + B'²) (quadrature by scipy).
 * An eccentric disc (b = 1 + 0.3 cos θ) sliding with friction comes to rolling when its slip u_t = ξ̇ − Bθ̇
   reaches 0: the time against scipy's DOP853 with event location on the sliding equations of motion as
-  docs/toss.md states them (a second integrator and root finder).
+  docs/toss.md states them (a second integrator and root finder); likewise case:egg's wall lifting off while it
+  slides (N = g + B''θ̇² reaches 0) and starting to slip while it rolls (μF_n ∓ F_t reaches 0).
 * Housner (Bull. Seismol. Soc. Am. 53, 403 (1963)): a uniform rectangular block (half-width w, half-height h,
   tan α = w/h, R² = w² + h² = 3κ²) rocking on a rigid floor without sliding or bouncing keeps the fraction
   1 − (3/2) sin²α of its angular velocity at each impact (angular momentum about the new corner is kept); about
@@ -158,6 +159,101 @@ def test_a_sliding_eccentric_disc_stops_slipping_when_scipy_says_in_few_steps():
                                  cells, valleys, False, 1000)
     assert phase[1] == EV["rolling"] and phase[10] == flight.time[0]
     assert phase[-1] <= 70
+
+
+EGG = {"cos": [0.05, 0.06], "sin": [0.0, 0.0, 0.04]}  # case:egg's wall as its Fourier series
+
+
+def _egg(x):
+    """B = 1 + b (b0 = 1), B' and B'' of case:egg's Fourier wall at x, by hand (not the kernel's wall code)."""
+    b, d1, d2 = 1.0, 0.0, 0.0
+    for k, a in enumerate(EGG["cos"], 1):
+        b, d1, d2 = b + a * math.cos(k * x), d1 - k * a * math.sin(k * x), d2 - k * k * a * math.cos(k * x)
+    for k, a in enumerate(EGG["sin"], 1):
+        b, d1, d2 = b + a * math.sin(k * x), d1 + k * a * math.cos(k * x), d2 - k * k * a * math.sin(k * x)
+    return b, d1, d2
+
+
+def _egg_phase(mu, x, w, vx, sig, budget):
+    """The kernel's contact phase on case:egg's wall (g = 1, no rolling resistance) from θ = x, θ̇ = w, ξ̇ = vx."""
+    from coinwall.forward.dynamics.floor.fieldkernel import _kernel
+
+    table = FieldTable(Wall.from_fourier(1.0, **EGG), g=1.0, e=0.5, mu=mu, settle=False)
+    comp = _kernel(table)
+    c, cells, lookup, _wmin, _wmax, tol, valleys, lscale = comp.wall_args(table)
+    j = comp.module._cell_of(x, cells, lookup)
+    return comp.module._contact(x, 0, j, w, vx, sig, table.b0, 1.0, 0.5, mu, 0.0, table.chatter, tol, lscale, c,
+                                cells, valleys, False, budget)
+
+
+def test_a_sliding_egg_lifts_off_when_scipy_says_in_few_steps():
+    """case:egg's wall at θ = 4, θ̇ = 2, sliding forward fast (ξ̇ = 8, μ = 0.3): the contact force N = g + B''θ̇²
+    falls to 0 and the egg lifts off, at the time and state scipy's DOP853 finds for N = 0 (rtol = atol = 1e-13) on
+    the sliding equations D = 1 + s² − μsB, F_n = N/D, θ̈ = F_n(μB − s), ξ̈ = −μF_n.  The phase's last state on the
+    floor is read by running it with a budget of exactly its steps (the event is found at the next state's check;
+    the lift-off record itself lies after the short free flight that opens the gap).  N's zero is approached by
+    second-order steps (its rate now, with the wall's b''', and a bound of its second derivative, with the cell's
+    bound of |b''''|): at most 80 steps, where first-order steps take 134."""
+    from scipy.integrate import solve_ivp
+
+    mu, x0, w0, v0 = 0.3, 4.0, 2.0, 8.0
+
+    def rhs(t, y):
+        B, s, B2 = _egg(y[0])
+        fn = (1.0 + B2 * y[1] ** 2) / (1 + s * s - mu * s * B)
+        return [y[1], fn * (mu * B - s), -mu * fn]
+
+    def contact_force(t, y):
+        return 1.0 + _egg(y[0])[2] * y[1] ** 2
+
+    def slip(t, y):
+        return y[2] - _egg(y[0])[0] * y[1]
+
+    contact_force.terminal = slip.terminal = True
+    ref = solve_ivp(rhs, (0, 50), [x0, w0, v0], method="DOP853", rtol=1e-13, atol=1e-13, events=[contact_force, slip])
+    assert ref.t_events[0].size == 1 and ref.t_events[1].size == 0  # it lifts off, still sliding
+    phase = _egg_phase(mu, x0, w0, v0, 1, 1000)
+    assert phase[1] == EV["lift-off"] and phase[5] == pytest.approx(ref.y_events[0][0][1], rel=1e-10)
+    steps = phase[-1]
+    last = _egg_phase(mu, x0, w0, v0, 1, steps)
+    assert last[10] == pytest.approx(ref.t_events[0][0], rel=1e-10)
+    np.testing.assert_allclose([last[2] + 2 * math.pi * last[3], last[5], last[6]], ref.y_events[0][0], rtol=1e-10)
+    assert steps <= 80
+
+
+def test_a_rolling_egg_starts_slipping_when_scipy_says_in_few_steps():
+    """case:egg's wall rolling without slipping from θ = 4, θ̇ = 1.5, μ = 0.3 (no rolling resistance): the friction
+    rolling needs, F_t = B'θ̇² + Bθ̈, reaches −μF_n (F_n = g + B'θ̈ + B''θ̇², θ̈ = −B'(g + B''θ̇² + Bθ̇²)/(1 + B² + B'²))
+    and the contact slips (the 'slipping' record), at the time and state scipy's DOP853 finds for μF_n ∓ F_t = 0
+    (rtol = atol = 1e-13).  The zero is approached by second-order steps (the rates of F_n and F_t now, with the
+    wall's b''', and a bound of their second derivatives, with the cell's bound of |b''''|): at most 100 steps,
+    where first-order steps take 408."""
+    from scipy.integrate import solve_ivp
+
+    mu, x0, w0 = 0.3, 4.0, 1.5
+
+    def forces(y):
+        B, s, B2 = _egg(y[0])
+        a = (-s * (1.0 + B2 * y[1] ** 2) - B * s * y[1] ** 2) / (1 + B * B + s * s)
+        return a, 1.0 + s * a + B2 * y[1] ** 2, s * y[1] ** 2 + B * a
+
+    def slip_forward(t, y):
+        _a, fn, ft = forces(y)
+        return mu * fn - ft
+
+    def slip_back(t, y):
+        _a, fn, ft = forces(y)
+        return mu * fn + ft
+
+    slip_forward.terminal = slip_back.terminal = True
+    ref = solve_ivp(lambda t, y: [y[1], forces(y)[0]], (0, 50), [x0, w0], method="DOP853", rtol=1e-13, atol=1e-13,
+                    events=[slip_forward, slip_back])
+    assert ref.t_events[0].size == 0 and ref.t_events[1].size == 1  # F_t reaches −μF_n
+    phase = _egg_phase(mu, x0, w0, _egg(x0)[0] * w0, 0, 1000)
+    assert phase[1] == EV["slipping"] and phase[7] == 1  # the slip that starts is forward: friction pulls back
+    assert phase[10] == pytest.approx(ref.t_events[1][0], rel=1e-10)
+    np.testing.assert_allclose([phase[2] + 2 * math.pi * phase[3], phase[5]], ref.y_events[1][0], rtol=1e-10)
+    assert phase[-1] <= 100
 
 
 @pytest.mark.parametrize("alpha", [0.3, 0.15, 0.6])
