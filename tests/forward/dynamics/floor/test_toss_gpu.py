@@ -104,7 +104,10 @@ def test_toss_functions_take_the_device():
         return np.array_equal(a, b) if SIMULATOR else np.mean(np.asarray(a) == np.asarray(b)) >= 0.5
 
     a, b = (toss_outcomes(table, v0, omega0, height, device=d) for d in ("cpu", "gpu"))
-    assert same(a.outcome, b.outcome) and same(a.status, b.status) and same(a.time, b.time)
+    assert same(a.outcome, b.outcome) and same(a.status, b.status)
+    # times: to the bit in the simulator; on a GPU, whose compiler fuses multiply-adds, within rounding carried
+    # through a few bounces (exact equality of float times failed there)
+    assert same(a.time, b.time) if SIMULATOR else np.mean(np.isclose(a.time, b.time, rtol=1e-9, atol=0)) >= 0.5
     a, b = (basin_map(table, v0, omega0, height, device=d) for d in ("cpu", "gpu"))
     assert same(a.outcome, b.outcome) and same(a.bounces, b.bounces)
     a, b = (heads_fraction(table, (2.0, 5.0), (0.1, 0.3), height, samples=6, seed=2, device=d) for d in ("cpu", "gpu"))
