@@ -29,6 +29,7 @@ memory when there is none (the comment above :func:`cache_dir` says why).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import math
@@ -326,32 +327,26 @@ def _cache_class(base=None):
             return hashlib.sha256(data).digest() + data
 
         def _read(self, path):
+            """The pickle at ``path`` if it verifies, else None; a missing file raises (numba's miss)."""
             with open(path, "rb") as fh:
                 blob = fh.read()
-            if hashlib.sha256(blob[32:]).digest() != blob[:32]:
-                raise ValueError("damaged")
-            return pickle.loads(blob[32:])  # noqa: S301 -- verified bytes, in a folder only this user can enter
+            with contextlib.suppress(Exception):  # noqa: BLE001 - not unpickled: a miss
+                if hashlib.sha256(blob[32:]).digest() == blob[:32]:
+                    return pickle.loads(blob[32:])  # noqa: S301 -- verified, in a folder only this user can enter
+            return None
 
         def _load_index(self):
-            try:
+            with contextlib.suppress(Exception):  # noqa: BLE001 - missing, damaged or not ours: a miss
                 version, stamp, overloads = self._read(self._index_path)
-            except FileNotFoundError:
-                return {}
-            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
-                return {}
-            same = (version, stamp) == (self._version, self._source_stamp) and isinstance(overloads, dict)
-            return overloads if same else {}
+                if (version, stamp) == (self._version, self._source_stamp) and isinstance(overloads, dict):
+                    return overloads
+            return {}
 
         def _save_index(self, overloads):
             write_all({self._index_path: self._dump((self._version, self._source_stamp, overloads))})
 
         def _load_data(self, name):
-            try:
-                return self._read(self._data_path(name))
-            except OSError:
-                raise  # numba's load() takes a missing file as a miss
-            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
-                return None
+            return self._read(self._data_path(name))
 
         def _save_data(self, name, data):
             write_all({self._data_path(name): self._dump(data)})
