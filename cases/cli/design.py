@@ -214,10 +214,6 @@ def _model(args):
             raise InvalidArgument(f"--{flag.replace('_', '-')} does nothing in the {args.model} toss; leave it out")
         if value is None:
             setattr(args, flag, default)
-    for flag in ("ratio", "e", "mu", "rolling", "g", "height", "theta0", "spin", "tolerance", "b0"):
-        value = getattr(args, flag)
-        if value is not None and not math.isfinite(value):
-            raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
     if args.device == "gpu" and args.workers is not None:
         raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     if args.confidence is None:
