@@ -258,7 +258,6 @@ def run(args):
     from coinwall.inverse.design import design, design_curves, odds, plot_design, resimulate
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
 
-    from .common import check_body_finite
 
     if args.confidence is not None and not math.isfinite(args.confidence):
         raise InvalidArgument(f"--confidence must be a finite number, got {args.confidence}")
@@ -305,8 +304,6 @@ def run(args):
             warnings.append(f"at the design point b0 = {family.b0:g} is below the critical offset b_c = "
                             f"{body.b_c:.6g}: no convex body has this wall, so the odds of the wall are not those "
                             "of the body drawn (the largest body under it); raise --b0")
-    if args.output:
-        check_body_finite(body)
     written, result_files = [], None
     with transaction():
         if args.figure:

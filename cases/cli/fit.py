@@ -89,7 +89,7 @@ def run(args):
     from coinwall.inverse.export import check_outputs, export_body
     from coinwall.inverse.fit import fit_convex
 
-    from .common import check_body_finite, describe_written, wall_options, written_lines
+    from .common import describe_written, wall_options, written_lines
 
     wall_outputs = [p for p in args.output if "wall" in p.rsplit("/", 1)[-1].lower()]
     body_outputs = [p for p in args.output if p not in wall_outputs]
@@ -113,7 +113,6 @@ def run(args):
     body = fit.body
     if args.output:
         refuse_non_finite("the fitted wall", b=fit.fitted)
-        check_body_finite(body, "the fitted body")
     replaced = existing_files(args.output)
     with transaction():  # the wall files and the body files are one all-or-nothing commit
         written = write_all({p: _wall_document(fit, p) for p in wall_outputs}) if wall_outputs else []
