@@ -211,7 +211,7 @@ def python_wall(wall, order: int = 1):
 # numba's cache files are pickles with machine code: whoever can write them can run code as the user, and a
 # garbled file could crash with SIGILL, which no exception handler catches.  So they live in one folder that
 # this user owns and nobody else can enter (mode 0700), under a name that is the hash of the module's source,
-# and each file carries the SHA-256 of its content (_checked_file): a file that is damaged, emptied or not
+# and each file carries the SHA-256 of its content (CheckedFile): a file that is damaged, emptied or not
 # numba's reads as a miss, and numba's next save writes it again, through coinwall's writer.  Where no such
 # folder can be had, the kernels are compiled in memory (nothing read from or written to disk).
 
