@@ -301,9 +301,9 @@ def _backup(path: str) -> str:
     with contextlib.suppress(OSError):
         return _new_entry(folder, lambda name: os.link(path, name, follow_symlinks=False))[1]
     fd, backup = _new_entry(folder, _create)
+    os.close(fd)
     try:
-        with os.fdopen(fd, "wb") as copy, open(path, "rb") as old:
-            shutil.copyfileobj(old, copy)
+        shutil.copy2(path, backup)  # its content and mode (its owner only root could give it)
     except OSError as exc:
         _remove([backup])
         raise OutputError(f"cannot write output {path!r}: cannot keep a copy of the existing file "
