@@ -256,23 +256,18 @@ def run(args):
     from coinwall.forward.formats.output import check_paths, transaction, write_all
     from coinwall.inverse import realizability
     from coinwall.inverse.design import design, design_curves, odds, plot_design, resimulate
-    from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
 
-    if args.confidence is not None and not math.isfinite(args.confidence):
-        raise InvalidArgument(f"--confidence must be a finite number, got {args.confidence}")
     family = _family(args)
     model = _model(args)
     targets = _targets(args.target)
-    if args.max_tosses is not None and args.max_tosses < 1000:
-        raise InvalidArgument(f"--max-tosses must be at least 1000, got {args.max_tosses}")
     if args.resimulate is not None and not 1000 <= args.resimulate <= 10 ** 8:
         raise InvalidArgument(f"--resimulate must be between 1000 and 1e8 tosses, got {args.resimulate}")
     if family.kind == "cylinder" and args.kappa is not None:
         raise InvalidArgument("--kappa scales a planar wall; a cylinder's lengths are in --units already")
     kappa = 1.0 if family.kind == "cylinder" and args.units else args.kappa
     ExportOptions(kappa=kappa, units=args.units)
-    check_paths(args.output, sorted(exporters()))
     check_outputs(args.output)
     check_paths(args.figure, FIGURE_FORMATS)
     with progress_bar(args, None, "toss", show=not model.exact) as bar:
