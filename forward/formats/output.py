@@ -277,10 +277,10 @@ def _create(name: str) -> int:
 def _temporary(path: str, data: bytes, temps: list) -> str:
     """``data`` in a new temporary file beside ``path``, with the mode and owner of the file at ``path`` (where
     this user may set them); its name is listed in ``temps`` before it can exist."""
-    with _signals_held():
-        fd, temp = _new_entry(os.path.dirname(os.path.abspath(path)), _create)
-        temps.append(temp)
     try:
+        with _signals_held():
+            fd, temp = _new_entry(os.path.dirname(os.path.abspath(path)), _create)
+            temps.append(temp)
         with os.fdopen(fd, "wb") as fh:
             with contextlib.suppress(FileNotFoundError):
                 info = os.stat(path)
