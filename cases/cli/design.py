@@ -214,10 +214,6 @@ def _model(args):
             raise InvalidArgument(f"--{flag.replace('_', '-')} does nothing in the {args.model} toss; leave it out")
         if value is None:
             setattr(args, flag, default)
-    for flag in ("ratio", "e", "mu", "rolling", "g", "height", "theta0", "spin", "tolerance", "b0"):
-        value = getattr(args, flag)
-        if value is not None and not math.isfinite(value):
-            raise InvalidArgument(f"--{flag} must be a finite number, got {value}")
     if args.device == "gpu" and args.workers is not None:
         raise InvalidArgument("--workers sets the CPU's threads; with --device gpu the tosses run on the GPU (drop one)")
     if args.confidence is None:
@@ -260,24 +256,18 @@ def run(args):
     from coinwall.forward.formats.output import check_paths, transaction, write_all
     from coinwall.inverse import realizability
     from coinwall.inverse.design import design, design_curves, odds, plot_design, resimulate
-    from coinwall.inverse.export import ExportOptions, check_outputs, export_body, exporters
+    from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
-    from .common import check_body_finite
 
-    if args.confidence is not None and not math.isfinite(args.confidence):
-        raise InvalidArgument(f"--confidence must be a finite number, got {args.confidence}")
     family = _family(args)
     model = _model(args)
     targets = _targets(args.target)
-    if args.max_tosses is not None and args.max_tosses < 1000:
-        raise InvalidArgument(f"--max-tosses must be at least 1000, got {args.max_tosses}")
     if args.resimulate is not None and not 1000 <= args.resimulate <= 10 ** 8:
         raise InvalidArgument(f"--resimulate must be between 1000 and 1e8 tosses, got {args.resimulate}")
     if family.kind == "cylinder" and args.kappa is not None:
         raise InvalidArgument("--kappa scales a planar wall; a cylinder's lengths are in --units already")
     kappa = 1.0 if family.kind == "cylinder" and args.units else args.kappa
     ExportOptions(kappa=kappa, units=args.units)
-    check_paths(args.output, sorted(exporters()))
     check_outputs(args.output)
     check_paths(args.figure, FIGURE_FORMATS)
     with progress_bar(args, None, "toss", show=not model.exact) as bar:
@@ -309,8 +299,6 @@ def run(args):
             warnings.append(f"at the design point b0 = {family.b0:g} is below the critical offset b_c = "
                             f"{body.b_c:.6g}: no convex body has this wall, so the odds of the wall are not those "
                             "of the body drawn (the largest body under it); raise --b0")
-    if args.output:
-        check_body_finite(body)
     written, result_files = [], None
     with transaction():
         if args.figure:

@@ -69,7 +69,7 @@ def _physical(outline):
 def run(args):
     """Read the body, write the drawings, print what was written."""
     from coinwall.forward.errors import InvalidArgument
-    from coinwall.forward.formats.output import existing_files, refuse_non_finite
+    from coinwall.forward.formats.output import existing_files
     from coinwall.inverse.export import ExportOptions, check_outputs, export_body
 
     _check_drawing_outputs(args.output)
@@ -83,7 +83,6 @@ def run(args):
             f"`kappa`: no mass distribution inside this body gives it κ = 1 (κ_max = {kmax:.4g} κ), so a part cut "
             "at this size would not have this wall; solve it again with --b0 self-consistent, or pass "
             "--allow-unrealizable")
-    refuse_non_finite(f"the body of {args.body!r}", nodes=body.outline.nodes, controls=body.outline.controls)
     check_outputs(args.output)
     replaced = existing_files(args.output)
     result = export_body(body, args.output, kappa=args.kappa, units=args.units, tolerance=args.tolerance,

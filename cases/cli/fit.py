@@ -83,26 +83,24 @@ def run(args):
     """Fit, write, print."""
     import sys
 
-    from coinwall.forward.errors import InvalidArgument, OutputError
+    from coinwall.forward.errors import OutputError
     from coinwall.forward.formats.output import check_paths, existing_files, refuse_non_finite, transaction, write_all
     from coinwall.forward.formats.wallfile import load_wall_file
     from coinwall.inverse.export import check_outputs, export_body
     from coinwall.inverse.fit import fit_convex
 
-    from .common import check_body_finite, describe_written, wall_options, written_lines
+    from .common import describe_written, wall_options, written_lines
 
     wall_outputs = [p for p in args.output if "wall" in p.rsplit("/", 1)[-1].lower()]
     body_outputs = [p for p in args.output if p not in wall_outputs]
     for path in wall_outputs:
         if not path.lower().endswith((".csv", ".json")):
             raise OutputError(f"output {path!r}: a fitted wall is written as .csv or .json")
-    check_paths(wall_outputs, (".csv", ".json"))
+    check_paths(wall_outputs)
     check_outputs(body_outputs)
     if not args.samples.lower().endswith((".csv", ".json")):
         raise OutputError(f"samples {args.samples!r}: give a .csv (theta,b) or .json ({{theta, b}}) file")
     options = wall_options(args)
-    if args.b_sd is not None and not (math.isfinite(args.b_sd) and args.b_sd > 0):
-        raise InvalidArgument(f"--b-sd must be a positive finite number, got {args.b_sd:g}")
     wall = load_wall_file(args.samples, degrees=options["degrees"], b_sd=options["b_sd"], theta_sd=options["theta_sd"],
                           noisy=True)
     if wall.samples is None:
@@ -113,7 +111,6 @@ def run(args):
     body = fit.body
     if args.output:
         refuse_non_finite("the fitted wall", b=fit.fitted)
-        check_body_finite(body, "the fitted body")
     replaced = existing_files(args.output)
     with transaction():  # the wall files and the body files are one all-or-nothing commit
         written = write_all({p: _wall_document(fit, p) for p in wall_outputs}) if wall_outputs else []

@@ -190,12 +190,9 @@ def _cmd_toss(args):
     if args.slide and args.mu > 0:
         raise InvalidArgument("--slide follows tosses on a frictionless floor; with --mu the contact phases are "
                               "followed anyway (drop --slide)")
-    for name, value in (("--g", args.g), ("--e", args.e), ("--mu", args.mu), ("--rolling", args.rolling),
-                        ("--b0", args.b0), ("--H", args.H), ("--height", args.height), ("--theta0", args.theta0)):
-        if value is not None and not math.isfinite(value):
-            raise InvalidArgument(f"{name} must be a finite number, got {value}")
-    if not args.g > 0:
-        raise InvalidArgument(f"--g must be a positive field, got {args.g}")
+    # --g, --e, --mu, --rolling, --b0, --H are checked by FieldTable, --theta0 by check_options and launch_states
+    if args.height is not None and not math.isfinite(args.height):
+        raise InvalidArgument(f"--height must be a finite number, got {args.height}")
     if args.kappa is not None and not (math.isfinite(args.kappa) and args.kappa > 0):
         raise InvalidArgument(f"--kappa must be a positive length in metres, got {args.kappa}")
     if args.kappa is not None:

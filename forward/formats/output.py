@@ -1,25 +1,20 @@
 """Every file coinwall writes, written all or nothing: the one writer.
 
-:func:`write_all` writes each file to a temporary file in the target's own folder (:func:`tempfile.mkstemp`:
-a name no other file has, on the same filesystem, so that the rename is atomic), gives it the mode and
-owner of the file it replaces (a new file gets the mode of a plain ``open(path, "w")``), and only once
-every temporary is complete renames them over their targets with :func:`os.replace`.  Missing folders
-are made at that moment, and only then: an output folder never exists without its content.  Whatever
-goes wrong (a full disk, bad input found late, Ctrl-C) the ``finally`` clause removes the temporaries and
-the folders made, so nothing half-written and nothing of ours is left, and no file of the user's is
-touched.  The scan store (:func:`new_folder`) and the kernel cache use the same writer.
+:func:`write_all` writes each file to a new temporary file in the target's own folder (so that the rename is
+atomic), gives it the mode and owner of the file it replaces (a new file gets the mode of a plain
+``open(path, "w")``), and once every temporary is complete renames them over their targets with
+:func:`os.replace`.  Missing folders are made only then: an output folder never exists without its content.
+Whatever goes wrong (a full disk, bad input found late, Ctrl-C) the ``finally`` clause removes the temporaries
+and the folders made, so nothing half-written and nothing of ours is left, and no file of the user's is
+touched.  When several files replace existing ones, each existing file first gets a second name (a hard link,
+or a copy), so that a rename that fails puts back what the earlier ones replaced.  A signal with a Python
+handler (Ctrl-C, and the command line's SIGTERM and SIGHUP, which :func:`coinwall.cases.cli.main.main` turns
+into a normal exit) waits for the renames, a few system calls.  A SIGKILL or a power cut can leave a
+``.coinwall-*.tmp`` file beside an output (remove it by hand) or, during the renames, some outputs old and
+some new, each whole.  The scan store (:func:`new_folder`) and the kernel cache use the same writer.
 
-The renames (the commit) are all or nothing as well: when several files replace existing ones, each
-existing file first gets a second name (a hard link, or a copy), so that a rename that fails puts back
-what the earlier ones replaced; those names are removed at the end either way.  A signal with a Python
-handler (Ctrl-C's ``KeyboardInterrupt``, and the command line's SIGTERM and SIGHUP, which
-:func:`coinwall.cases.cli.main.main` turns into a normal exit) is handled after the commit, which takes a
-few system calls.  A SIGKILL or a power cut cannot be caught: it can leave a ``.coinwall-*.tmp`` file
-beside an output (remove it by hand), or, during the commit, some outputs old and some new, each whole.
-
-:func:`check_paths` applies the same rules to the outputs before a long computation, so that a bad name
-fails in a second; :func:`command_scope` (the span of one command) refuses an output that is one of the
-command's input files.
+:func:`check_paths` applies the same rules before a long computation, so that a bad name fails in a second;
+inside :func:`command_scope` (one command) an output that is one of the command's input files is refused.
 """
 
 from __future__ import annotations
@@ -31,15 +26,14 @@ import secrets
 import shutil
 import signal
 import stat
-import tempfile
 import threading
 
 from ..errors import OutputError
 
-__all__ = ["Written", "check_folder", "check_paths", "command_scope", "default_file_mode", "existing_files",
-           "new_folder", "note_input", "refuse_non_finite", "transaction", "write_all"]
+__all__ = ["Written", "check_folder", "check_paths", "command_scope", "existing_files", "new_folder", "note_input",
+           "refuse_non_finite", "transaction", "write_all"]
 
-_PREFIX, _SUFFIX = ".coinwall-", ".tmp"  # the temporaries: .coinwall-<8 random characters>.tmp
+_PREFIX, _SUFFIX = ".coinwall-", ".tmp"  # the temporaries: .coinwall-<8 hex digits>.tmp
 _TEMP_LENGTH = len(_PREFIX) + 8 + len(_SUFFIX)
 _BATCH = contextvars.ContextVar("coinwall_output_batch", default=None)
 # inside command_scope (the command line): {(st_dev, st_ino): name} of the input files read or named
@@ -49,13 +43,7 @@ _HELD = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") 
 
 
 class Written(list):
-    """The paths :func:`write_all` wrote, in order (a ``list``), with :attr:`replaced`.
-
-    Attributes
-    ----------
-    replaced : tuple of str
-        The paths that replaced an existing file.
-    """
+    """The paths :func:`write_all` wrote, in order (a ``list``), with ``replaced``: those that replaced a file."""
 
     def __init__(self, paths=(), replaced=()):
         super().__init__(paths)
@@ -67,13 +55,8 @@ def _short(path: str, limit: int = 80) -> str:
 
 
 def _missing_folders(folder: str) -> list:
-    """The folders from ``folder`` up to the first existing one, outermost first (the order to make them in).
-
-    Raises
-    ------
-    OutputError
-        If a level is a file, or the first existing folder is not writable.
-    """
+    """The folders from ``folder`` up to the first existing one, outermost first (the order to make them in);
+    :class:`OutputError` if a level is a file or the first existing folder is not writable."""
     missing, current = [], os.path.abspath(folder)
     while not os.path.isdir(current):
         if os.path.lexists(current):
@@ -88,9 +71,9 @@ def _missing_folders(folder: str) -> list:
     return missing[::-1]
 
 
-def _check_length(path: str, existing: str) -> None:
-    """Refuse a name the filesystem of the folder ``existing`` cannot hold (a component or the whole path too
-    long, with its temporary), before any folder is made for it."""
+def _check_length(path: str, full: str, existing: str) -> None:
+    """Refuse a name the filesystem of the folder ``existing`` cannot hold (a component, or the whole path with
+    its temporary, too long), before any folder is made for it."""
     def limit(name, default):
         with contextlib.suppress(OSError, ValueError, AttributeError):
             value = os.pathconf(existing, name)
@@ -98,33 +81,32 @@ def _check_length(path: str, existing: str) -> None:
         return default
 
     name_max, path_max = limit("PC_NAME_MAX", 255), limit("PC_PATH_MAX", 4096)
-    full = os.path.abspath(path)
-    for part in full.split(os.sep):
-        if len(os.fsencode(part)) > name_max:
-            raise OutputError(f"output {_short(path)}: the name {_short(part, 40)} is {len(os.fsencode(part))} bytes "
+    for part in map(os.fsencode, full.split(os.sep)):
+        if len(part) > name_max:
+            raise OutputError(f"output {_short(path)}: the name {_short(os.fsdecode(part), 40)} is {len(part)} bytes "
                               f"long, more than the {name_max} this filesystem allows")
-    longest = len(os.fsencode(os.path.dirname(full))) + 1 + max(len(os.fsencode(os.path.basename(full))), _TEMP_LENGTH)
+    longest = len(os.fsencode(full)) + max(0, _TEMP_LENGTH - len(os.fsencode(os.path.basename(full))))
     if longest >= path_max:
         raise OutputError(f"output {_short(path)}: the path is {longest} bytes long (with its temporary), more than "
                           f"the {path_max - 1} this system allows; choose a shorter one")
 
 
 def _check_target(path: str) -> list:
-    """The rules for one output, checked before the work (:func:`check_paths`) and again when it is written:
-    a name the filesystem holds, a folder that exists or can be made, nothing there but a writable regular
-    file, and not an input of the running command.  Returns the missing folders (outermost first)."""
+    """The rules for one output, checked before the work (:func:`check_paths`) and when it is written: a name
+    the filesystem holds, a folder that exists or can be made, nothing there but a writable regular file, and
+    not an input of the running command.  Returns the missing folders (outermost first)."""
+    full = os.path.abspath(path)
     try:
-        folder = os.path.dirname(os.path.abspath(path))
-        missing = _missing_folders(folder)
+        missing = _missing_folders(os.path.dirname(full))
     except OutputError as exc:
         raise OutputError(f"output {path!r}: {exc}") from None
-    except ValueError:  # a NUL byte
-        raise OutputError(f"output {path!r} is not a valid file name") from None
-    _check_length(path, os.path.dirname(missing[0]) if missing else folder)
+    _check_length(path, full, os.path.dirname(missing[0] if missing else full))
     try:
         info = os.lstat(path)
     except FileNotFoundError:
         return missing
+    except ValueError:  # a NUL byte
+        raise OutputError(f"output {path!r} is not a valid file name") from None
     if stat.S_ISDIR(info.st_mode):
         raise OutputError(f"output {path!r} is a folder, not a file; nothing was written")
     if not stat.S_ISREG(info.st_mode):
@@ -135,21 +117,20 @@ def _check_target(path: str) -> list:
                           "give the name of a new or a regular file")
     if not os.access(path, os.W_OK):
         raise OutputError(f"output {path!r}: the existing file is not writable")
-    name = _same_as_input(path)
+    name = (_INPUTS.get() or {}).get((info.st_dev, info.st_ino))
     if name is not None:
-        same = "" if os.path.abspath(name) == os.path.abspath(path) else f" (the input {name!r})"
+        same = "" if os.path.abspath(name) == full else f" (the input {name!r})"
         raise OutputError(f"output {path!r} is an input file of this command{same}; writing it would replace the "
                           "input: choose another name")
     return missing
 
 
-def check_paths(paths, allowed=None, inputs=()) -> None:
+def check_paths(paths, allowed=None) -> None:
     """Before any work: every output has an extension in ``allowed`` and can be written.
 
     The rules are :func:`write_all`'s (a name the filesystem holds, a folder that exists or can be made,
-    nothing in the way but a writable regular file, not an input of the command: ``inputs`` and, inside
-    :func:`command_scope`, the files it read or names), and two names of one file are refused.  Nothing
-    is created: the folders are made when the files are written.
+    nothing in the way but a writable regular file, not an input of the command inside :func:`command_scope`),
+    and two names of one file are refused.  Nothing is created: the folders are made with the files.
 
     Parameters
     ----------
@@ -157,8 +138,6 @@ def check_paths(paths, allowed=None, inputs=()) -> None:
         The outputs.
     allowed : sequence of str, optional
         The extensions accepted (lower case, with the dot); any when None.
-    inputs : sequence of str
-        Input files that no output may be.
 
     Raises
     ------
@@ -179,19 +158,14 @@ def check_paths(paths, allowed=None, inputs=()) -> None:
         if allowed is not None and ext not in allowed:
             raise OutputError(f"output {path!r}: unknown extension {ext or '(none)'!r}; known: {', '.join(allowed)}")
         _check_target(path)
-        for name in inputs:
-            if os.path.exists(path) and os.path.exists(name) and os.path.samefile(path, name):
-                raise OutputError(f"output {path!r} is an input file of this command; writing it would replace "
-                                  "the input: choose another name")
         same = os.path.realpath(path)  # a.csv and ./a.csv: the first copy would be lost
         if seen.setdefault(same, path) != path:
             raise OutputError(f"output {path!r} is the same file as {seen[same]!r}")
 
 
 def check_folder(folder: str) -> str:
-    """Before any work: ``folder`` is a folder that exists and is writable, or can be made; returns it.
-
-    Nothing is created (:func:`write_all` makes the folder with its files).
+    """Before any work: ``folder`` is a folder that exists and is writable, or can be made; returns it (nothing
+    is created: :func:`write_all` makes the folder with its files).
 
     Raises
     ------
@@ -229,34 +203,9 @@ def note_input(path) -> None:
             inputs.setdefault((info.st_dev, info.st_ino), os.fspath(path))
 
 
-def _same_as_input(path: str):
-    inputs = _INPUTS.get()
-    with contextlib.suppress(OSError, ValueError):
-        info = os.stat(path)
-        return (inputs or {}).get((info.st_dev, info.st_ino))
-    return None
-
-
 def existing_files(paths) -> tuple:
     """The paths among ``paths`` that exist now, i.e. that writing them would replace."""
     return tuple(path for path in paths if os.path.isfile(path))
-
-
-def _umask() -> int:
-    """The process's umask, read without changing it where the system says it (Linux): setting it for a moment
-    would give a file another thread creates meanwhile the wrong mode."""
-    with contextlib.suppress(OSError, ValueError), open("/proc/self/status", encoding="ascii") as status:
-        for line in status:
-            if line.startswith("Umask:"):
-                return int(line.split()[1], 8)
-    mask = os.umask(0o22)
-    os.umask(mask)
-    return mask
-
-
-def default_file_mode() -> int:
-    """The mode a plain ``open(path, "w")`` gives a new file (0o666 minus the umask)."""
-    return 0o666 & ~_umask()
 
 
 def refuse_non_finite(what: str, **arrays) -> None:
@@ -299,8 +248,7 @@ def _signals_held():
         return
     pending, previous = [], {}
     for number in _HELD:
-        handler = signal.getsignal(number)
-        if callable(handler):
+        if callable(signal.getsignal(number)):
             previous[number] = signal.signal(number, lambda n, frame: pending.append((n, frame)))
     try:
         yield
@@ -311,32 +259,31 @@ def _signals_held():
             previous[number](number, frame)
 
 
-def _make_folders(missing, made) -> None:
-    """Make the folders of ``missing`` (outermost first), listing each in ``made``."""
-    for folder in missing:
-        try:
-            os.mkdir(folder)
-        except FileExistsError:
-            continue  # made meanwhile by someone else: not ours to remove
-        except OSError as exc:
-            raise OutputError(f"cannot create folder {folder!r}: {exc.strerror or exc}; nothing was written") from None
-        made.append(folder)
+def _new_entry(folder: str, make):
+    """``(make(name), name)`` for a new name of the temporaries' pattern in ``folder``.  ``make`` refuses an
+    existing name (``O_EXCL``, ``mkdir``, ``link``), so no file of the user's is ever taken.  Not
+    :mod:`tempfile`: its files and folders are private (0600), and an output gets the mode of a plain ``open``,
+    which the system applies from the umask to ``os.open(..., 0o666)`` and ``os.mkdir``."""
+    while True:
+        name = os.path.join(folder, f"{_PREFIX}{secrets.token_hex(4)}{_SUFFIX}")
+        with contextlib.suppress(FileExistsError):
+            return make(name), name
+
+
+def _create(name: str) -> int:
+    return os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
 
 
 def _temporary(path: str, data: bytes, temps: list) -> str:
     """``data`` in a new temporary file beside ``path``, with the mode and owner of the file at ``path`` (where
-    this user may set them) or the mode of a new file; its name is listed in ``temps`` before it can exist."""
-    folder = os.path.dirname(os.path.abspath(path))
-    with _signals_held():  # the name is listed as soon as the file exists
-        fd, temp = tempfile.mkstemp(prefix=_PREFIX, suffix=_SUFFIX, dir=folder)
-        temps.append(temp)
+    this user may set them); its name is listed in ``temps`` before it can exist."""
     try:
+        with _signals_held():
+            fd, temp = _new_entry(os.path.dirname(os.path.abspath(path)), _create)
+            temps.append(temp)
         with os.fdopen(fd, "wb") as fh:
-            try:
+            with contextlib.suppress(FileNotFoundError):
                 info = os.stat(path)
-            except FileNotFoundError:
-                os.fchmod(fh.fileno(), default_file_mode())
-            else:
                 for owner in ((info.st_uid, info.st_gid), (-1, info.st_gid)):
                     with contextlib.suppress(OSError):  # only root may give a file away; a group of ours is fine
                         os.fchown(fh.fileno(), *owner)
@@ -346,6 +293,22 @@ def _temporary(path: str, data: bytes, temps: list) -> str:
     except OSError as exc:
         raise OutputError(f"cannot write output {path!r}: {exc.strerror or exc}; nothing was written") from None
     return temp
+
+
+def _backup(path: str) -> str:
+    """A second name of the existing ``path`` beside it: a hard link, or a copy where links are not supported."""
+    folder = os.path.dirname(os.path.abspath(path))
+    with contextlib.suppress(OSError):
+        return _new_entry(folder, lambda name: os.link(path, name, follow_symlinks=False))[1]
+    fd, backup = _new_entry(folder, _create)
+    os.close(fd)
+    try:
+        shutil.copy2(path, backup)  # its content and mode (its owner only root could give it)
+    except OSError as exc:
+        _remove([backup])
+        raise OutputError(f"cannot write output {path!r}: cannot keep a copy of the existing file "
+                          f"({exc.strerror or exc}); nothing was written") from None
+    return backup
 
 
 def _commit(pairs) -> tuple:
@@ -362,7 +325,13 @@ def _commit(pairs) -> tuple:
                 try:
                     os.replace(temp, path)
                 except OSError as exc:
-                    lost = _roll_back(done, backups)
+                    lost = []  # put back what the renames in done replaced; name what could not be
+                    for old in reversed(done):
+                        try:
+                            os.replace(backups.pop(old), old) if old in backups else os.unlink(old)
+                        except OSError:
+                            kept = backups.pop(old, None)  # then not removed: it holds the old content
+                            lost.append(f"{old!r}" + (f" (its old content is in {kept!r})" if kept else ""))
                     extra = f"; could not restore {', '.join(lost)}" if lost else "; nothing was changed"
                     raise OutputError(f"cannot write output {path!r}: {exc.strerror or exc}{extra}") from None
                 done.append(path)
@@ -371,55 +340,10 @@ def _commit(pairs) -> tuple:
             _remove(backups.values())
 
 
-def _backup(path: str) -> str:
-    """A second name of the existing ``path`` beside it (a hard link, or a copy where links are not supported)."""
-    folder = os.path.dirname(os.path.abspath(path))
-    backup = os.path.join(folder, f"{_PREFIX}{secrets.token_hex(4)}{_SUFFIX}")
-    try:
-        os.link(path, backup, follow_symlinks=False)  # never over an existing name
-        return backup
-    except FileExistsError:
-        return _backup(path)
-    except OSError:
-        pass
-    fd, backup = tempfile.mkstemp(prefix=_PREFIX, suffix=_SUFFIX, dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as copy, open(path, "rb") as old:
-            shutil.copyfileobj(old, copy)
-    except OSError as exc:
-        _remove([backup])
-        raise OutputError(f"cannot write output {path!r}: cannot keep a copy of the existing file "
-                          f"({exc.strerror or exc}); nothing was written") from None
-    return backup
-
-
-def _roll_back(done, backups) -> list:
-    """Put back what the renames in ``done`` replaced; returns what could not be put back (each described with
-    where its old content is kept, which is then not removed)."""
-    lost = []
-    for path in reversed(done):
-        try:
-            if path in backups:
-                os.replace(backups.pop(path), path)
-            else:
-                os.unlink(path)
-        except OSError:
-            kept = backups.pop(path, None)
-            lost.append(f"{path!r}" + (f" (its old content is in {kept!r})" if kept else ""))
-    return lost
-
-
 def _remove(paths) -> None:
     for path in list(paths):
         with contextlib.suppress(OSError):
             os.unlink(path)
-
-
-def _remove_folders(made) -> None:
-    """Remove the folders of ``made``, innermost first, each only if it is empty."""
-    for folder in reversed(made):
-        with contextlib.suppress(OSError):
-            os.rmdir(folder)
 
 
 @contextlib.contextmanager
@@ -480,20 +404,27 @@ def write_all(files) -> Written:
         batch.update(files)
         return Written(files, existing_files(files))
     missing = {path: _check_target(path) for path in files}
-    temps, made, pairs = [], [], []
-    committed = False
+    temps, made, pairs, committed = [], [], [], False
     try:
         for path, data in files.items():
-            _make_folders(missing[path], made)
+            for folder in missing[path]:  # outermost first
+                try:
+                    os.mkdir(folder)
+                    made.append(folder)
+                except FileExistsError:
+                    pass  # made for an earlier file, or meanwhile by someone else: not ours to remove then
+                except OSError as exc:
+                    raise OutputError(f"cannot create folder {folder!r}: {exc.strerror or exc}; nothing was "
+                                      "written") from None
             pairs.append((_temporary(path, data, temps), path))
-        for path in files:
-            _check_target(path)  # what is there now (a folder or a FIFO may have appeared meanwhile)
         replaced = _commit(pairs)
         committed = True
     finally:
         if not committed:
             _remove(temps)
-            _remove_folders(made)
+            for folder in reversed(made):
+                with contextlib.suppress(OSError):
+                    os.rmdir(folder)
     return Written(files, replaced)
 
 
@@ -510,16 +441,12 @@ def new_folder(path: str):
     if os.path.lexists(path):
         raise OutputError(f"output {path!r} exists already")
     folder = os.path.dirname(os.path.abspath(path))
-    try:
-        check_folder(folder)
-        if not os.path.isdir(folder):
-            raise OutputError(f"the folder {folder!r} does not exist")
-    except OutputError as exc:
-        raise OutputError(f"output {path!r}: {exc}") from None
     with _signals_held():
-        partial = tempfile.mkdtemp(prefix=_PREFIX, suffix=_SUFFIX, dir=folder)
+        try:
+            _, partial = _new_entry(folder, lambda name: os.mkdir(name, 0o777))
+        except OSError as exc:
+            raise OutputError(f"output {path!r}: cannot create it in {folder!r} ({exc.strerror or exc})") from None
     try:
-        os.chmod(partial, 0o777 & ~_umask())  # mkdtemp's folder is private; a store gets the mode of mkdir
         yield partial
         os.rename(partial, path)
     finally:

@@ -29,6 +29,7 @@ memory when there is none (the comment above :func:`cache_dir` says why).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import math
@@ -210,7 +211,7 @@ def python_wall(wall, order: int = 1):
 # numba's cache files are pickles with machine code: whoever can write them can run code as the user, and a
 # garbled file could crash with SIGILL, which no exception handler catches.  So they live in one folder that
 # this user owns and nobody else can enter (mode 0700), under a name that is the hash of the module's source,
-# and each file carries the SHA-256 of its content (_checked_file): a file that is damaged, emptied or not
+# and each file carries the SHA-256 of its content (CheckedFile): a file that is damaged, emptied or not
 # numba's reads as a miss, and numba's next save writes it again, through coinwall's writer.  Where no such
 # folder can be had, the kernels are compiled in memory (nothing read from or written to disk).
 
@@ -326,32 +327,26 @@ def _cache_class(base=None):
             return hashlib.sha256(data).digest() + data
 
         def _read(self, path):
+            """The pickle at ``path`` if it verifies, else None; a missing file raises (numba's miss)."""
             with open(path, "rb") as fh:
                 blob = fh.read()
-            if hashlib.sha256(blob[32:]).digest() != blob[:32]:
-                raise ValueError("damaged")
-            return pickle.loads(blob[32:])  # noqa: S301 -- verified bytes, in a folder only this user can enter
+            with contextlib.suppress(Exception):  # noqa: BLE001 - not unpickled: a miss
+                if hashlib.sha256(blob[32:]).digest() == blob[:32]:
+                    return pickle.loads(blob[32:])  # noqa: S301 -- verified, in a folder only this user can enter
+            return None
 
         def _load_index(self):
-            try:
+            with contextlib.suppress(Exception):  # noqa: BLE001 - missing, damaged or not ours: a miss
                 version, stamp, overloads = self._read(self._index_path)
-            except FileNotFoundError:
-                return {}
-            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
-                return {}
-            same = (version, stamp) == (self._version, self._source_stamp) and isinstance(overloads, dict)
-            return overloads if same else {}
+                if (version, stamp) == (self._version, self._source_stamp) and isinstance(overloads, dict):
+                    return overloads
+            return {}
 
         def _save_index(self, overloads):
             write_all({self._index_path: self._dump((self._version, self._source_stamp, overloads))})
 
         def _load_data(self, name):
-            try:
-                return self._read(self._data_path(name))
-            except OSError:
-                raise  # numba's load() takes a missing file as a miss
-            except Exception:  # noqa: BLE001 - damaged or not ours: a miss
-                return None
+            return self._read(self._data_path(name))
 
         def _save_data(self, name, data):
             write_all({self._data_path(name): self._dump(data)})

@@ -124,11 +124,11 @@ def test_outputs_get_the_usual_file_mode(tmp_path, capsys):
     import os
     import stat
 
-    from coinwall.forward.formats.output import default_file_mode
-
     out = tmp_path / "body.svg"
     assert main(["solve", "-o", str(out), "--no-cross-check"]) == 0
-    assert stat.S_IMODE(os.stat(out).st_mode) == default_file_mode()
+    mask = os.umask(0o022)
+    os.umask(mask)
+    assert stat.S_IMODE(os.stat(out).st_mode) == 0o666 & ~mask
 
 
 # --------------------------------------------------------------------------- the house: parser and subcommands

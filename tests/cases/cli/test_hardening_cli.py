@@ -210,6 +210,26 @@ def test_failed_rename_restores_the_files_already_replaced(tmp_path, monkeypatch
     assert _temporaries(tmp_path) == []  # neither temporaries nor backups are left
 
 
+def test_failed_rename_restores_without_hard_links(tmp_path, monkeypatch):
+    """Where the filesystem has no hard links (FAT, some network shares) the old file is kept as a copy: a failed
+    rename still puts back its content and its mode."""
+    a, b = str(tmp_path / "a.csv"), str(tmp_path / "b.csv")
+    for path in (a, b):
+        with open(path, "w") as fh:
+            fh.write("old " + path)
+        os.chmod(path, 0o640)
+
+    def no_links(*args, **kwargs):
+        raise OSError(1, "Operation not permitted")
+
+    monkeypatch.setattr(os, "link", no_links)
+    _fail_once(monkeypatch, b)
+    with pytest.raises(OutputError, match="nothing was changed"):
+        output.write_all({a: b"new a", b: b"new b"})
+    assert _read(a) == "old " + a and _read(b) == "old " + b
+    assert os.stat(a).st_mode & 0o777 == 0o640 and _temporaries(tmp_path) == []
+
+
 def test_failed_rename_through_the_command_line(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "w.csv").write_text("old")
