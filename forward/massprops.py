@@ -266,10 +266,23 @@ def check_integrable(rho, density, polygon, start) -> None:
     a, b = polygon, np.roll(polygon, -1, axis=0)
     sign = np.sign(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))  # +1 for a counter-clockwise outline
 
+    edge = b - a
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    real = length > 0  # (a repeated node's edge has cross product 0: it never decides)
+
     def inside(p):
-        cross = (b[None, :, 0] - a[None, :, 0]) * (p[:, None, 1] - a[None, :, 1]) \
-            - (b[None, :, 1] - a[None, :, 1]) * (p[:, None, 0] - a[None, :, 0])
-        return np.all(sign * cross >= -1e-12 * size * size, axis=1)
+        # a point nearer to the points' mean c than c is to every edge's line is inside by the test below too (each
+        # cross product is the edge's length times the point's distance from its line, at least that distance minus
+        # |p − c| > 0): only the other points are tested edge by edge (a ring of 4001 points, 2048 edges: 0.4 s)
+        c = p.mean(axis=0) if p.size else np.zeros(2)
+        reach = np.min(sign * (edge[real, 0] * (c[1] - a[real, 1]) - edge[real, 1] * (c[0] - a[real, 0]))
+                       / length[real], initial=np.inf)
+        result = np.hypot(p[:, 0] - c[0], p[:, 1] - c[1]) < 0.5 * reach
+        rest = ~result
+        q = p[rest]
+        cross = edge[None, :, 0] * (q[:, None, 1] - a[None, :, 1]) - edge[None, :, 1] * (q[:, None, 0] - a[None, :, 0])
+        result[rest] = np.all(sign * cross >= -1e-12 * size * size, axis=1)
+        return result
 
     def values(p):
         with np.errstate(all="ignore"):

@@ -12,6 +12,10 @@
   contains a line ``[exit status N]``.
 * Blocks in other languages (```text, plain ``` …) are not run.
 
+One block is run by another test instead, which checks its documented output the same way and needs the same
+run (:data:`ELSEWHERE`: the ``coinwall verify --fast`` example, run once by ``tests/cases/test_paper_check.py``,
+whose checks read the report it writes); here it is skipped, naming that test.
+
 Each block is its own test (``docs/api.md#3-python-line120``), so a failure names the block.
 When a block is run on its own, the blocks before it in its file are replayed first; in a full
 run each block runs once, continuing the session of the block before it.
@@ -31,6 +35,9 @@ DOCS = ("README.md", "docs/api.md", "docs/cli.md", "docs/cli-limits.md", "docs/t
         "docs/scan.md", "docs/design.md")
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
 _STATUS = re.compile(r"^\[exit status (\d+)\]$")
+#: (doc file, subcommand) of console blocks that another test runs, with the test that runs them
+ELSEWHERE = {("docs/cli.md", "verify"):
+             "tests/cases/test_paper_check.py::test_the_documented_command_prints_what_the_documentation_shows"}
 
 
 def _blocks(relpath):
@@ -69,6 +76,14 @@ def _console_commands(text):
             else:
                 commands[-1][1].append(line)
     return commands
+
+
+def _elsewhere(relpath, lang, text):
+    """The test that runs this block instead (:data:`ELSEWHERE`), or None."""
+    if lang != "console":
+        return None
+    commands = _console_commands(text)
+    return ELSEWHERE.get((relpath, commands[0][0][0])) if len(commands) == 1 and commands[0][0] else None
 
 
 def _match_output(expected, actual_text):
@@ -136,11 +151,16 @@ def test_doc_example(relpath, index, tmp_path_factory, monkeypatch, capsys):
         namespace = {"__name__": f"doc:{relpath}"}
         monkeypatch.chdir(folder)
         for k, (lang, text, line) in enumerate(blocks[:index]):
-            _run_block(lang, text, namespace, capsys, f"<{relpath} block {k}, line {line}>")
+            if not _elsewhere(relpath, lang, text):
+                _run_block(lang, text, namespace, capsys, f"<{relpath} block {k}, line {line}>")
     else:
         folder, namespace, _ = state
         monkeypatch.chdir(folder)
     lang, text, line = blocks[index]
+    runner = _elsewhere(relpath, lang, text)
+    if runner:
+        _STATE[relpath] = (folder, namespace, index)
+        pytest.skip(f"run, and its output checked, by {runner}")
     try:
         _run_block(lang, text, namespace, capsys, f"<{relpath} block {index}, line {line}>")
     finally:
@@ -164,6 +184,13 @@ def test_console_parser():
     assert _match_output(["b"], "a\nb\n") is not None
     assert _match_output(["a = ...", "b"], "a = 1.5e-11 (x)\nb\n") is None
     assert _match_output(["a = 2..."], "a = 1.5e-11\n") is not None
+
+
+def test_blocks_run_elsewhere_exist_and_so_do_the_tests_that_run_them():
+    for (relpath, command), runner in ELSEWHERE.items():
+        assert sum(_elsewhere(relpath, lang, text) == runner for lang, text, _ in _blocks(relpath)) == 1, command
+        path, name = runner.split("::")
+        assert f"def {name}(" in (ROOT / path).read_text(encoding="utf-8"), runner
 
 
 _LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)]*)?\)")

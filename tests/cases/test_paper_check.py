@@ -2,6 +2,7 @@
 measures, and the fast run's verdicts are the recorded ones; the report and figures it writes."""
 
 import math
+import os
 
 import pytest
 
@@ -29,22 +30,43 @@ CONDITIONS = (Below, Above, Within, Equals)
 
 @pytest.fixture(scope="module")
 def fast_run(tmp_path_factory):
-    """One fast run of verify, its figures as SVG in a folder it creates: the report, the numbers every claim's
-    check measured in it, and the folder (one run serves every test here)."""
+    """One fast run of verify, the one docs/cli.md shows (``coinwall verify --fast --out report --figure-format svg``),
+    run as tests/test_docs.py runs the documentation's commands (``main(argv)``) in a new folder: the report, the
+    numbers every claim's check measured in it, the folder it wrote, and the command's exit status, documented output
+    and output.  One run serves every test here and the documentation's example (tests/test_docs.py skips it)."""
+    import contextlib
+    import io
+
+    from test_docs import ELSEWHERE, _blocks, _console_commands, _elsewhere
+
+    from coinwall.cases.cli.main import main
     from coinwall.cases.paper import verify
 
-    measured = {}
-    real = verify.measure
+    runner = ELSEWHERE["docs/cli.md", "verify"]
+    (block,) = [text for lang, text, _ in _blocks("docs/cli.md") if _elsewhere("docs/cli.md", lang, text) == runner]
+    ((argv, expected, status),) = _console_commands(block)
+    measured, reports = {}, []
+    real_measure, real_run = verify.measure, verify.run_verify
 
     def kept(*args, **kwargs):
-        measured.update(real(*args, **kwargs))
+        measured.update(real_measure(*args, **kwargs))
         return measured
 
-    out = tmp_path_factory.mktemp("verify") / "new" / "docs"
+    def run_kept(*args, **kwargs):
+        reports.append(real_run(*args, **kwargs))
+        return reports[-1]
+
+    folder = tmp_path_factory.mktemp("verify")
+    output = io.StringIO()
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(verify, "measure", kept)
-        report = run_verify(fast=True, out=str(out), figure_format=".svg")
-    return report, measured, out
+        patch.setattr(verify, "run_verify", run_kept)
+        patch.chdir(folder)
+        with contextlib.redirect_stdout(output), contextlib.redirect_stderr(output):
+            code = main(argv)
+    (report,) = reports
+    out = folder / argv[argv.index("--out") + 1]
+    return report, measured, out, (code, status, expected, output.getvalue())
 
 
 @pytest.fixture(scope="module")
@@ -146,9 +168,20 @@ def test_run_verify_names_its_arguments(tmp_path):
         run_verify(fast=True, out=str(blocker / "sub"))
 
 
+def test_the_documented_command_prints_what_the_documentation_shows(fast_run):
+    """docs/cli.md's ``coinwall verify`` example: its exit status and its output as documented (tests/test_docs.py's
+    reading of console blocks)."""
+    from test_docs import _match_output
+
+    code, status, expected, output = fast_run[3]
+    assert code == status, output
+    problem = _match_output(expected, output)
+    assert problem is None, f"{problem}\nactual output:\n{output}"
+
+
 def test_run_verify_creates_the_folder_and_writes_vector_figures(fast_run):
-    report, _, out = fast_run
-    assert report.ok and report.markdown_path == str(out / "paper-check.md")
+    report, _, out = fast_run[:3]
+    assert report.ok and report.markdown_path == os.path.join(out.name, "paper-check.md")
     text = (out / "paper-check.md").read_text(encoding="utf-8")
     assert "![fig4_critical.svg](figures/fig4_critical.svg)" in text
     assert "| 27 | Rigid body and billiard" in text

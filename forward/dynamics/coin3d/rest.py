@@ -77,8 +77,7 @@ def rest_outcomes(table: TopTable, states, lz, l3, impacts: int = 10_000, worker
     """
     import numba
 
-    from . import _rest_kernel as k
-
+    k = _kernel()
     if not isinstance(table, TopTable):
         raise InvalidArgument(f"`table` must be a TopTable, got {type(table).__name__}")
     if table.H is not None or not table.g > 0:
@@ -115,3 +114,17 @@ def rest_outcomes(table: TopTable, states, lz, l3, impacts: int = 10_000, worker
     finally:
         numba.set_num_threads(previous)
     return {"outcome": outcome, "status": status, "floor_impacts": floors}
+
+
+def _kernel():
+    """:mod:`._rest_kernel`, its functions (and :mod:`._top_kernel`'s, which it calls) given coinwall's kernel cache on
+    first use, as :func:`.top._kernel` does; without it every process compiled them again (about 6 s)."""
+    from . import _rest_kernel
+    from .top import _kernel as top_kernel
+
+    if not hasattr(_rest_kernel, "CACHED"):
+        from ..billiard.wallcode import cache_module
+
+        cached = cache_module(_rest_kernel)
+        _rest_kernel.CACHED = top_kernel().CACHED and cached
+    return _rest_kernel

@@ -2,13 +2,15 @@
 
 ``coinwall simulate``, ``correlation``, ``kam``, ``section`` and ``coin3d bounce`` draw a tqdm bar on stderr when
 stderr is a terminal, counting in whole numbers, and draw nothing with ``--json`` or when stderr is a pipe; Ctrl-C
-stops ``coin3d bounce`` within a second with one line.  ``isatty`` cannot be faked
-in-process with pytest's capture, so each test on a terminal runs the command in a fresh Python process with
-stderr (and for ``--json`` also stdout) on the slave side of a pty from ``os.openpty``.  Each run
-takes a few seconds (interpreter start, imports, the kernel's compile/load, a short run).  Without a
+stops ``coin3d bounce`` within a second with one line.  ``isatty`` cannot be faked with pytest's capture, so the
+tests on a terminal give the command the slave side of a pty from ``os.openpty`` as stderr (and for ``--json`` as
+stdout too): in this process (:func:`_run_here`: ``sys.stderr`` is a text stream on the pty, as a terminal's is),
+and, for a terminal that reports no size and for Ctrl-C, in a fresh Python process whose descriptors are the pty
+(:func:`_run`: interpreter start, imports, the kernel's load, a short run: a second or two each).  Without a
 terminal the commands run in this process (pytest's capture is no terminal either).
 """
 
+import io
 import json
 import os
 import re
@@ -50,6 +52,18 @@ def _set_size(fd, rows, columns):
     fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
 
 
+def _drain(master, received):
+    """Read the pty's master side until every slave descriptor is closed (so the writer never blocks)."""
+    while True:
+        try:
+            data = os.read(master, 65536)
+        except OSError:  # EIO: every slave descriptor is closed (Linux)
+            return
+        if not data:
+            return
+        received.append(data)
+
+
 def _run(argv, stdout_tty=False, size=(24, 100), timeout=180):
     """Run ``coinwall argv`` with stderr on a pty (and with ``stdout_tty`` stdout too); returns (exit status,
     stdout text, "", what reached the terminal) (the pty turns "\\n" into "\\r\\n")."""
@@ -61,18 +75,7 @@ def _run(argv, stdout_tty=False, size=(24, 100), timeout=180):
     if size is not None:
         _set_size(slave, *size)
     received = []
-
-    def read():  # drain the pty while the child runs, so it never blocks on a full buffer
-        while True:
-            try:
-                data = os.read(master, 65536)
-            except OSError:  # EIO: every slave descriptor is closed (Linux)
-                return
-            if not data:
-                return
-            received.append(data)
-
-    reader = threading.Thread(target=read, daemon=True)
+    reader = threading.Thread(target=_drain, args=(master, received), daemon=True)  # the child never blocks
     reader.start()
     try:
         process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=slave if stdout_tty else subprocess.PIPE,
@@ -89,10 +92,40 @@ def _run(argv, stdout_tty=False, size=(24, 100), timeout=180):
     return process.returncode, (stdout or b"").decode(), "", b"".join(received).decode(errors="replace")
 
 
+def _run_here(argv, stdout_tty=False, size=(24, 100)):
+    """:func:`_run` in this process: ``sys.stderr`` (and with ``stdout_tty`` ``sys.stdout``) a text stream on the
+    slave side of a pty of ``size``, as Python makes it for a terminal; otherwise stdout is collected."""
+    from coinwall.cases.cli.main import main
+
+    master, slave = os.openpty()
+    _set_size(slave, *size)
+    received = []
+    reader = threading.Thread(target=_drain, args=(master, received), daemon=True)
+    reader.start()
+    terminal = io.TextIOWrapper(io.FileIO(slave, "w", closefd=True), encoding="utf-8", errors="backslashreplace",
+                                line_buffering=True)
+    collected = terminal if stdout_tty else io.StringIO()
+    try:
+        with pytest.MonkeyPatch.context() as patch:
+            patch.delenv("COLUMNS", raising=False), patch.delenv("LINES", raising=False)  # the terminal's size decides
+            patch.setattr(sys, "stderr", terminal)
+            patch.setattr(sys, "stdout", collected)
+            try:
+                status = main(argv)
+            except SystemExit as exc:
+                status = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+            stdout = "" if stdout_tty else collected.getvalue()
+    finally:
+        terminal.close()  # the last slave descriptor: the reader sees EIO
+        reader.join(10)
+        os.close(master)
+    return status, stdout, "", b"".join(received).decode(errors="replace")
+
+
 @pytest.mark.parametrize("name", sorted(COMMANDS))
 def test_bar_on_a_terminal(name):
     argv, unit = COMMANDS[name]
-    status, stdout, _, terminal = _run(argv)
+    status, stdout, _, terminal = _run_here(argv)
     assert status == 0, terminal
     assert BAR.search(terminal) and f"{unit}/s" in terminal, terminal
     assert re.search(r"\| *\d+/\d+ \[", terminal) and not SCALED.search(terminal), terminal  # whole numbers
@@ -114,7 +147,7 @@ def test_json_on_a_terminal_is_quiet(name):
     # stdout and stderr both on the terminal, as when a user types the command: everything that
     # arrives must be the JSON document and nothing else
     argv, unit = COMMANDS[name]
-    status, _, _, terminal = _run(argv + ["--json"], stdout_tty=True)
+    status, _, _, terminal = _run_here(argv + ["--json"], stdout_tty=True)
     assert status == 0, terminal
     assert not BAR.search(terminal) and f"{unit}/s" not in terminal, terminal
     doc = json.loads(terminal.replace("\r\n", "\n"))
