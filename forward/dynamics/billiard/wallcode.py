@@ -274,6 +274,42 @@ def cache_dir():
 
 
 @functools.cache
+def _package_stamp(path: str, module: str) -> str:
+    """The SHA-256 of the source of ``module`` (at ``path``) and of every module of the same package it imports,
+    directly or through others (relative imports, and absolute ones under the package's top name): the cache
+    key of a package module's compiled functions.  The imported modules are found in ``sys.modules`` (a
+    module is compiled after it was imported, and so were its imports)."""
+    import ast
+
+    top = module.split(".")[0]
+    digest, todo, seen = hashlib.sha256(), [(module, path)], set()
+    while todo:
+        name, file = todo.pop()
+        if file in seen:
+            continue
+        seen.add(file)
+        with open(file, "rb") as fh:
+            source = fh.read()
+        digest.update(name.encode() + b"\0" + hashlib.sha256(source).digest())
+        package = name if os.path.basename(file) == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom):
+                parts = package.split(".")
+                base = ".".join(parts[:len(parts) - node.level + 1] + ([node.module] if node.module else [])) \
+                    if node.level else node.module
+                targets = [base, *(f"{base}.{alias.name}" for alias in node.names)]  # submodules imported by name
+            elif isinstance(node, ast.Import):
+                targets = [alias.name for alias in node.names]
+            else:
+                continue
+            for target in targets:
+                imported = sys.modules.get(target) if target.split(".")[0] == top else None
+                if getattr(imported, "__file__", None):
+                    todo.append((target, imported.__file__))
+    return digest.hexdigest()
+
+
+@functools.cache
 def _cache_class(base=None):
     """numba's ``FunctionCache`` (or ``base``, e.g. a CUDA dispatcher's cache class) kept in the folder of the
     function's file name, with checked files.  Made on first use: numba is imported only where it runs."""
@@ -286,8 +322,10 @@ def _cache_class(base=None):
     class Locator(_CacheLocator):
         """Every function in coinwall's folder.  A generated module's (its file name, never written, is in the
         folder) is stamped with that name, the hash of its source, so that one name never stands for two
-        sources; a module of the package with the SHA-256 of its file, and told apart from another copy of the
-        package by the hash of its path."""
+        sources; a module of the package with :func:`_package_stamp`, the SHA-256 of its file and of every
+        module of the package it imports (numba compiles a called function into its caller: a change in an
+        imported kernel must reach the caller's cache), so that two copies of the package with the same sources
+        (two clones) share the compiled code."""
 
         def __init__(self, folder, stamp, disambiguator):
             self._folder, self._stamp, self._disambiguator = folder, stamp, disambiguator
@@ -312,11 +350,10 @@ def _cache_class(base=None):
             if os.path.dirname(py_file) == folder:
                 return cls(folder, os.path.basename(py_file), "")
             try:
-                with open(py_file, "rb") as fh:
-                    stamp = hashlib.sha256(fh.read()).hexdigest()
-            except OSError:  # no source file (a zip): compiled in memory
+                stamp = _package_stamp(os.path.abspath(py_file), py_func.__module__)
+            except (OSError, SyntaxError, ValueError):  # no source file (a zip): compiled in memory
                 return None
-            return cls(folder, stamp, hashlib.sha256(os.path.abspath(py_file).encode()).hexdigest()[:8])
+            return cls(folder, stamp, "")
 
     class CheckedFile(IndexDataCacheFile):
         """numba's index and data files, each the SHA-256 of its pickle, then the pickle: anything else reads

@@ -165,7 +165,7 @@ def test_numba_cache_dir_does_not_move_the_cache(cache, monkeypatch, tmp_path):
 
 def test_the_package_kernels_cache_in_the_private_folder_too(cache, monkeypatch):
     """The 3-D coin's kernel is a module of the package: its functions get the same folder, stamped with the
-    hash of the file (numba's own cache would go beside the file, or to numba's folder, unchecked)."""
+    hash of its sources (numba's own cache would go beside the file, or to numba's folder, unchecked)."""
     from numba.core.dispatcher import Dispatcher
 
     from coinwall.forward.dynamics.coin3d import _top_kernel
@@ -175,9 +175,39 @@ def test_the_package_kernels_cache_in_the_private_folder_too(cache, monkeypatch)
         monkeypatch.setattr(f, "_cache", f._cache)
     assert wallcode.cache_module(_top_kernel) and len(functions) > 5
     folder = wallcode.cache_dir()
-    digest = hashlib.sha256(Path(_top_kernel.__file__).read_bytes()).hexdigest()
+    digest = wallcode._package_stamp(_top_kernel.__file__, _top_kernel.__name__)
     assert Path(folder).parent == cache
     assert all(f._cache.cache_path == folder and f._cache._cache_file._source_stamp == digest for f in functions)
+
+
+def test_package_kernels_are_keyed_by_their_sources_and_what_they_import(tmp_path, monkeypatch):
+    """A package module's compiled code is keyed by its source and by the sources of the package's modules it
+    imports (numba compiles a called kernel into its caller: the 3-D coin's rest kernel calls the top's), not by
+    where the package lies: two clones with the same sources share it, a changed imported module changes it."""
+    import importlib
+    import shutil
+
+    package = tmp_path / "one" / "cwstamp"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "inner.py").write_text("def f(x):\n    return x\n")
+    (package / "outer.py").write_text("import math\n\nfrom .inner import f\n\n\ndef g(x):\n    return f(x) + math.pi\n")
+    monkeypatch.syspath_prepend(str(tmp_path / "one"))
+    for name in ("cwstamp", "cwstamp.inner", "cwstamp.outer"):
+        monkeypatch.delitem(sys.modules, name, raising=False)
+    outer = importlib.import_module("cwstamp.outer")
+    stamp = wallcode._package_stamp.__wrapped__
+    before = stamp(outer.__file__, "cwstamp.outer")
+    assert before != hashlib.sha256((package / "outer.py").read_bytes()).hexdigest()
+    clone = tmp_path / "two" / "cwstamp"
+    shutil.copytree(package, clone)
+    assert stamp(str(clone / "outer.py"), "cwstamp.outer") == before  # another place, the same sources
+    (package / "inner.py").write_text("def f(x):\n    return 2 * x\n")
+    assert stamp(outer.__file__, "cwstamp.outer") != before  # the imported module changed
+    (package / "inner.py").write_text("def f(x):\n    return x\n")
+    assert stamp(outer.__file__, "cwstamp.outer") == before
+    for name in ("cwstamp", "cwstamp.inner", "cwstamp.outer"):
+        sys.modules.pop(name, None)
 
 
 @pytest.mark.slow
