@@ -353,7 +353,7 @@ def _cache_class(base=None):
                 stamp = _package_stamp(os.path.abspath(py_file), py_func.__module__)
             except (OSError, SyntaxError, ValueError):  # no source file (a zip): compiled in memory
                 return None
-            return cls(folder, stamp, "")
+            return cls(folder, stamp, hashlib.sha256(py_func.__module__.encode()).hexdigest()[:8])  # not the path
 
     class CheckedFile(IndexDataCacheFile):
         """numba's index and data files, each the SHA-256 of its pickle, then the pickle: anything else reads
