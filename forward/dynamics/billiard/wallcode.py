@@ -441,11 +441,14 @@ def attach_cache(dispatcher, base=None) -> bool:
 
 
 def cache_module(module) -> bool:
-    """:func:`attach_cache` for every numba function of ``module``; returns whether all of them have the cache."""
+    """:func:`attach_cache` for every numba function of ``module``, once per module; returns whether all of them
+    have the cache (kept as ``module.CACHED``)."""
     from numba.core.dispatcher import Dispatcher
 
-    functions = [value for value in vars(module).values() if isinstance(value, Dispatcher)]
-    return all([attach_cache(f) for f in functions])
+    if not hasattr(module, "CACHED"):
+        functions = [value for value in vars(module).values() if isinstance(value, Dispatcher)]
+        module.CACHED = all([attach_cache(f) for f in functions])
+    return module.CACHED
 
 
 _MODULES: dict = {}
@@ -488,6 +491,8 @@ def load_module(source: str, prefix: str = "coinwall_gen"):
     module.CACHE = False
     sys.modules[name] = module  # numba finds a function's globals through its module
     exec(compile(data, module.__file__, "exec"), module.__dict__)  # noqa: S102 -- our own generated source
-    module.CACHED = folder is not None and cache_module(module)
+    if folder is None:
+        module.CACHED = False
+    cache_module(module)
     _MODULES[name] = module
     return module

@@ -119,12 +119,10 @@ def rest_outcomes(table: TopTable, states, lz, l3, impacts: int = 10_000, worker
 def _kernel():
     """:mod:`._rest_kernel`, its functions (and :mod:`._top_kernel`'s, which it calls) given coinwall's kernel cache on
     first use, as :func:`.top._kernel` does; without it every process compiled them again (about 6 s)."""
+    from ..billiard.wallcode import cache_module
     from . import _rest_kernel
     from .top import _kernel as top_kernel
 
-    if not hasattr(_rest_kernel, "CACHED"):
-        from ..billiard.wallcode import cache_module
-
-        cached = cache_module(_rest_kernel)
-        _rest_kernel.CACHED = top_kernel().CACHED and cached
+    top_kernel()
+    cache_module(_rest_kernel)
     return _rest_kernel

@@ -284,12 +284,10 @@ def top_run(table: TopTable, state, lz: float, l3: float, impacts: int, method: 
 
 def _kernel():
     """:mod:`._top_kernel`, its functions given coinwall's kernel cache on first use."""
+    from ..billiard.wallcode import cache_module
     from . import _top_kernel
 
-    if not hasattr(_top_kernel, "CACHED"):
-        from ..billiard.wallcode import cache_module
-
-        _top_kernel.CACHED = cache_module(_top_kernel)
+    cache_module(_top_kernel)
     return _top_kernel
 
 

@@ -173,6 +173,7 @@ def test_the_package_kernels_cache_in_the_private_folder_too(cache, monkeypatch)
     functions = [f for f in vars(_top_kernel).values() if isinstance(f, Dispatcher)]
     for f in functions:  # put back what the rest of the session uses
         monkeypatch.setattr(f, "_cache", f._cache)
+    monkeypatch.delattr(_top_kernel, "CACHED", raising=False)  # attached again, to this test's folder
     assert wallcode.cache_module(_top_kernel) and len(functions) > 5
     folder = wallcode.cache_dir()
     digest = wallcode._package_stamp(_top_kernel.__file__, _top_kernel.__name__)
